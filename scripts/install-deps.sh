@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs the Debian packages PartSLAM needs, only those that are missing. Idempotent.
+set -euo pipefail
+PACKAGES=(
+  g++ make cmake pkg-config
+  libeigen3-dev        # 2D geometry
+  libcli11-dev         # command-line parsing
+  libsqlite3-dev       # map database
+  zlib1g-dev           # gzip CARMEN logs
+  libcairo2-dev        # PNG rendering (Fig. D, Fig. E)
+  nlohmann-json3-dev   # --json output
+  libgtest-dev libgmock-dev  # tests
+  libbenchmark-dev     # benchmarks
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

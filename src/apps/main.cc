@@ -1,0 +1,23 @@
+// partslam: the command-line front end. Each subcommand lives in its own cmd_*.cc file and is
+// registered here; errors from bad input are printed as "partslam: error: ..." with exit code 1.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "apps/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"PartSLAM: fast, succinct 1-to-N matching of 2D laser maps"};
+  app.set_version_flag("--version", std::string("partslam ") + PARTSLAM_VERSION);
+  app.require_subcommand(1);
+  partslam::apps::register_all(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "partslam: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

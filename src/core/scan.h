@@ -1,0 +1,24 @@
+// One laser scan as every source yields it (CARMEN logs, the simulator): timestamp, poses, and the
+// points of its valid beams in the laser frame. Max-range / no-return beams are already dropped.
+#pragma once
+
+#include <string>
+
+#include "core/types.h"
+
+namespace partslam {
+
+struct Scan {
+  double timestamp = 0.0;  ///< ipc_timestamp of the message [s]
+  Pose2 T_world_laser;     ///< laser pose from the log (corrected pose in corrected logs; truth in the simulator)
+  Pose2 T_world_odom;      ///< raw odometry pose of the laser (equals T_world_laser in corrected logs)
+  Points2 points_laser;    ///< endpoints of valid beams, laser frame [m]
+  int num_beams = 0;       ///< beams in the message, valid or not
+};
+
+using Scans = std::vector<Scan>;
+
+/// Scan endpoints in the world frame.
+inline Points2 points_world(const Scan& scan) { return transform(scan.T_world_laser, scan.points_laser); }
+
+}  // namespace partslam

@@ -1,0 +1,98 @@
+#include "core/submap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "core/manhattan.h"
+
+namespace partslam {
+
+void validate(const SubmapConfig& c) {
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw InputError(std::string("submap config: ") + name + " must be a positive finite number, got " +
+                       std::to_string(v));
+    }
+  };
+  positive(c.window_length, "window_length");
+  positive(c.spacing, "spacing");
+  positive(c.resolution, "resolution");
+  positive(c.crop_size, "crop_size");
+  if (c.crop_size / c.resolution > 100000) throw InputError("submap config: crop_size / resolution is absurdly large");
+  if (c.min_points < 1) throw InputError("submap config: min_points must be >= 1");
+}
+
+std::vector<double> travel_distances(const Scans& scans) {
+  std::vector<double> s(scans.size(), 0.0);
+  for (std::size_t i = 1; i < scans.size(); ++i) {
+    s[i] = s[i - 1] + (scans[i].T_world_laser.translation() - scans[i - 1].T_world_laser.translation()).norm();
+  }
+  return s;
+}
+
+Points2 voxel_downsample(const Points2& points, double resolution) {
+  struct Cell {
+    Vec2 sum = Vec2::Zero();
+    int count = 0;
+    std::size_t order = 0;
+  };
+  std::unordered_map<std::uint64_t, Cell> cells;
+  cells.reserve(points.size());
+  for (const Vec2& p : points) {
+    const auto ix = static_cast<std::int64_t>(std::floor(p.x() / resolution));
+    const auto iy = static_cast<std::int64_t>(std::floor(p.y() / resolution));
+    const std::uint64_t key = (static_cast<std::uint64_t>(ix) << 32) ^ static_cast<std::uint32_t>(iy);
+    auto [it, inserted] = cells.try_emplace(key);
+    if (inserted) it->second.order = cells.size() - 1;
+    it->second.sum += p;
+    ++it->second.count;
+  }
+  // Emit in first-seen order so the result does not depend on hash-table iteration order.
+  Points2 out(cells.size());
+  for (const auto& [key, cell] : cells) out[cell.order] = cell.sum / cell.count;
+  return out;
+}
+
+Submaps build_submaps(const Scans& scans, const SubmapConfig& config) {
+  validate(config);
+  const std::vector<double> s = travel_distances(scans);
+  Submaps submaps;
+  double next_anchor = 0.0;
+  std::size_t j_begin = 0;
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    if (s[i] < next_anchor) continue;
+    next_anchor = s[i] + config.spacing;
+    Submap m;
+    m.anchor_scan = static_cast<std::int64_t>(i);
+    m.anchor_timestamp = scans[i].timestamp;
+    m.travel = s[i];
+    Points2 world;
+    j_begin = i;
+    for (std::size_t j = j_begin; j < scans.size() && s[j] < s[i] + config.window_length; ++j) {
+      const Points2 pts = points_world(scans[j]);
+      world.insert(world.end(), pts.begin(), pts.end());
+      m.scan_timestamps.push_back(scans[j].timestamp);
+    }
+    world = voxel_downsample(world, config.resolution);
+    const Vec2 c = centroid(world);
+    const double half = config.crop_size / 2.0;
+    Points2 local;
+    local.reserve(world.size());
+    for (const Vec2& p : world) {
+      const Vec2 d = p - c;
+      if (std::abs(d.x()) < half && std::abs(d.y()) < half) local.push_back(d);
+    }
+    if (static_cast<int>(local.size()) < config.min_points) continue;
+    m.alignment_angle = config.align ? manhattan_angle(local) : 0.0;
+    const Pose2 T_map_centred{0.0, 0.0, m.alignment_angle};
+    m.points = transform(T_map_centred, local);
+    m.T_world_map = Pose2{c.x(), c.y(), 0.0} * T_map_centred.inverse();
+    m.id = static_cast<std::int64_t>(submaps.size());
+    submaps.push_back(std::move(m));
+  }
+  return submaps;
+}
+
+}  // namespace partslam

@@ -1,0 +1,41 @@
+#include "io/atomic_file.h"
+
+#include <fstream>
+#include <random>
+#include <system_error>
+
+#include "core/error.h"
+
+namespace partslam::io {
+
+std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
+  std::random_device rd;
+  return path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
+}
+
+void commit_temporary(const std::filesystem::path& tmp, const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path.string() + ": cannot write: " + ec.message());
+  }
+}
+
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+  const std::filesystem::path tmp = temporary_sibling(path);
+  try {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path.string() + ": cannot open for writing");
+    write(out);
+    out.flush();
+    if (!out) throw InputError(path.string() + ": write failed");
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+  commit_temporary(tmp, path);
+}
+
+}  // namespace partslam::io
