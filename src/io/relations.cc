@@ -1,5 +1,6 @@
 #include "io/relations.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 
@@ -24,18 +25,23 @@ Relations read_relations(const std::filesystem::path& path) {
     split_fields(line, tokens);
     if (tokens.empty() || tokens[0].front() == '#') continue;
     constexpr std::size_t kWant = std::size(kFields);
+    double v[kWant] = {};
+    for (std::size_t k = 0; k < std::min(kWant, tokens.size()); ++k) {
+      v[k] = parse_number(reader, tokens[k], {kRelation, kFields[k]});
+    }
     if (tokens.size() < kWant) {
       fail_field(reader, {kRelation, kFields[tokens.size()]},
-                 "missing (line has " + std::to_string(tokens.size()) + " fields, expected 8: t1 t2 x y z roll pitch yaw)");
+                 "missing (line has " + std::to_string(tokens.size()) +
+                     " fields, expected 8: t1 t2 x y z roll pitch yaw)");
     }
     if (tokens.size() > kWant) {
       fail_field(reader, {kRelation, ""}, std::to_string(tokens.size() - kWant) + " extra field(s) (expected 8)");
     }
-    double v[kWant] = {};
-    for (std::size_t k = 0; k < kWant; ++k) v[k] = parse_number(reader, tokens[k], {kRelation, kFields[k]});
     relations.push_back({v[0], v[1], Pose2{v[2], v[3], wrap_angle(v[7])}});
   }
-  if (relations.empty()) throw InputError(reader.name() + ": no relations (expected lines 't1 t2 x y z roll pitch yaw')");
+  if (relations.empty()) {
+    throw InputError(reader.name() + ": no relations (expected lines 't1 t2 x y z roll pitch yaw')");
+  }
   return relations;
 }
 
