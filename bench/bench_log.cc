@@ -13,7 +13,8 @@ namespace {
 /// The data folder: $PARTSLAM_SHARED_DATA if set (worktrees sit elsewhere), else the compiled-in path.
 std::filesystem::path shared_data() {
   const char* env = std::getenv("PARTSLAM_SHARED_DATA");
-  return env != nullptr && *env != '\0' ? std::filesystem::path(env) : std::filesystem::path(PARTSLAM_SHARED_DATA);
+  return env != nullptr && *env != '\0' ? std::filesystem::path(env)
+                                        : std::filesystem::path(PARTSLAM_SHARED_DATA);
 }
 
 const std::filesystem::path kData = shared_data();
@@ -41,7 +42,8 @@ void BM_ReadRelations(benchmark::State& state, const std::filesystem::path& path
   }
   std::size_t relations = 0;
   for (auto _ : state) relations += partslam::io::read_relations(path).size();
-  state.counters["relations/s"] = benchmark::Counter(static_cast<double>(relations), benchmark::Counter::kIsRate);
+  state.counters["relations/s"] =
+      benchmark::Counter(static_cast<double>(relations), benchmark::Counter::kIsRate);
 }
 
 BENCHMARK_CAPTURE(BM_ReadCarmenLog, fr079_corrected, kData / "fr079/fr079-corrected.log.gz")

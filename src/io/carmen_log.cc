@@ -20,19 +20,30 @@ constexpr std::string_view kRobotLaser = "ROBOTLASER1";
 constexpr std::string_view kOdom = "ODOM";
 
 /// Fields after the ranges of a FLASER message.
-constexpr const char* kFlaserTail[] = {"x",      "y",          "theta",         "odom_x",          "odom_y",
-                                       "odom_theta", "ipc_timestamp", "hostname", "logger_timestamp"};
+constexpr const char* kFlaserTail[] = {
+    "x", "y", "theta", "odom_x", "odom_y", "odom_theta", "ipc_timestamp", "hostname", "logger_timestamp"};
 /// Fields of ROBOTLASER1 before the ranges (after the message name).
-constexpr const char* kRobotLaserHead[] = {"laser_type", "start_angle",    "fov",         "angular_res",
-                                           "max_range",  "accuracy",       "remission_mode", "num_readings"};
+constexpr const char* kRobotLaserHead[] = {"laser_type",     "start_angle", "fov",
+                                           "angular_res",    "max_range",   "accuracy",
+                                           "remission_mode", "num_readings"};
 /// Fields of ROBOTLASER1 after the remissions.
-constexpr const char* kRobotLaserTail[] = {"laser_x",         "laser_y",          "laser_theta", "robot_x",
-                                           "robot_y",         "robot_theta",      "tv",          "rv",
-                                           "forward_safety_dist", "side_safety_dist", "turn_axis",
-                                           "ipc_timestamp",   "hostname",         "logger_timestamp"};
+constexpr const char* kRobotLaserTail[] = {"laser_x",
+                                           "laser_y",
+                                           "laser_theta",
+                                           "robot_x",
+                                           "robot_y",
+                                           "robot_theta",
+                                           "tv",
+                                           "rv",
+                                           "forward_safety_dist",
+                                           "side_safety_dist",
+                                           "turn_axis",
+                                           "ipc_timestamp",
+                                           "hostname",
+                                           "logger_timestamp"};
 /// Fields of ODOM after the message name.
-constexpr const char* kOdomFields[] = {"x",  "y",     "theta",         "tv",      "rv",
-                                       "accel", "ipc_timestamp", "hostname", "logger_timestamp"};
+constexpr const char* kOdomFields[] = {
+    "x", "y", "theta", "tv", "rv", "accel", "ipc_timestamp", "hostname", "logger_timestamp"};
 
 bool is_message_name(std::string_view token) {
   if (token.empty() || token[0] < 'A' || token[0] > 'Z') return false;
@@ -44,15 +55,13 @@ bool is_message_name(std::string_view token) {
 /// at index have (used when fields are missing).
 [[noreturn]] void fail_count(const LineReader& reader, std::string_view message, std::size_t have,
                              std::size_t want, const FieldName& first_missing, std::string_view hint) {
-  const std::string counts =
-      " (line has " + std::to_string(have) + " fields, expected " + std::to_string(want) + std::string(hint) + ")";
+  const std::string counts = " (line has " + std::to_string(have) + " fields, expected " +
+                             std::to_string(want) + std::string(hint) + ")";
   if (have < want) fail_field(reader, first_missing, "missing" + counts);
   fail_field(reader, {message, "", -1}, std::to_string(have - want) + " extra field(s)" + counts);
 }
 
-std::string beam_hint(long n) {
-  return "; does num_readings " + std::to_string(n) + " match the ranges?";
-}
+std::string beam_hint(long n) { return "; does num_readings " + std::to_string(n) + " match the ranges?"; }
 
 Pose2 make_pose(double x, double y, double theta) { return {x, y, wrap_angle(theta)}; }
 
@@ -60,7 +69,8 @@ Pose2 make_pose(double x, double y, double theta) { return {x, y, wrap_angle(the
 
 void validate(const LogReadOptions& options) {
   if (!std::isfinite(options.min_range) || options.min_range < 0.0) {
-    throw InputError("LogReadOptions.min_range: must be finite and >= 0, got " + std::to_string(options.min_range));
+    throw InputError("LogReadOptions.min_range: must be finite and >= 0, got " +
+                     std::to_string(options.min_range));
   }
   if (std::isnan(options.max_usable_range) || options.max_usable_range <= options.min_range) {
     throw InputError("LogReadOptions.max_usable_range: must exceed min_range, got " +
@@ -168,8 +178,10 @@ void CarmenReader::add_points(Scan& scan, std::size_t first, int n, double start
   const double limit = std::min({options_.max_usable_range, options_.no_return_range, max_range});
   scan.points_laser.reserve(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
-    const double r = parse_number(*lines_, tokens_[first + static_cast<std::size_t>(i)], {message, "range", i});
-    if (r > options_.min_range && r < limit) scan.points_laser.push_back(r * directions_[static_cast<std::size_t>(i)]);
+    const double r =
+        parse_number(*lines_, tokens_[first + static_cast<std::size_t>(i)], {message, "range", i});
+    if (r > options_.min_range && r < limit)
+      scan.points_laser.push_back(r * directions_[static_cast<std::size_t>(i)]);
   }
   stats_.beams += static_cast<std::size_t>(n);
   stats_.valid_beams += scan.points_laser.size();
@@ -184,8 +196,9 @@ Scan CarmenReader::parse_flaser() {
   const std::size_t tail = 2 + static_cast<std::size_t>(n);
   const std::size_t want = tail + std::size(kFlaserTail);
   if (t.size() != want) {
-    const FieldName missing = t.size() < tail ? FieldName{kFlaser, "range", static_cast<long>(t.size()) - 2}
-                                              : FieldName{kFlaser, kFlaserTail[std::min(t.size(), want - 1) - tail]};
+    const FieldName missing = t.size() < tail
+                                  ? FieldName{kFlaser, "range", static_cast<long>(t.size()) - 2}
+                                  : FieldName{kFlaser, kFlaserTail[std::min(t.size(), want - 1) - tail]};
     fail_count(reader, kFlaser, t.size(), want, missing, beam_hint(n));
   }
   double v[7] = {};
@@ -225,7 +238,8 @@ Scan CarmenReader::parse_robotlaser() {
     const FieldName missing = t.size() < rem_count
                                   ? FieldName{kRobotLaser, "range", static_cast<long>(t.size() - first_range)}
                                   : FieldName{kRobotLaser, "num_remissions"};
-    fail_count(reader, kRobotLaser, t.size(), rem_count + 1 + std::size(kRobotLaserTail), missing, beam_hint(n));
+    fail_count(reader, kRobotLaser, t.size(), rem_count + 1 + std::size(kRobotLaserTail), missing,
+               beam_hint(n));
   }
   const long n_rem = parse_count(reader, t[rem_count], {kRobotLaser, "num_remissions"}, kMaxBeams);
   const std::size_t tail = rem_count + 1 + static_cast<std::size_t>(n_rem);

@@ -66,14 +66,14 @@ struct OdomReading {
 
 /// What a log held, by line and message.
 struct CarmenLogStats {
-  std::size_t lines = 0;       ///< lines read
-  std::size_t flaser = 0;      ///< FLASER messages parsed
-  std::size_t robotlaser = 0;  ///< ROBOTLASER1 messages parsed
-  std::size_t odom = 0;        ///< ODOM messages parsed
-  std::size_t comments = 0;    ///< lines starting with '#'
-  std::size_t blank = 0;       ///< empty or whitespace-only lines
-  std::size_t beams = 0;       ///< beams in all scans
-  std::size_t valid_beams = 0; ///< beams kept as points
+  std::size_t lines = 0;        ///< lines read
+  std::size_t flaser = 0;       ///< FLASER messages parsed
+  std::size_t robotlaser = 0;   ///< ROBOTLASER1 messages parsed
+  std::size_t odom = 0;         ///< ODOM messages parsed
+  std::size_t comments = 0;     ///< lines starting with '#'
+  std::size_t blank = 0;        ///< empty or whitespace-only lines
+  std::size_t beams = 0;        ///< beams in all scans
+  std::size_t valid_beams = 0;  ///< beams kept as points
   /// Skipped messages by name (PARAM, NEFF, VERTEX2, EDGE2, SYNC, unknown ones).
   std::map<std::string, std::size_t, std::less<>> skipped;
 };

@@ -136,7 +136,8 @@ TEST(CarmenLog, SpacingConventionsAndRangeOptions) {
 TEST(CarmenLog, ValidatesOptions) {
   LogReadOptions options;
   options.max_usable_range = 0.0;
-  EXPECT_THAT([&] { validate(options); }, ::testing::ThrowsMessage<InputError>(HasSubstr("max_usable_range")));
+  EXPECT_THAT([&] { validate(options); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("max_usable_range")));
   options = {};
   options.min_range = -1.0;
   EXPECT_THAT([&] { validate(options); }, ::testing::ThrowsMessage<InputError>(HasSubstr("min_range")));
@@ -176,18 +177,25 @@ INSTANTIATE_TEST_SUITE_P(
         ::testing::Values(
             BadLine{"too_few_ranges", "FLASER 4 1 2 3 " + kPoses + "1.0 h 1.0",
                     "FLASER logger_timestamp: missing (line has 14 fields, expected 15; does num_readings 4"},
-            BadLine{"too_many_ranges", "FLASER 3 1 2 3 4 " + kPoses + "1.0 h 1.0", "FLASER: 1 extra field(s)"},
+            BadLine{"too_many_ranges", "FLASER 3 1 2 3 4 " + kPoses + "1.0 h 1.0",
+                    "FLASER: 1 extra field(s)"},
             BadLine{"ranges_only", "FLASER 4 1 2", "FLASER range[2]: missing"},
             BadLine{"no_count", "FLASER", "FLASER num_readings: missing"},
-            BadLine{"fractional_count", "FLASER 4.5 1 2 3 4", "FLASER num_readings: not a whole number '4.5'"},
+            BadLine{"fractional_count", "FLASER 4.5 1 2 3 4",
+                    "FLASER num_readings: not a whole number '4.5'"},
             BadLine{"huge_count", "FLASER 999999999 1", "FLASER num_readings: out of range '999999999'"},
             BadLine{"zero_count", "FLASER 0 " + kPoses + "1 h 1", "FLASER num_readings: no beams"},
-            BadLine{"text_range", "FLASER 4 1 abc 3 4 " + kPoses + "1.0 h 1.0", "FLASER range[1]: not a number 'abc'"},
-            BadLine{"nan_range", "FLASER 4 1 2 nan 4 " + kPoses + "1.0 h 1.0", "FLASER range[2]: not a finite number 'nan'"},
+            BadLine{"text_range", "FLASER 4 1 abc 3 4 " + kPoses + "1.0 h 1.0",
+                    "FLASER range[1]: not a number 'abc'"},
+            BadLine{"nan_range", "FLASER 4 1 2 nan 4 " + kPoses + "1.0 h 1.0",
+                    "FLASER range[2]: not a finite number 'nan'"},
             BadLine{"inf_pose", kRanges4 + "0 inf 0 0 0 0 1.0 h 1.0", "FLASER y: not a finite number 'inf'"},
-            BadLine{"suffix_garbage", kRanges4 + "0 0 1.5rad 0 0 0 1.0 h 1.0", "FLASER theta: not a number '1.5rad'"},
-            BadLine{"overflow", kRanges4 + kPoses + "1e999 h 1.0", "FLASER ipc_timestamp: number out of range"},
-            BadLine{"bad_logger_time", kRanges4 + kPoses + "1.0 h x", "FLASER logger_timestamp: not a number 'x'"},
+            BadLine{"suffix_garbage", kRanges4 + "0 0 1.5rad 0 0 0 1.0 h 1.0",
+                    "FLASER theta: not a number '1.5rad'"},
+            BadLine{"overflow", kRanges4 + kPoses + "1e999 h 1.0",
+                    "FLASER ipc_timestamp: number out of range"},
+            BadLine{"bad_logger_time", kRanges4 + kPoses + "1.0 h x",
+                    "FLASER logger_timestamp: not a number 'x'"},
             BadLine{"odom_missing", "ODOM 1 2 3 0 0 0 5.0 host", "ODOM logger_timestamp: missing"},
             BadLine{"odom_text", "ODOM 1 2 - 0 0 0 5.0 host 5.0", "ODOM theta: not a number '-'"},
             BadLine{"odom_extra", "ODOM 1 2 3 0 0 0 5.0 host 5.0 7", "ODOM: 1 extra field(s)"},
@@ -196,7 +204,8 @@ INSTANTIATE_TEST_SUITE_P(
                     "ROBOTLASER1 angular_res: must not be zero"},
             BadLine{"robot_missing_remissions", kRobotHead + "2 7 " + kRobotTail,
                     "ROBOTLASER1 logger_timestamp: missing"},
-            BadLine{"robot_bad_remission", kRobotHead + "2 7 x " + kRobotTail, "ROBOTLASER1 remission[1]: not a number 'x'"},
+            BadLine{"robot_bad_remission", kRobotHead + "2 7 x " + kRobotTail,
+                    "ROBOTLASER1 remission[1]: not a number 'x'"},
             BadLine{"robot_bad_pose", kRobotHead + "0 0 0 nan 0 0 0 0 0 0 0 0 5.0 host 5.0",
                     "ROBOTLASER1 laser_theta: not a finite number 'nan'"},
             BadLine{"robot_no_remission_count", "ROBOTLASER1 0 -1.57 3.14 0.5 50 0.1 0 2 1 2",
@@ -224,16 +233,18 @@ TEST(CarmenLog, RejectsMissingFileDirectoryAndNonLogs) {
     EXPECT_THAT([&] { read_carmen_log(dir / "empty.log"); },
                 ::testing::ThrowsMessage<InputError>(HasSubstr("empty.log: not a CARMEN log")));
     write_text(dir / "comments.log", "# only\n# comments\nPARAM a b c 0\n", gz);
-    EXPECT_THAT([&] { read_carmen_log(dir / "comments.log"); },
-                ::testing::ThrowsMessage<InputError>(HasSubstr("not a CARMEN log (no FLASER, ROBOTLASER1 or ODOM")));
+    EXPECT_THAT(
+        [&] { read_carmen_log(dir / "comments.log"); },
+        ::testing::ThrowsMessage<InputError>(HasSubstr("not a CARMEN log (no FLASER, ROBOTLASER1 or ODOM")));
   }
   std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
   testing::write_bytes(dir / "image.png", png);
   EXPECT_THAT([&] { read_carmen_log(dir / "image.png"); },
               ::testing::ThrowsMessage<InputError>(HasSubstr("image.png:1: not a CARMEN message")));
   testing::write_bytes(dir / "blob.bin", std::string("\x1f\x9d\x90\x00\x00\x07\n", 7));
-  EXPECT_THAT([&] { read_carmen_log(dir / "blob.bin"); },
-              ::testing::ThrowsMessage<InputError>(HasSubstr("blob.bin:1: binary data (byte 0x1f at column 1)")));
+  EXPECT_THAT(
+      [&] { read_carmen_log(dir / "blob.bin"); },
+      ::testing::ThrowsMessage<InputError>(HasSubstr("blob.bin:1: binary data (byte 0x1f at column 1)")));
   testing::write_bytes(dir / "long.log", std::string(LineReader::kMaxLineBytes + 10, 'A'));
   EXPECT_THAT([&] { read_carmen_log(dir / "long.log"); },
               ::testing::ThrowsMessage<InputError>(HasSubstr("long.log:1: line longer than")));
@@ -271,7 +282,8 @@ TEST(CarmenLog, TruncatedAndCorruptGzipThrowAfterTheGoodScans) {
   EXPECT_LT(scans, 200u);
 
   testing::write_bytes(path, std::string_view(full).substr(0, 2));  // magic bytes only
-  EXPECT_THAT([&] { read_carmen_log(path); }, ::testing::ThrowsMessage<InputError>(HasSubstr("cut.clf.gz:1: truncated")));
+  EXPECT_THAT([&] { read_carmen_log(path); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("cut.clf.gz:1: truncated")));
 
   std::string corrupt = full;
   for (std::size_t i = 20; i < 60; ++i) corrupt[i] = static_cast<char>(i * 37);
@@ -289,6 +301,45 @@ TEST(CarmenLog, DetectsGzipByContentNotNameAndAcceptsCrlf) {
   const CarmenLog log = read_carmen_log(dir / "looks_gz.clf.gz");
   ASSERT_EQ(log.scans.size(), 2u);
   EXPECT_DOUBLE_EQ(log.scans[1].timestamp, 200.5);
+}
+
+TEST(CarmenLog, MutatedLogsParseOrThrowInputErrorNeverAnythingElse) {
+  TempDir dir;
+  const auto path = dir / "mutant.log";
+  std::mt19937 rng(42);
+  const std::string alphabet = "0123456789.-+eE naifFLASERODOM#\n\t\x01\xff";
+  std::size_t parsed = 0, rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text(kTinyLog);
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0:
+          text[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          text.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
+      }
+    }
+    write_text(path, text, trial % 2 == 1);
+    try {
+      const CarmenLog log = read_carmen_log(path);
+      for (const Scan& scan : log.scans) {
+        for (const Vec2& p : scan.points_laser) ASSERT_TRUE(std::isfinite(p.x()) && std::isfinite(p.y()));
+      }
+      ++parsed;
+    } catch (const InputError& e) {
+      ASSERT_THAT(e.what(), HasSubstr("mutant.log")) << text;
+      ++rejected;
+    }
+  }
+  EXPECT_GT(parsed, 10u);
+  EXPECT_GT(rejected, 75u);
 }
 
 }  // namespace

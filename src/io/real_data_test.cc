@@ -39,10 +39,10 @@ const std::map<std::string, LogFacts> kLogs = {
     {"intel/intel.clf.gz", {13631, 26915}},
 };
 
-#define SKIP_WITHOUT_DATA()                                                                          \
-  if (!std::filesystem::is_directory(testing::shared_data())) {                                     \
-    GTEST_SKIP() << "shared data folder " << testing::shared_data()                                  \
-                 << " is absent; set PARTSLAM_SHARED_DATA to run the real-data tests";              \
+#define SKIP_WITHOUT_DATA()                                                            \
+  if (!std::filesystem::is_directory(testing::shared_data())) {                        \
+    GTEST_SKIP() << "shared data folder " << testing::shared_data()                    \
+                 << " is absent; set PARTSLAM_SHARED_DATA to run the real-data tests"; \
   }
 
 /// Median over scan pairs (i, i + step) of the median distance from scan i+step's world points to

@@ -35,7 +35,8 @@ Relations read_relations(const std::filesystem::path& path) {
                      " fields, expected 8: t1 t2 x y z roll pitch yaw)");
     }
     if (tokens.size() > kWant) {
-      fail_field(reader, {kRelation, ""}, std::to_string(tokens.size() - kWant) + " extra field(s) (expected 8)");
+      fail_field(reader, {kRelation, ""},
+                 std::to_string(tokens.size() - kWant) + " extra field(s) (expected 8)");
     }
     relations.push_back({v[0], v[1], Pose2{v[2], v[3], wrap_angle(v[7])}});
   }

@@ -28,6 +28,7 @@ Relations read_relations(const std::filesystem::path& path);
 
 /// Index of the scan whose timestamp is nearest to timestamp, if within tolerance [s]; scans need not
 /// be sorted. Relation timestamps equal the raw logs' FLASER timestamps to the printed microsecond.
-std::optional<std::size_t> find_scan_by_timestamp(const Scans& scans, double timestamp, double tolerance = 1e-4);
+std::optional<std::size_t> find_scan_by_timestamp(const Scans& scans, double timestamp,
+                                                  double tolerance = 1e-4);
 
 }  // namespace partslam::io

@@ -12,8 +12,8 @@ namespace partslam::io {
 namespace {
 
 using ::testing::HasSubstr;
-using ::testing::ThrowsMessage;
 using testing::TempDir;
+using ::testing::ThrowsMessage;
 using testing::write_text;
 
 TEST(Relations, ParsesKnownAnswers) {
@@ -56,11 +56,13 @@ TEST(Relations, MalformedLinesThrowNamingFileLineAndField) {
     }
   }
   write_text(path, "# nothing\n\n", false);
-  EXPECT_THAT([&] { read_relations(path); }, ThrowsMessage<InputError>(HasSubstr("bad.relations: no relations")));
+  EXPECT_THAT([&] { read_relations(path); },
+              ThrowsMessage<InputError>(HasSubstr("bad.relations: no relations")));
   EXPECT_THAT([&] { read_relations(dir / "none.relations"); },
               ThrowsMessage<InputError>(HasSubstr("none.relations: cannot open")));
   write_text(path, "FLASER 1 1.0 0 0 0 0 0 0 1 h 1\n", true);
-  EXPECT_THAT([&] { read_relations(path); }, ThrowsMessage<InputError>(HasSubstr("bad.relations:1: relation t1: not a number 'FLASER'")));
+  EXPECT_THAT([&] { read_relations(path); },
+              ThrowsMessage<InputError>(HasSubstr("bad.relations:1: relation t1: not a number 'FLASER'")));
 }
 
 TEST(Relations, FindsScansByTimestamp) {

@@ -65,7 +65,8 @@ inline void write_text(const std::filesystem::path& path, std::string_view text,
 /// The real-data folder: $PARTSLAM_SHARED_DATA if set (worktrees live elsewhere), else the compiled-in path.
 inline std::filesystem::path shared_data() {
   const char* env = std::getenv("PARTSLAM_SHARED_DATA");
-  return env != nullptr && *env != '\0' ? std::filesystem::path(env) : std::filesystem::path(PARTSLAM_SHARED_DATA);
+  return env != nullptr && *env != '\0' ? std::filesystem::path(env)
+                                        : std::filesystem::path(PARTSLAM_SHARED_DATA);
 }
 
 }  // namespace partslam::io::testing

@@ -60,7 +60,8 @@ long parse_count(const LineReader& reader, std::string_view token, const FieldNa
     fail_field(reader, field, "not a whole number " + quoted(token));
   }
   if (value < 0 || value > max_value) {
-    fail_field(reader, field, "out of range " + quoted(token) + " (allowed 0.." + std::to_string(max_value) + ")");
+    fail_field(reader, field,
+               "out of range " + quoted(token) + " (allowed 0.." + std::to_string(max_value) + ")");
   }
   return value;
 }
