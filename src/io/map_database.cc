@@ -97,7 +97,8 @@ void check_header(const fs::path& path) {
     throw InputError(prefix + "not an SQLite database (no SQLite header), so not a PartSLAM map database");
   }
   if (got < header.size()) {
-    throw InputError(prefix + "truncated SQLite database (" + std::to_string(got) + " bytes, shorter than its header)");
+    throw InputError(prefix + "truncated SQLite database (" + std::to_string(got) +
+                     " bytes, shorter than its header)");
   }
   std::uint32_t page_size = (std::uint32_t{header[16]} << 8) | header[17];
   if (page_size == 1) page_size = 65536;
@@ -148,7 +149,8 @@ void check_schema(const Connection& db) {
 void create_empty(const fs::path& path) {
   const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(folder)) {
-    throw InputError(path.string() + ": cannot create database: folder " + folder.string() + " does not exist");
+    throw InputError(path.string() + ": cannot create database: folder " + folder.string() +
+                     " does not exist");
   }
   const fs::path tmp = temporary_sibling(path);
   std::error_code ec;
@@ -196,10 +198,15 @@ MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
     throw InputError(path.string() + ": not a regular file");
   }
   check_header(path);
-  const auto access = mode == Mode::kReadOnly ? Connection::Access::kReadOnly : Connection::Access::kReadWrite;
-  auto impl = std::make_unique<Impl>(Impl{Connection::open(path, access), mode == Mode::kReadOnly, 0});
+  // Opened read-write even for kReadOnly (SQLite falls back to read-only for a write-protected file), so
+  // that a reader can roll back the hot journal of an interrupted write; kReadOnly is enforced above SQLite
+  // (require_writable) and by PRAGMA query_only.
+  const bool read_only = mode == Mode::kReadOnly;
+  auto impl =
+      std::make_unique<Impl>(Impl{Connection::open(path, Connection::Access::kReadWrite), read_only, 0});
   check_schema(impl->db);
   impl->db.exec("PRAGMA foreign_keys = ON");
+  if (read_only) impl->db.exec("PRAGMA query_only = ON");
   return MapDatabase(std::move(impl));
 }
 

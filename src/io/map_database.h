@@ -56,11 +56,11 @@ struct DatasetSpec {
 struct DatasetInfo {
   std::int64_t id = -1;
   DatasetSpec spec;
-  std::string created;              ///< UTC, ISO 8601
+  std::string created;  ///< UTC, ISO 8601
   std::int64_t submap_count = 0;
-  double mean_points = 0.0;         ///< mean points per submap (0 when empty)
-  std::int64_t first_map_id = -1;   ///< smallest map id of the dataset (-1 when empty)
-  std::int64_t last_map_id = -1;    ///< largest map id of the dataset (-1 when empty)
+  double mean_points = 0.0;        ///< mean points per submap (0 when empty)
+  std::int64_t first_map_id = -1;  ///< smallest map id of the dataset (-1 when empty)
+  std::int64_t last_map_id = -1;   ///< largest map id of the dataset (-1 when empty)
 };
 
 /// Where a map id lives.
@@ -73,13 +73,13 @@ struct MapLocation {
 
 /// A whole-building dictionary map (DESIGN.md, "Dictionary map").
 struct Dictionary {
-  std::string name;         ///< unique within the database, non-empty
-  std::string source;       ///< log it was built from
-  double resolution = 0.1;  ///< grid cell the points were downsampled to [m]
+  std::string name;              ///< unique within the database, non-empty
+  std::string source;            ///< log it was built from
+  double resolution = 0.1;       ///< grid cell the points were downsampled to [m]
   double alignment_angle = 0.0;  ///< rotation applied to enter the canonical frame [rad]
-  Pose2 T_world_map;        ///< map frame in the source log's world frame
-  Points2 points;           ///< points in the map frame [m]
-  std::string metadata = "{}";  ///< free JSON object (builder parameters)
+  Pose2 T_world_map;             ///< map frame in the source log's world frame
+  Points2 points;                ///< points in the map frame [m]
+  std::string metadata = "{}";   ///< free JSON object (builder parameters)
 };
 
 struct DictionaryInfo {
@@ -88,7 +88,7 @@ struct DictionaryInfo {
   std::string source;
   double resolution = 0.0;  ///< [m]
   std::int64_t point_count = 0;
-  std::string created;      ///< UTC, ISO 8601
+  std::string created;  ///< UTC, ISO 8601
 };
 
 /// An opaque packed descriptor: `bits` meaningful bits in ceil(bits / 8) bytes.
@@ -122,7 +122,7 @@ struct DatabaseSummary {
 class MapDatabase {
  public:
   enum class Mode {
-    kReadOnly,   ///< the file must exist; writes throw
+    kReadOnly,   ///< the file must exist; writes throw (an interrupted write's journal is still rolled back)
     kReadWrite,  ///< the file must exist
     kCreate,     ///< opens the file read-write, creating an empty database first when it is missing
   };
@@ -189,7 +189,8 @@ class MapDatabase {
   void put_descriptor(std::int64_t map_id, const std::string& dictionary, int k, const PackedDescriptor& d);
   /// Inserts or replaces many descriptors of one (dictionary, K) in one transaction.
   void put_descriptors(const std::string& dictionary, int k, const std::vector<DescriptorRecord>& records);
-  std::optional<PackedDescriptor> get_descriptor(std::int64_t map_id, const std::string& dictionary, int k) const;
+  std::optional<PackedDescriptor> get_descriptor(std::int64_t map_id, const std::string& dictionary,
+                                                 int k) const;
   /// All descriptors of one (dictionary, K), by increasing map id.
   std::vector<DescriptorRecord> load_descriptors(const std::string& dictionary, int k) const;
   std::vector<DescriptorSetInfo> descriptor_sets() const;

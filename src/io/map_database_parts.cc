@@ -20,8 +20,8 @@ void check_descriptor(const PackedDescriptor& d, const std::string& context) {
 
 std::string descriptor_context(const std::string& file, std::int64_t map_id, const std::string& dictionary,
                                int k) {
-  return file + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary + "', K=" +
-         std::to_string(k) + ")";
+  return file + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
+         "', K=" + std::to_string(k) + ")";
 }
 
 PackedDescriptor read_descriptor(const Statement& q, int bits_column, const std::string& context) {
@@ -51,7 +51,8 @@ std::int64_t MapDatabase::add_dictionary(const Dictionary& d) {
   require_finite(d.T_world_map.y, context, "T_world_map.y");
   require_finite(d.T_world_map.theta, context, "T_world_map.theta");
   const auto metadata = nlohmann::json::parse(d.metadata, nullptr, /*allow_exceptions=*/false);
-  if (!metadata.is_object()) throw InputError(context + ": metadata must be a JSON object, got '" + d.metadata + "'");
+  if (!metadata.is_object())
+    throw InputError(context + ": metadata must be a JSON object, got '" + d.metadata + "'");
   Statement exists(impl_->db, "SELECT id FROM dictionaries WHERE name = ?1");
   if (exists.bind_text(1, d.name).step()) {
     throw InputError(path().string() + ": a dictionary named '" + d.name + "' already exists");
@@ -60,7 +61,10 @@ std::int64_t MapDatabase::add_dictionary(const Dictionary& d) {
                    "INSERT INTO dictionaries (name, source, resolution, alignment_angle, world_x, world_y,"
                    " world_theta, point_count, points, metadata, created) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7,"
                    " ?8, ?9, ?10, strftime('%Y-%m-%dT%H:%M:%SZ', 'now')) RETURNING id");
-  insert.bind_text(1, d.name).bind_text(2, d.source).bind_real(3, d.resolution).bind_real(4, d.alignment_angle);
+  insert.bind_text(1, d.name)
+      .bind_text(2, d.source)
+      .bind_real(3, d.resolution)
+      .bind_real(4, d.alignment_angle);
   insert.bind_real(5, d.T_world_map.x).bind_real(6, d.T_world_map.y).bind_real(7, d.T_world_map.theta);
   insert.bind_int(8, static_cast<std::int64_t>(d.points.size()));
   insert.bind_blob(9, encode_points_f32(d.points, context)).bind_text(10, metadata.dump());
@@ -71,9 +75,10 @@ std::int64_t MapDatabase::add_dictionary(const Dictionary& d) {
 }
 
 Dictionary MapDatabase::load_dictionary(const std::string& name) const {
-  Statement q(impl_->db,
-              "SELECT source, resolution, alignment_angle, world_x, world_y, world_theta, point_count, points,"
-              " metadata FROM dictionaries WHERE name = ?1");
+  Statement q(
+      impl_->db,
+      "SELECT source, resolution, alignment_angle, world_x, world_y, world_theta, point_count, points,"
+      " metadata FROM dictionaries WHERE name = ?1");
   if (!q.bind_text(1, name).step()) {
     throw InputError(path().string() + ": no dictionary named '" + name + "'");
   }
@@ -119,8 +124,9 @@ void MapDatabase::put_descriptors(const std::string& dictionary, int k,
   if (k < 1) throw InputError("descriptor K must be >= 1, got " + std::to_string(k));
   Transaction transaction(*this);
   Statement exists(impl_->db, "SELECT 1 FROM submaps WHERE id = ?1");
-  Statement insert(impl_->db,
-                   "INSERT OR REPLACE INTO descriptors (dictionary, k, map_id, bits, data) VALUES (?1, ?2, ?3, ?4, ?5)");
+  Statement insert(
+      impl_->db,
+      "INSERT OR REPLACE INTO descriptors (dictionary, k, map_id, bits, data) VALUES (?1, ?2, ?3, ?4, ?5)");
   for (const DescriptorRecord& r : records) {
     const std::string context = descriptor_context(path().string(), r.map_id, dictionary, k);
     check_descriptor(r.descriptor, context);
@@ -133,9 +139,10 @@ void MapDatabase::put_descriptors(const std::string& dictionary, int k,
   transaction.commit();
 }
 
-std::optional<PackedDescriptor> MapDatabase::get_descriptor(std::int64_t map_id, const std::string& dictionary,
-                                                            int k) const {
-  Statement q(impl_->db, "SELECT bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 AND map_id = ?3");
+std::optional<PackedDescriptor> MapDatabase::get_descriptor(std::int64_t map_id,
+                                                            const std::string& dictionary, int k) const {
+  Statement q(impl_->db,
+              "SELECT bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 AND map_id = ?3");
   if (!q.bind_text(1, dictionary).bind_int(2, k).bind_int(3, map_id).step()) return std::nullopt;
   return read_descriptor(q, 0, descriptor_context(path().string(), map_id, dictionary, k));
 }
@@ -147,7 +154,8 @@ std::vector<DescriptorRecord> MapDatabase::load_descriptors(const std::string& d
   std::vector<DescriptorRecord> out;
   while (q.step()) {
     const std::int64_t map_id = q.int64(0);
-    out.push_back({map_id, read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k))});
+    out.push_back(
+        {map_id, read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k))});
   }
   return out;
 }

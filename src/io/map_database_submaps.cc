@@ -37,8 +37,10 @@ SubmapConfig config_from_json(const std::string& text, const std::string& contex
 }
 
 constexpr const char* kDatasetQuery =
-    "SELECT d.id, d.name, d.source, d.kind, d.config, d.created, COUNT(s.id), COALESCE(AVG(s.point_count), 0),"
-    " COALESCE(MIN(s.id), -1), COALESCE(MAX(s.id), -1) FROM datasets d LEFT JOIN submaps s ON s.dataset_id = d.id";
+    "SELECT d.id, d.name, d.source, d.kind, d.config, d.created, COUNT(s.id), COALESCE(AVG(s.point_count), "
+    "0),"
+    " COALESCE(MIN(s.id), -1), COALESCE(MAX(s.id), -1) FROM datasets d LEFT JOIN submaps s ON s.dataset_id = "
+    "d.id";
 
 DatasetInfo read_dataset(const Statement& q, const std::string& file) {
   DatasetInfo info;
@@ -111,10 +113,11 @@ std::vector<std::int64_t> MapDatabase::add_submaps(std::int64_t dataset_id, cons
   Statement next(impl_->db, "SELECT COALESCE(MAX(idx) + 1, 0) FROM submaps WHERE dataset_id = ?1");
   next.bind_int(1, dataset_id).step();
   std::int64_t index = next.int64(0);
-  Statement insert(impl_->db,
-                   "INSERT INTO submaps (dataset_id, idx, anchor_scan, anchor_timestamp, travel, alignment_angle,"
-                   " world_x, world_y, world_theta, point_count, points, scan_timestamps)"
-                   " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12) RETURNING id");
+  Statement insert(
+      impl_->db,
+      "INSERT INTO submaps (dataset_id, idx, anchor_scan, anchor_timestamp, travel, alignment_angle,"
+      " world_x, world_y, world_theta, point_count, points, scan_timestamps)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12) RETURNING id");
   std::vector<std::int64_t> ids;
   ids.reserve(submaps.size());
   for (std::size_t i = 0; i < submaps.size(); ++i) {
@@ -188,7 +191,8 @@ std::vector<std::int64_t> MapDatabase::map_ids(std::int64_t dataset_id) const {
 
 Submaps MapDatabase::load_submaps(std::int64_t dataset_id) const {
   dataset(dataset_id);  // throws when missing
-  Statement q(impl_->db, std::string("SELECT ") + kSubmapColumns + " FROM submaps WHERE dataset_id = ?1 ORDER BY idx");
+  Statement q(impl_->db,
+              std::string("SELECT ") + kSubmapColumns + " FROM submaps WHERE dataset_id = ?1 ORDER BY idx");
   q.bind_int(1, dataset_id);
   Submaps out;
   while (q.step()) out.push_back(read_submap(q, path().string()));
@@ -198,8 +202,8 @@ Submaps MapDatabase::load_submaps(std::int64_t dataset_id) const {
 Submap MapDatabase::load_submap(std::int64_t map_id) const {
   Statement q(impl_->db, std::string("SELECT ") + kSubmapColumns + " FROM submaps WHERE id = ?1");
   if (!q.bind_int(1, map_id).step()) {
-    throw InputError(path().string() + ": no map with id " + std::to_string(map_id) +
-                     " ('partslam info " + path().string() + "' lists the map ids)");
+    throw InputError(path().string() + ": no map with id " + std::to_string(map_id) + " ('partslam info " +
+                     path().string() + "' lists the map ids)");
   }
   return read_submap(q, path().string());
 }
@@ -209,8 +213,8 @@ MapLocation MapDatabase::locate(std::int64_t map_id) const {
               "SELECT s.dataset_id, d.name, s.idx FROM submaps s JOIN datasets d ON d.id = s.dataset_id "
               "WHERE s.id = ?1");
   if (!q.bind_int(1, map_id).step()) {
-    throw InputError(path().string() + ": no map with id " + std::to_string(map_id) +
-                     " ('partslam info " + path().string() + "' lists the map ids)");
+    throw InputError(path().string() + ": no map with id " + std::to_string(map_id) + " ('partslam info " +
+                     path().string() + "' lists the map ids)");
   }
   return {map_id, q.int64(0), q.text(1), q.int64(2)};
 }

@@ -2,6 +2,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -47,9 +48,8 @@ Points2 rounded_to_float(const Points2& points) {
 class MapDatabaseTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("partslam_db_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("partslam_db_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -126,7 +126,8 @@ TEST_F(MapDatabaseTest, SubmapsRoundTripExactlyUpToFloat32Points) {
 TEST_F(MapDatabaseTest, MapIdsAreGlobalAndNeverReused) {
   MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
   const std::int64_t a = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1));
-  const std::int64_t b = db.store_dataset({"b", "b.log", DatasetKind::kDictionary, {}}, make_submaps(2, 10, 2));
+  const std::int64_t b =
+      db.store_dataset({"b", "b.log", DatasetKind::kDictionary, {}}, make_submaps(2, 10, 2));
   EXPECT_EQ(db.map_ids(a), (std::vector<std::int64_t>{1, 2, 3}));
   EXPECT_EQ(db.map_ids(b), (std::vector<std::int64_t>{4, 5}));
   db.remove_dataset(b);  // held the largest ids
@@ -265,6 +266,32 @@ TEST_F(MapDatabaseTest, TransactionRolledBackOnExceptionLeavesNoPartialDataset) 
   EXPECT_EQ(db.summary().submap_count, 3);
 }
 
+TEST_F(MapDatabaseTest, ProcessKilledMidTransactionLeavesNoPartialDataset) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase::open(path, Mode::kCreate)
+      .store_dataset({"kept", "k.log", DatasetKind::kSubmaps, {}}, make_submaps(2, 10, 1));
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    // ~10 MB in one transaction: more than SQLite's page cache, so pages spill into the file mid-way.
+    MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
+    MapDatabase::Transaction transaction(db);
+    db.store_dataset({"partial", "p.log", DatasetKind::kSubmaps, {}}, make_submaps(2500, 500, 2));
+    ::_exit(0);  // dies without commit or any destructor, like a killed process
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_TRUE(fs::exists(path.string() + "-journal"));  // a hot journal is left behind
+  // Any reader with write access rolls the journal back, as SQLite does.
+  const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+  EXPECT_FALSE(fs::exists(path.string() + "-journal"));
+  db.check_integrity();
+  ASSERT_EQ(db.datasets().size(), 1u);
+  EXPECT_EQ(db.datasets()[0].spec.name, "kept");
+  EXPECT_EQ(db.summary().submap_count, 2);
+}
+
 TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
   const fs::path path = dir_ / "maps.db";
   EXPECT_THAT(open_error(path, Mode::kReadOnly), HasSubstr("no such file"));
@@ -294,7 +321,8 @@ TEST_F(MapDatabaseTest, RefusesNewerSchemaVersion) {
 
 TEST_F(MapDatabaseTest, RefusesForeignSqliteDatabase) {
   const fs::path path = dir_ / "other.sqlite";
-  sqlite::Connection::open(path, sqlite::Connection::Access::kCreate).exec("CREATE TABLE t (x); INSERT INTO t VALUES (1)");
+  sqlite::Connection::open(path, sqlite::Connection::Access::kCreate)
+      .exec("CREATE TABLE t (x); INSERT INTO t VALUES (1)");
   const std::string error = open_error(path, Mode::kCreate);
   EXPECT_THAT(error, HasSubstr(path.string()));
   EXPECT_THAT(error, HasSubstr("not a PartSLAM map database"));
@@ -312,8 +340,8 @@ TEST_F(MapDatabaseTest, RefusesGarbageAndEmptyFiles) {
 
 TEST_F(MapDatabaseTest, RefusesTruncatedDatabase) {
   const fs::path path = dir_ / "maps.db";
-  MapDatabase::open(path, Mode::kCreate).store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}},
-                                                      make_submaps(20, 500, 1));
+  MapDatabase::open(path, Mode::kCreate)
+      .store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(20, 500, 1));
   const auto size = fs::file_size(path);
   ASSERT_GT(size, 20u * 4000u);
   fs::resize_file(path, size / 2);

@@ -17,7 +17,9 @@ std::string describe(sqlite3* db, int rc) {
       message += " (the file is corrupt, truncated or not a database)";
       break;
     case SQLITE_READONLY:
-      message += " (the database was opened read-only, or the file or its folder is not writable)";
+      message += rc == SQLITE_READONLY_ROLLBACK
+                     ? " (a write was interrupted; open the file once with write access to roll it back)"
+                     : " (the database was opened read-only, or the file or its folder is not writable)";
       break;
     case SQLITE_BUSY:
       message += " (another process holds a lock on the database)";
@@ -148,7 +150,8 @@ double Statement::real(int column) const { return sqlite3_column_double(stmt_, c
 
 std::string Statement::text(int column) const {
   const auto* data = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, column));
-  return data == nullptr ? std::string() : std::string(data, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, column)));
+  return data == nullptr ? std::string()
+                         : std::string(data, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, column)));
 }
 
 std::span<const std::uint8_t> Statement::blob(int column) const {
