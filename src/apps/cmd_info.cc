@@ -60,10 +60,14 @@ nlohmann::json to_json(const io::DatabaseSummary& s, const std::string& file) {
 }
 
 void print_text(const io::DatabaseSummary& s, const std::string& file, std::ostream& out) {
-  const double megabytes = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
+  const auto bytes = static_cast<double>(std::filesystem::file_size(file));
   out << std::fixed << std::setprecision(1);
-  out << file << ": PartSLAM map database, schema version " << s.schema_version << ", " << megabytes
-      << " MB\n";
+  out << file << ": PartSLAM map database, schema version " << s.schema_version << ", ";
+  if (bytes < 1e6) {
+    out << bytes / 1e3 << " kB\n";
+  } else {
+    out << bytes / 1e6 << " MB\n";
+  }
   out << "datasets: " << s.datasets.size() << "\n";
   for (const io::DatasetInfo& d : s.datasets) {
     out << "  " << d.spec.name << ": " << d.submap_count << " submaps, mean " << d.mean_points << " points, "
