@@ -55,7 +55,7 @@ void run_export(const ExportOptions& options, std::ostream& log) {
   } else {
     io::Dictionary dictionary = db.load_dictionary(options.dictionary);
     points = std::move(dictionary.points);
-    T_world_map = dictionary.T_world_map;
+    T_world_map = dictionary.T_world_dict;
     what = "dictionary '" + options.dictionary + "'";
     if (out.empty()) out = "dictionary_" + options.dictionary + extension;
   }

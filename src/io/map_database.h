@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dictionary.h"
 #include "core/submap.h"
 #include "io/blob_codec.h"
 
@@ -71,16 +72,8 @@ struct MapLocation {
   std::int64_t index = -1;  ///< position within its dataset, from 0
 };
 
-/// A whole-building dictionary map (DESIGN.md, "Dictionary map").
-struct Dictionary {
-  std::string name;              ///< unique within the database, non-empty
-  std::string source;            ///< log it was built from
-  double resolution = 0.1;       ///< grid cell the points were downsampled to [m]
-  double alignment_angle = 0.0;  ///< rotation applied to enter the canonical frame [rad]
-  Pose2 T_world_map;             ///< map frame in the source log's world frame
-  Points2 points;                ///< points in the map frame [m]
-  std::string metadata = "{}";   ///< free JSON object (builder parameters)
-};
+/// Dictionaries are partslam::Dictionary (core/dictionary.h).
+using partslam::Dictionary;
 
 struct DictionaryInfo {
   std::int64_t id = -1;

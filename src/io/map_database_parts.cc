@@ -47,9 +47,9 @@ std::int64_t MapDatabase::add_dictionary(const Dictionary& d) {
     throw InputError(context + ": resolution must be a positive finite number");
   }
   require_finite(d.alignment_angle, context, "alignment_angle");
-  require_finite(d.T_world_map.x, context, "T_world_map.x");
-  require_finite(d.T_world_map.y, context, "T_world_map.y");
-  require_finite(d.T_world_map.theta, context, "T_world_map.theta");
+  require_finite(d.T_world_dict.x, context, "T_world_dict.x");
+  require_finite(d.T_world_dict.y, context, "T_world_dict.y");
+  require_finite(d.T_world_dict.theta, context, "T_world_dict.theta");
   const auto metadata = nlohmann::json::parse(d.metadata, nullptr, /*allow_exceptions=*/false);
   if (!metadata.is_object())
     throw InputError(context + ": metadata must be a JSON object, got '" + d.metadata + "'");
@@ -65,7 +65,7 @@ std::int64_t MapDatabase::add_dictionary(const Dictionary& d) {
       .bind_text(2, d.source)
       .bind_real(3, d.resolution)
       .bind_real(4, d.alignment_angle);
-  insert.bind_real(5, d.T_world_map.x).bind_real(6, d.T_world_map.y).bind_real(7, d.T_world_map.theta);
+  insert.bind_real(5, d.T_world_dict.x).bind_real(6, d.T_world_dict.y).bind_real(7, d.T_world_dict.theta);
   insert.bind_int(8, static_cast<std::int64_t>(d.points.size()));
   insert.bind_blob(9, encode_points_f32(d.points, context)).bind_text(10, metadata.dump());
   insert.step();
@@ -88,7 +88,7 @@ Dictionary MapDatabase::load_dictionary(const std::string& name) const {
   d.source = q.text(0);
   d.resolution = q.real(1);
   d.alignment_angle = q.real(2);
-  d.T_world_map = Pose2{q.real(3), q.real(4), q.real(5)};
+  d.T_world_dict = Pose2{q.real(3), q.real(4), q.real(5)};
   const std::int64_t count = q.int64(6);
   if (count < 0) throw InputError(context + ": negative point count (corrupt database)");
   d.points = decode_points_f32(q.blob(7), static_cast<std::size_t>(count), context);

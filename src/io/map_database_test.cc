@@ -212,7 +212,7 @@ TEST_F(MapDatabaseTest, DictionariesRoundTrip) {
   d.source = "fr079.log";
   d.resolution = 0.1;
   d.alignment_angle = 0.25;
-  d.T_world_map = Pose2{3.0, -4.0, 0.5};
+  d.T_world_dict = Pose2{3.0, -4.0, 0.5};
   d.points = make_submaps(1, 5000, 9)[0].points;
   d.metadata = R"({"scans": 4933})";
   db.add_dictionary(d);
@@ -222,7 +222,7 @@ TEST_F(MapDatabaseTest, DictionariesRoundTrip) {
   EXPECT_THROW(db.add_dictionary(d), InputError);
   const Dictionary loaded = db.load_dictionary("fr079");
   EXPECT_EQ(loaded.points, rounded_to_float(d.points));
-  EXPECT_EQ(loaded.T_world_map.theta, 0.5);
+  EXPECT_EQ(loaded.T_world_dict.theta, 0.5);
   EXPECT_EQ(loaded.alignment_angle, 0.25);
   EXPECT_EQ(loaded.metadata, R"({"scans":4933})");
   ASSERT_EQ(db.dictionaries().size(), 1u);
