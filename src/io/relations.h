@@ -10,18 +10,15 @@
 #include <optional>
 #include <vector>
 
+#include "core/relation_check.h"
 #include "core/scan.h"
 #include "core/types.h"
 
 namespace partslam::io {
 
-struct Relation {
-  double t1 = 0.0;  ///< timestamp of the first scan [s]
-  double t2 = 0.0;  ///< timestamp of the second scan [s]
-  Pose2 T_1_2;      ///< pose of scan 2 in the frame of scan 1 [m, rad]
-};
-
-using Relations = std::vector<Relation>;
+/// Relations are partslam::Relation (core/relation_check.h).
+using partslam::Relation;
+using partslam::Relations;
 
 /// Reads a .relations file (plain or gzip); throws InputError on a missing, malformed or empty file.
 Relations read_relations(const std::filesystem::path& path);
