@@ -3,7 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -23,8 +25,10 @@ namespace {
 
 constexpr int kLanes = DescriptorDatabase::kLanes;
 constexpr long long kGridOffset = 32768;  // cell 0 of the grid sits at -32768 * resolution
-constexpr int kMaxSideCells = 255;        // keeps area(Bl ∩ Bg) <= 65025 in 16 bits
+constexpr int kMaxSideCells = 255;
+constexpr int kMaxPartsPerMap = 64;  // keeps area(Bl ∩ Bg) <= 65025 in 16 bits
 constexpr std::uint32_t kNoMap = std::numeric_limits<std::uint32_t>::max();
+constexpr std::size_t kBlocksPerSuper = DescriptorDatabase::kBlocksPerSuper;
 
 // A box in grid cells (unclamped).
 struct CellBox {
@@ -89,64 +93,114 @@ QueryBoxes prepare_query(const MapDescriptor& query, Matcher matcher, double res
   return q;
 }
 
-// Scores blocks [begin, end). scores[map] is written for every map of these blocks.
+// GCC/Clang vector extensions: element-wise IEEE operations, lowered to AVX2 or SSE2 per clone.
+using U16x16 = std::uint16_t __attribute__((vector_size(32)));
+using F32x8 = float __attribute__((vector_size(32)));
+using I32x8 = std::int32_t __attribute__((vector_size(32)));
+// Element-wise max / min as macros: helper functions taking 32-byte vectors by value would change the ABI
+// of the baseline clone (-Wpsabi).
+#define PARTSLAM_VMAX(a, b) ((a) > (b) ? (a) : (b))
+#define PARTSLAM_VMIN(a, b) ((a) < (b) ? (a) : (b))
+
+// Read-only view of the database layout for the kernel.
+struct Layout {
+  const std::uint16_t* coords;
+  const float* inv_sqrt_area;
+  const std::uint16_t* bounds;        // per block
+  const std::uint16_t* super_bounds;  // per group of kBlocksPerSuper blocks
+  const std::uint32_t* map_index;
+  std::size_t num_blocks;
+  int num_slots;
+};
+
+// Keeps the query parts of `in` whose box overlaps `bound` (x0, x1, y0, y1) with positive area.
+std::size_t filter_overlapping(const QueryBoxes& q, const std::uint32_t* in, std::size_t n,
+                               const std::uint16_t* bound, std::uint32_t* out) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t i = in[k];
+    out[kept] = i;
+    kept += (q.x0[i] < bound[1]) & (bound[0] < q.x1[i]) & (q.y0[i] < bound[3]) & (bound[2] < q.y1[i]);
+  }
+  return kept;
+}
+
+// Scores the maps of super blocks [begin, end) into scores[map]; maps no query part can reach keep 0.
 PARTSLAM_MULTIVERSION
-void score_blocks(const std::uint16_t* __restrict coords, const float* __restrict inv_sqrt_area,
-                  const std::uint16_t* __restrict bounds, const std::uint32_t* __restrict map_index,
-                  std::size_t begin, std::size_t end, int num_slots, const QueryBoxes& q, bool use_max,
-                  float* __restrict scores) {
+void score_range(const Layout& layout, std::size_t begin, std::size_t end, const QueryBoxes& q, bool use_max,
+                 float* __restrict scores) {
   const std::size_t n = q.weight.size();
-  std::vector<std::uint32_t> active(n);
-  for (std::size_t block = begin; block < end; ++block) {
-    const std::uint16_t* b = bounds + 4 * block;
-    std::size_t num_active = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      active[num_active] = static_cast<std::uint32_t>(i);
-      num_active += (q.x0[i] < b[1]) & (b[0] < q.x1[i]) & (q.y0[i] < b[3]) & (b[2] < q.y1[i]);
-    }
-    alignas(64) float acc[kLanes] = {};
-    for (std::size_t a = 0; a < num_active; ++a) {
-      const std::size_t i = active[a];
-      const std::uint16_t qx0 = q.x0[i], qx1 = q.x1[i], qy0 = q.y0[i], qy1 = q.y1[i];
-      alignas(64) float best[kLanes] = {};
-      for (int j = 0; j < num_slots; ++j) {
-        const std::size_t slot = block * static_cast<std::size_t>(num_slots) + static_cast<std::size_t>(j);
-        const std::uint16_t* __restrict x0 = coords + slot * 4 * kLanes;
-        const std::uint16_t* __restrict x1 = x0 + kLanes;
-        const std::uint16_t* __restrict y0 = x0 + 2 * kLanes;
-        const std::uint16_t* __restrict y1 = x0 + 3 * kLanes;
-        const float* __restrict g = inv_sqrt_area + slot * kLanes;
-#pragma omp simd
-        for (int l = 0; l < kLanes; ++l) {
-          const std::uint16_t lo_x = std::max(qx0, x0[l]), hi_x = std::min(qx1, x1[l]);
-          const std::uint16_t lo_y = std::max(qy0, y0[l]), hi_y = std::min(qy1, y1[l]);
-          // max(hi, lo) - lo rather than a conditional: the loop must stay free of control flow to vectorise.
-          const std::uint16_t w = static_cast<std::uint16_t>(std::max(hi_x, lo_x) - lo_x);
-          const std::uint16_t h = static_cast<std::uint16_t>(std::max(hi_y, lo_y) - lo_y);
-          const std::uint16_t overlap = static_cast<std::uint16_t>(w * h);
-          best[l] = std::max(best[l], static_cast<float>(overlap) * g[l]);
+  std::vector<std::uint32_t> all(n), near_super(n), active(n);
+  std::iota(all.begin(), all.end(), 0u);
+  for (std::size_t super = begin; super < end; ++super) {
+    const std::size_t num_near =
+        filter_overlapping(q, all.data(), n, layout.super_bounds + 4 * super, near_super.data());
+    if (num_near == 0) continue;
+    const std::size_t block_end = std::min(layout.num_blocks, (super + 1) * kBlocksPerSuper);
+    for (std::size_t block = super * kBlocksPerSuper; block < block_end; ++block) {
+      const std::size_t num_active =
+          filter_overlapping(q, near_super.data(), num_near, layout.bounds + 4 * block, active.data());
+      if (num_active == 0) continue;
+      // Lanes are 16 maps: coordinates in one 16 x u16 vector, scores in two 8 x float halves.
+      F32x8 acc_lo = {}, acc_hi = {};
+      for (std::size_t a = 0; a < num_active; ++a) {
+        const std::size_t i = active[a];
+        const U16x16 qx0 = U16x16{} + q.x0[i], qx1 = U16x16{} + q.x1[i];
+        const U16x16 qy0 = U16x16{} + q.y0[i], qy1 = U16x16{} + q.y1[i];
+        F32x8 best_lo = {}, best_hi = {};
+        for (int j = 0; j < layout.num_slots; ++j) {
+          const std::size_t slot =
+              block * static_cast<std::size_t>(layout.num_slots) + static_cast<std::size_t>(j);
+          const std::uint16_t* c = layout.coords + slot * 4 * kLanes;
+          const float* g = layout.inv_sqrt_area + slot * kLanes;
+          U16x16 x0, x1, y0, y1;
+          F32x8 g_lo, g_hi;
+          std::memcpy(&x0, c, sizeof(x0));
+          std::memcpy(&x1, c + kLanes, sizeof(x1));
+          std::memcpy(&y0, c + 2 * kLanes, sizeof(y0));
+          std::memcpy(&y1, c + 3 * kLanes, sizeof(y1));
+          std::memcpy(&g_lo, g, sizeof(g_lo));
+          std::memcpy(&g_hi, g + 8, sizeof(g_hi));
+          const U16x16 lo_x = PARTSLAM_VMAX(qx0, x0), hi_x = PARTSLAM_VMIN(qx1, x1);
+          const U16x16 lo_y = PARTSLAM_VMAX(qy0, y0), hi_y = PARTSLAM_VMIN(qy1, y1);
+          // Saturating differences: the overlap's sides, 0 when the boxes miss.
+          const U16x16 overlap = (PARTSLAM_VMAX(hi_x, lo_x) - lo_x) * (PARTSLAM_VMAX(hi_y, lo_y) - lo_y);
+          // Zero-extend each half to 32 bits (interleave with zeros, reinterpret), then convert to float.
+          const U16x16 z = {};
+          const I32x8 overlap_lo = reinterpret_cast<I32x8>(
+              __builtin_shufflevector(overlap, z, 0, 16, 1, 16, 2, 16, 3, 16, 4, 16, 5, 16, 6, 16, 7, 16));
+          const I32x8 overlap_hi = reinterpret_cast<I32x8>(__builtin_shufflevector(
+              overlap, z, 8, 16, 9, 16, 10, 16, 11, 16, 12, 16, 13, 16, 14, 16, 15, 16));
+          best_lo = PARTSLAM_VMAX(best_lo, __builtin_convertvector(overlap_lo, F32x8) * g_lo);
+          best_hi = PARTSLAM_VMAX(best_hi, __builtin_convertvector(overlap_hi, F32x8) * g_hi);
+        }
+        const F32x8 weight = F32x8{} + q.weight[i];
+        if (use_max) {
+          acc_lo = PARTSLAM_VMAX(acc_lo, weight * best_lo);
+          acc_hi = PARTSLAM_VMAX(acc_hi, weight * best_hi);
+        } else {
+          acc_lo += weight * best_lo;
+          acc_hi += weight * best_hi;
         }
       }
-      const float weight = q.weight[i];
-      if (use_max) {
-#pragma omp simd
-        for (int l = 0; l < kLanes; ++l) acc[l] = std::max(acc[l], weight * best[l]);
-      } else {
-#pragma omp simd
-        for (int l = 0; l < kLanes; ++l) acc[l] += weight * best[l];
+      alignas(32) float acc[kLanes];
+      std::memcpy(acc, &acc_lo, sizeof(acc_lo));
+      std::memcpy(acc + 8, &acc_hi, sizeof(acc_hi));
+      for (int l = 0; l < kLanes; ++l) {
+        const std::uint32_t m = layout.map_index[block * kLanes + static_cast<std::size_t>(l)];
+        if (m != kNoMap) scores[m] = acc[l];
       }
-    }
-    for (int l = 0; l < kLanes; ++l) {
-      const std::uint32_t m = map_index[block * kLanes + static_cast<std::size_t>(l)];
-      if (m != kNoMap) scores[m] = acc[l];
     }
   }
 }
 
+#undef PARTSLAM_VMAX
+#undef PARTSLAM_VMIN
+
 }  // namespace
 
 void validate(const DescriptorDatabaseConfig& c) {
-  if (c.parts_per_map < 1 || c.parts_per_map > 64) {
+  if (c.parts_per_map < 1 || c.parts_per_map > kMaxPartsPerMap) {
     throw InputError("descriptor database config: parts_per_map must be in [1, 64], got " +
                      std::to_string(c.parts_per_map));
   }
@@ -200,18 +254,20 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
                      std::to_string(map.parts.size()) +
                      " parts, more than parts_per_map = " + std::to_string(k));
   }
-  std::vector<CellBox> cells(map.parts.size());
+  std::array<CellBox, kMaxPartsPerMap> cells;
   for (std::size_t j = 0; j < map.parts.size(); ++j) {
+    auto fail = [&](const char* what) {
+      throw InputError("descriptor database: map " + std::to_string(index) + " part " + std::to_string(j) +
+                       ": descriptor_box " + what);
+    };
     const Box2& box = map.parts[j].descriptor_box;
-    const std::string where =
-        "descriptor database: map " + std::to_string(index) + " part " + std::to_string(j);
-    if (!finite(box)) throw InputError(where + ": descriptor_box is not finite");
+    if (!finite(box)) fail("is not finite");
     const CellBox c = to_cells(box, config_.resolution);
     if (std::min({c.x0, c.x1, c.y0, c.y1}) < 0 || std::max({c.x0, c.x1, c.y0, c.y1}) > 65535) {
-      throw InputError(where + ": descriptor_box lies outside the grid of +-32768 cells of resolution");
+      fail("lies outside the grid of +-32768 cells of resolution");
     }
     if (c.x1 - c.x0 > kMaxSideCells || c.y1 - c.y0 > kMaxSideCells) {
-      throw InputError(where + ": descriptor_box is larger than 255 cells of resolution on a side");
+      fail("is larger than 255 cells of resolution on a side");
     }
     cells[j] = c;
   }
@@ -221,10 +277,12 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
     coords_.resize(coords_.size() + k * 4 * kLanes, 0);
     inv_sqrt_area_.resize(inv_sqrt_area_.size() + k * kLanes, 0.0f);
     bounds_.insert(bounds_.end(), {65535, 0, 65535, 0});
+    if (block % kBlocksPerSuper == 0) super_bounds_.insert(super_bounds_.end(), {65535, 0, 65535, 0});
     map_index_.resize(map_index_.size() + kLanes, kNoMap);
   }
   std::uint16_t* bound = &bounds_[4 * block];
-  for (std::size_t j = 0; j < cells.size(); ++j) {
+  std::uint16_t* super_bound = &super_bounds_[4 * (block / kBlocksPerSuper)];
+  for (std::size_t j = 0; j < map.parts.size(); ++j) {
     const CellBox& c = cells[j];
     if (c.area() == 0) continue;  // an empty slot never overlaps anything
     std::uint16_t* base = &coords_[((block * k + j) * 4) * kLanes + lane];
@@ -238,6 +296,10 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
     bound[1] = std::max(bound[1], base[kLanes]);
     bound[2] = std::min(bound[2], base[2 * kLanes]);
     bound[3] = std::max(bound[3], base[3 * kLanes]);
+    super_bound[0] = std::min(super_bound[0], bound[0]);
+    super_bound[1] = std::max(super_bound[1], bound[1]);
+    super_bound[2] = std::min(super_bound[2], bound[2]);
+    super_bound[3] = std::max(super_bound[3], bound[3]);
   }
   map_index_[block * kLanes + lane] = static_cast<std::uint32_t>(index);
   ++num_stored_;
@@ -245,7 +307,8 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
 
 std::size_t DescriptorDatabase::memory_bytes() const {
   return coords_.size() * sizeof(std::uint16_t) + inv_sqrt_area_.size() * sizeof(float) +
-         bounds_.size() * sizeof(std::uint16_t) + map_index_.size() * sizeof(std::uint32_t);
+         (bounds_.size() + super_bounds_.size()) * sizeof(std::uint16_t) +
+         map_index_.size() * sizeof(std::uint32_t);
 }
 
 std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher,
@@ -253,22 +316,20 @@ std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Mat
   if (options.num_threads < 0) throw InputError("score_all: num_threads must be >= 0");
   const QueryBoxes q = prepare_query(query, matcher, config_.resolution);
   std::vector<float> scores(num_maps_, 0.0f);
-  const std::size_t blocks = map_index_.size() / kLanes;
+  const Layout layout{coords_.data(),    inv_sqrt_area_.data(), bounds_.data(),       super_bounds_.data(),
+                      map_index_.data(), bounds_.size() / 4,    config_.parts_per_map};
+  const std::size_t supers = super_bounds_.size() / 4;
   const bool use_max = matcher == Matcher::kMaxMax;
   const int threads = options.num_threads == 0 ? omp_get_max_threads() : options.num_threads;
-  auto run = [&](std::size_t begin, std::size_t end) {
-    score_blocks(coords_.data(), inv_sqrt_area_.data(), bounds_.data(), map_index_.data(), begin, end,
-                 config_.parts_per_map, q, use_max, scores.data());
-  };
-  if (threads <= 1 || blocks < 2) {
-    run(0, blocks);
+  if (threads <= 1 || supers < 2) {
+    score_range(layout, 0, supers, q, use_max, scores.data());
     return scores;
   }
 #pragma omp parallel num_threads(threads)
   {
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
-    run(blocks * t / nt, blocks * (t + 1) / nt);
+    score_range(layout, supers * t / nt, supers * (t + 1) / nt, q, use_max, scores.data());
   }
   return scores;
 }

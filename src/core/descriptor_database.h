@@ -5,7 +5,8 @@
 // coordinates in blocks of 16 maps; within a block, slot j (the j-th part of each map) keeps x0[16], x1[16],
 // y0[16], y1[16] and the precomputed 1/sqrt(area)[16], so one AVX2 register holds one field of 16 maps and
 // nothing is allocated per map. Per block, the union of its boxes is kept: a query part that misses it adds
-// exactly 0 to every map of the block and is skipped. Storing maps in Morton order of their descriptor centre
+// exactly 0 to every map of the block and is skipped (tested per super block of 16 blocks, then per block;
+// maps of a skipped block are never read). Storing maps in Morton order of their descriptor centre
 // (the parts of one map overlap, the paper's GC criterion) makes these block boxes tight.
 // Per pair of boxes the kernel does min / max / saturating subtraction on 16-bit lanes, one 16-bit product
 // (box sides are limited to 255 cells so the area fits), one conversion and one multiply-max in float:
@@ -37,7 +38,8 @@ struct ScoreOptions {
 
 class DescriptorDatabase {
  public:
-  static constexpr int kLanes = 16;  ///< maps per block
+  static constexpr int kLanes = 16;                   ///< maps per block
+  static constexpr std::size_t kBlocksPerSuper = 16;  ///< blocks per super block (two-level pruning)
 
   explicit DescriptorDatabase(const DescriptorDatabaseConfig& config = {});
   /// Bulk construction; map i keeps index i (its position in score_all's result) whatever the storage order.
@@ -62,11 +64,12 @@ class DescriptorDatabase {
 
   DescriptorDatabaseConfig config_;
   std::size_t num_maps_ = 0;
-  std::size_t num_stored_ = 0;            // lanes filled, including maps in storage order
-  std::vector<std::uint16_t> coords_;     // [block][slot][x0, x1, y0, y1][lane]
-  std::vector<float> inv_sqrt_area_;      // [block][slot][lane]; 0 for an empty slot
-  std::vector<std::uint16_t> bounds_;     // [block][x0, x1, y0, y1]: union of the block's boxes
-  std::vector<std::uint32_t> map_index_;  // [block * kLanes + lane] -> map index; UINT32_MAX for padding
+  std::size_t num_stored_ = 0;               // lanes filled, including maps in storage order
+  std::vector<std::uint16_t> coords_;        // [block][slot][x0, x1, y0, y1][lane]
+  std::vector<float> inv_sqrt_area_;         // [block][slot][lane]; 0 for an empty slot
+  std::vector<std::uint16_t> bounds_;        // [block][x0, x1, y0, y1]: union of the block's boxes
+  std::vector<std::uint16_t> super_bounds_;  // [super block][x0, x1, y0, y1]: union of its blocks' boxes
+  std::vector<std::uint32_t> map_index_;     // [block * kLanes + lane] -> map index; UINT32_MAX for padding
 };
 
 /// Free-function spelling of DescriptorDatabase::score_all.

@@ -61,17 +61,19 @@ long long keypoint_cell(double x, const CodecConfig& c) {
 // Encodes one interval [lo, hi) of a keypoint box as (first cell, last cell).
 void put_interval(BitWriter& w, double lo, double hi, const char* axis, std::size_t part,
                   const CodecConfig& c) {
-  const std::string name = std::string("keypoint_box.") + axis;
+  auto name = [&](const char* end) { return std::string("keypoint_box.") + axis + end; };
+  auto outside = [&](double v) {
+    return " = " + fmt(v) + " m lies outside the crop [" + fmt(-0.5 * c.crop_size) + ", " +
+           fmt(0.5 * c.crop_size) + "] m";
+  };
   if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo)) {
-    fail(part, name + "_min/max = " + fmt(lo) + "/" + fmt(hi) + " m do not form a non-empty interval");
+    fail(part, name("_min/max") + " = " + fmt(lo) + "/" + fmt(hi) + " m do not form a non-empty interval");
   }
   const long long cells = keypoint_cells(c);
   const long long first = keypoint_cell(lo, c);
   long long end = keypoint_cell(hi, c);
-  const std::string crop =
-      " m lies outside the crop [" + fmt(-0.5 * c.crop_size) + ", " + fmt(0.5 * c.crop_size) + "] m";
-  if (first < 0 || first >= cells) fail(part, name + "_min = " + fmt(lo) + crop);
-  if (end > cells) fail(part, name + "_max = " + fmt(hi) + crop);
+  if (first < 0 || first >= cells) fail(part, name("_min") + outside(lo));
+  if (end > cells) fail(part, name("_max") + outside(hi));
   if (end <= first) end = first + 1;  // thinner than one cell: widen to one cell
   w.put(static_cast<std::uint32_t>(first), c.keypoint_bits);
   w.put(static_cast<std::uint32_t>(end - 1), c.keypoint_bits);
