@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -94,6 +95,7 @@ QueryBoxes prepare_query(const MapDescriptor& query, Matcher matcher, double res
 }
 
 // GCC/Clang vector extensions: element-wise IEEE operations, lowered to AVX2 or SSE2 per clone.
+static_assert(std::endian::native == std::endian::little, "the zero-extension below assumes little endian");
 using U16x16 = std::uint16_t __attribute__((vector_size(32)));
 using F32x8 = float __attribute__((vector_size(32)));
 using I32x8 = std::int32_t __attribute__((vector_size(32)));

@@ -11,8 +11,9 @@
 // Per pair of boxes the kernel does min / max / saturating subtraction on 16-bit lanes, one 16-bit product
 // (box sides are limited to 255 cells so the area fits), one conversion and one multiply-max in float:
 //   max_j f_RS(Bl_i, Bg_j) = (1 / sqrt(area(Bl_i))) * max_j area(Bl_i ∩ Bg_j) / sqrt(area(Bg_j)).
-// Results equal match_score() on the snapped boxes up to float rounding (relative ~1e-6); serial and
-// parallel runs give bit-identical results.
+// Results equal match_score() on the snapped boxes up to float rounding (relative ~1e-6). Serial and
+// parallel runs, sorted and unsorted layouts, and the AVX2 and baseline builds of the kernel (chosen at load
+// time) all give bit-identical results. score_all is const and may be called concurrently.
 #pragma once
 
 #include <cstddef>
