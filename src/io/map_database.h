@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "core/dictionary.h"
+#include "core/part_codec.h"
 #include "core/submap.h"
 #include "io/blob_codec.h"
 
@@ -85,10 +86,8 @@ struct DictionaryInfo {
 };
 
 /// An opaque packed descriptor: `bits` meaningful bits in ceil(bits / 8) bytes.
-struct PackedDescriptor {
-  Bytes bytes;
-  std::int64_t bits = 0;
-};
+/// Descriptors are stored as partslam::PackedDescriptor (core/part_codec.h), an opaque blob of `bits` bits.
+using partslam::PackedDescriptor;
 
 struct DescriptorRecord {
   std::int64_t map_id = -1;
