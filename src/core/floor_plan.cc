@@ -10,10 +10,10 @@
 namespace partslam {
 namespace {
 
-constexpr double kDoorMargin = 0.3;    // solid wall kept on each side of a door [m]
-constexpr double kDoorKeepOut = 0.5;   // clutter stays this far from door gaps [m]
-constexpr double kBoxGap = 0.3;        // min distance between two clutter boxes [m]
-constexpr int kAttempts = 20;          // placement tries per box
+constexpr double kDoorMargin = 0.3;   // solid wall kept on each side of a door [m]
+constexpr double kDoorKeepOut = 0.5;  // clutter stays this far from door gaps [m]
+constexpr double kBoxGap = 0.3;       // min distance between two clutter boxes [m]
+constexpr int kAttempts = 20;         // placement tries per box
 
 // An axis-aligned wall line x = c (vertical) or y = c over [lo, hi]; doors are gaps cut from it.
 struct WallLine {
@@ -85,7 +85,8 @@ void validate(const FloorPlanConfig& c) {
     throw InputError("simulator config: building." + field + " " + what);
   };
   auto positive = [&](double v, const char* field, double max = 1000.0) {
-    if (!(v > 0.0) || !(v <= max)) fail(field, "must be in (0, " + std::to_string(max) + "], got " + std::to_string(v));
+    if (!(v > 0.0) || !(v <= max))
+      fail(field, "must be in (0, " + std::to_string(max) + "], got " + std::to_string(v));
   };
   positive(c.width, "width");
   positive(c.height, "height");
@@ -106,9 +107,11 @@ void validate(const FloorPlanConfig& c) {
   if (c.max_clutter_size < c.min_clutter_size) fail("max_clutter_size", "must be >= min_clutter_size");
   if (c.max_clutter_size > c.min_room_width / 2) fail("max_clutter_size", "must be <= min_room_width / 2");
   const double ring = 2 * (c.room_depth + c.corridor_width);
-  const double need_w = ring + c.min_room_width + (c.cross_corridor ? c.corridor_width + c.min_room_width : 0.0);
+  const double need_w =
+      ring + c.min_room_width + (c.cross_corridor ? c.corridor_width + c.min_room_width : 0.0);
   if (c.width < need_w) {
-    fail("width", "is too small for room_depth, corridor_width and min_room_width: need >= " + std::to_string(need_w));
+    fail("width",
+         "is too small for room_depth, corridor_width and min_room_width: need >= " + std::to_string(need_w));
   }
   if (c.height < ring + c.min_room_width) {
     fail("height", "is too small for room_depth, corridor_width and min_room_width: need >= " +
@@ -224,8 +227,8 @@ double distance(const Segment2& s, const Box2& b) {
   }
   if (crosses && t0 <= t1) return 0.0;
   double best = std::min(point_box_distance(s.a, b), point_box_distance(s.b, b));
-  for (const Vec2& c : {Vec2(b.x_min, b.y_min), Vec2(b.x_max, b.y_min), Vec2(b.x_min, b.y_max),
-                        Vec2(b.x_max, b.y_max)}) {
+  for (const Vec2& c :
+       {Vec2(b.x_min, b.y_min), Vec2(b.x_max, b.y_min), Vec2(b.x_min, b.y_max), Vec2(b.x_max, b.y_max)}) {
     best = std::min(best, point_segment_distance(c, s));
   }
   return best;

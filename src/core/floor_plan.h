@@ -33,20 +33,20 @@ void validate(const FloorPlanConfig& config);
 
 /// A room off a corridor. The door is a gap of door_width in the wall it shares with the corridor.
 struct Room {
-  Box2 box;                          ///< [m]
-  bool has_door = false;             ///< false when its corridor frontage is too short for a door
-  Vec2 door_centre = Vec2::Zero();   ///< middle of the door gap, on the wall [m]
-  Vec2 door_normal = Vec2::Zero();   ///< unit vector from the room through the door into the corridor
+  Box2 box;                         ///< [m]
+  bool has_door = false;            ///< false when its corridor frontage is too short for a door
+  Vec2 door_centre = Vec2::Zero();  ///< middle of the door gap, on the wall [m]
+  Vec2 door_normal = Vec2::Zero();  ///< unit vector from the room through the door into the corridor
 };
 
 struct FloorPlan {
-  Box2 bounds;                   ///< outer walls [m]
-  double corridor_width = 0.0;   ///< [m]
-  double door_width = 0.0;       ///< [m]
-  Segments2 walls;               ///< all walls and the sides of all clutter boxes [m]
+  Box2 bounds;                  ///< outer walls [m]
+  double corridor_width = 0.0;  ///< [m]
+  double door_width = 0.0;      ///< [m]
+  Segments2 walls;              ///< all walls and the sides of all clutter boxes [m]
   std::vector<Room> rooms;
-  std::vector<Box2> clutter;     ///< boxes; their sides are in walls too
-  std::vector<Vec2> loop;        ///< one lap of the corridor centreline, a closed polyline (front == back)
+  std::vector<Box2> clutter;  ///< boxes; their sides are in walls too
+  std::vector<Vec2> loop;     ///< one lap of the corridor centreline, a closed polyline (front == back)
 };
 
 /// Walls, corridors and rooms with their doors; no clutter yet (it must keep clear of the robot's path).

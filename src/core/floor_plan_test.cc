@@ -67,7 +67,8 @@ TEST(FloorPlan, CorridorLoopIsClosedAndClearOfWallsAndClutter) {
       const Vec2 e = b.plan.loop[k + 1] - b.plan.loop[k];
       EXPECT_TRUE(e.x() == 0.0 || e.y() == 0.0);
       EXPECT_TRUE(std::isinf(caster.cast(b.plan.loop[k], e.normalized(), e.norm()))) << "leg " << k;
-      for (const Box2& box : b.plan.clutter) EXPECT_GE(distance(Segment2{b.plan.loop[k], b.plan.loop[k + 1]}, box), 0.6);
+      for (const Box2& box : b.plan.clutter)
+        EXPECT_GE(distance(Segment2{b.plan.loop[k], b.plan.loop[k + 1]}, box), 0.6);
     }
   }
 }

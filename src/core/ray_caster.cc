@@ -43,7 +43,8 @@ RayCaster::RayCaster(Segments2 segments, double cell_size) : segments_(std::move
     throw InputError("ray caster: cell_size must be a positive finite number");
   }
   if (segments_.empty()) return;
-  if (segments_.size() >= std::numeric_limits<std::uint32_t>::max()) throw InputError("ray caster: too many segments");
+  if (segments_.size() >= std::numeric_limits<std::uint32_t>::max())
+    throw InputError("ray caster: too many segments");
   Box2 box{kInf, -kInf, kInf, -kInf};
   for (const Segment2& s : segments_) {
     for (const Vec2& p : {s.a, s.b}) {

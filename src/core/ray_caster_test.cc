@@ -28,9 +28,9 @@ TEST(RayCaster, NearestOfSeveralWallsAndMaxRange) {
   const RayCaster caster({{{5.0, -1.0}, {5.0, 1.0}}, {{3.0, -1.0}, {3.0, 1.0}}, {{40.0, -1.0}, {40.0, 1.0}}});
   EXPECT_EQ(caster.cast({0.0, 0.0}, {1.0, 0.0}, 30.0), 3.0);
   EXPECT_EQ(caster.cast({4.0, 0.0}, {1.0, 0.0}, 30.0), 1.0);
-  EXPECT_EQ(caster.cast({6.0, 0.0}, {1.0, 0.0}, 30.0), kInf);   // next wall at 34 m: beyond max range
+  EXPECT_EQ(caster.cast({6.0, 0.0}, {1.0, 0.0}, 30.0), kInf);  // next wall at 34 m: beyond max range
   EXPECT_EQ(caster.cast({6.0, 0.0}, {1.0, 0.0}, 40.0), 34.0);
-  EXPECT_EQ(caster.cast({0.0, 5.0}, {1.0, 0.0}, 100.0), kInf);  // misses everything
+  EXPECT_EQ(caster.cast({0.0, 5.0}, {1.0, 0.0}, 100.0), kInf);    // misses everything
   EXPECT_EQ(caster.cast({-20.0, 0.0}, {1.0, 0.0}, 100.0), 23.0);  // origin outside the grid
   EXPECT_EQ(RayCaster({}).cast({0.0, 0.0}, {1.0, 0.0}, 10.0), kInf);
 }

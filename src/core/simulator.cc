@@ -12,8 +12,8 @@ namespace {
 // Independent random streams (see the header).
 enum Stream : std::uint64_t { kPlan = 1, kRoute, kClutter, kLaser, kOdometry };
 
-constexpr double kMaxScans = 5e6;     // refuse configs that would need more scans than this
-constexpr double kLegEndMargin = 0.5; // a door this close to a loop vertex is not visited [m]
+constexpr double kMaxScans = 5e6;      // refuse configs that would need more scans than this
+constexpr double kLegEndMargin = 0.5;  // a door this close to a loop vertex is not visited [m]
 
 struct TimedPose {
   double timestamp = 0.0;
@@ -46,10 +46,12 @@ std::vector<Vec2> make_path(const FloorPlan& plan, const RouteConfig& route, Rng
     }
   }
   const std::size_t visits = std::min(eligible.size(), static_cast<std::size_t>(route.room_visits));
-  for (std::size_t i = 0; i < visits; ++i) std::swap(eligible[i], eligible[i + rng.index(eligible.size() - i)]);
+  for (std::size_t i = 0; i < visits; ++i)
+    std::swap(eligible[i], eligible[i + rng.index(eligible.size() - i)]);
   eligible.resize(visits);
-  std::sort(eligible.begin(), eligible.end(),
-            [](const Visit& a, const Visit& b) { return a.leg != b.leg ? a.leg < b.leg : a.along < b.along; });
+  std::sort(eligible.begin(), eligible.end(), [](const Visit& a, const Visit& b) {
+    return a.leg != b.leg ? a.leg < b.leg : a.along < b.along;
+  });
 
   std::vector<Vec2> path{loop.front()};
   for (int lap = 0; lap < route.laps; ++lap) {
@@ -83,7 +85,8 @@ std::vector<TimedPose> sample_path(const std::vector<Vec2>& path, const RouteCon
   }
   double count = 1.0;
   for (std::size_t k = 0; k + 1 < path.size(); ++k) {
-    count += std::ceil((path[k + 1] - path[k]).norm() / route.scan_spacing) + std::numbers::pi / route.turn_spacing;
+    count += std::ceil((path[k + 1] - path[k]).norm() / route.scan_spacing) +
+             std::numbers::pi / route.turn_spacing;
   }
   if (count > kMaxScans) {
     throw InputError("simulator config: route.scan_spacing / route.turn_spacing / route.laps give over " +
@@ -154,7 +157,8 @@ double beam_angle(const LaserSimConfig& laser, int i) {
   return -laser.field_of_view / 2 + i * laser.field_of_view / (laser.num_beams - 1);
 }
 
-std::vector<double> beam_ranges(const RayCaster& caster, const Pose2& T_world_laser, const LaserSimConfig& laser) {
+std::vector<double> beam_ranges(const RayCaster& caster, const Pose2& T_world_laser,
+                                const LaserSimConfig& laser) {
   std::vector<double> ranges(static_cast<std::size_t>(std::max(laser.num_beams, 0)));
   const Vec2 origin = T_world_laser.translation();
   for (int i = 0; i < laser.num_beams; ++i) {
@@ -206,7 +210,8 @@ SimulatedLog simulate(const SimulatorConfig& config) {
     const Pose2 u = log.scans[k - 1].T_world_laser.inverse() * log.scans[k].T_world_laser;
     const double dist = std::hypot(u.x, u.y), turn = std::abs(u.theta);
     const double sigma_xy = o.translation_sigma * std::sqrt(dist);
-    const double sigma_theta = std::sqrt(o.heading_sigma * o.heading_sigma * dist + o.turn_sigma * o.turn_sigma * turn);
+    const double sigma_theta =
+        std::sqrt(o.heading_sigma * o.heading_sigma * dist + o.turn_sigma * o.turn_sigma * turn);
     Pose2 noisy;
     noisy.x = u.x * (1.0 + o.scale_error) + odometry_rng.normal(sigma_xy);
     noisy.y = u.y * (1.0 + o.scale_error) + odometry_rng.normal(sigma_xy);

@@ -72,6 +72,7 @@ double beam_angle(const LaserSimConfig& laser, int i);
 
 /// Noise-free range of every beam of a laser at T_world_laser [m]; +infinity where nothing is hit within
 /// max_range.
-std::vector<double> beam_ranges(const RayCaster& caster, const Pose2& T_world_laser, const LaserSimConfig& laser);
+std::vector<double> beam_ranges(const RayCaster& caster, const Pose2& T_world_laser,
+                                const LaserSimConfig& laser);
 
 }  // namespace partslam

@@ -144,7 +144,8 @@ TEST(Simulator, TrajectoryRevisitsPlaces) {
   std::size_t revisits = 0;
   for (std::size_t i = 0; i < log.scans.size(); i += 5) {
     for (std::size_t j = i + 1; j < log.scans.size(); j += 5) {
-      const double d = (log.scans[i].T_world_laser.translation() - log.scans[j].T_world_laser.translation()).norm();
+      const double d =
+          (log.scans[i].T_world_laser.translation() - log.scans[j].T_world_laser.translation()).norm();
       if (d < 2.0 && s[j] - s[i] > 20.0) ++revisits;
     }
   }
@@ -164,7 +165,8 @@ TEST(Simulator, OdometryDriftGrowsButStaysBounded) {
       const Scan& scan = log.scans[k];
       const double e = (scan.T_world_odom.translation() - scan.T_world_laser.translation()).norm();
       worst = std::max(worst, e);
-      worst_heading = std::max(worst_heading, std::abs(wrap_angle(scan.T_world_odom.theta - scan.T_world_laser.theta)));
+      worst_heading =
+          std::max(worst_heading, std::abs(wrap_angle(scan.T_world_odom.theta - scan.T_world_laser.theta)));
       if (s[k] < 10.0) {
         early = std::max(early, e);
       } else {
@@ -217,7 +219,8 @@ TEST(Simulator, BadConfigThrowsNamingTheField) {
       {"route.speed", [](SimulatorConfig& c) { c.route.speed = -1.0; }},
       {"route.clearance", [](SimulatorConfig& c) { c.route.clearance = 5.0; }},
       {"laser.num_beams", [](SimulatorConfig& c) { c.laser.num_beams = 1; }},
-      {"laser.max_range", [](SimulatorConfig& c) { c.laser.max_range = std::numeric_limits<double>::infinity(); }},
+      {"laser.max_range",
+       [](SimulatorConfig& c) { c.laser.max_range = std::numeric_limits<double>::infinity(); }},
       {"laser.range_sigma", [](SimulatorConfig& c) { c.laser.range_sigma = -0.1; }},
       {"laser.field_of_view", [](SimulatorConfig& c) { c.laser.field_of_view = 7.0; }},
       {"odometry.heading_sigma", [](SimulatorConfig& c) { c.odometry.heading_sigma = -1.0; }},

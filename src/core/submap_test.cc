@@ -42,7 +42,8 @@ std::vector<std::int64_t> anchors(const Submaps& maps) {
 // Known answer: anchors fall on the first scan at or past each multiple of the spacing (0.5 m), also when
 // the scan spacing divides it (rounding of the summed travel must not push an anchor one scan late).
 TEST(BuildSubmaps, AnchorsEveryHalfMetreOfTravel) {
-  EXPECT_EQ(anchors(build_submaps(straight_drive(31, 0.1))), (std::vector<std::int64_t>{0, 5, 10, 15, 20, 25, 30}));
+  EXPECT_EQ(anchors(build_submaps(straight_drive(31, 0.1))),
+            (std::vector<std::int64_t>{0, 5, 10, 15, 20, 25, 30}));
   // 0.3 m spacing: travel 0, 0.3, 0.6, 0.9, 1.2, 1.5, 1.8, 2.1 -> anchors at 0, 0.6, 1.2, 1.5, 2.1.
   EXPECT_EQ(anchors(build_submaps(straight_drive(8, 0.3))), (std::vector<std::int64_t>{0, 2, 4, 5, 7}));
   const Submaps maps = build_submaps(straight_drive(31, 0.1));
@@ -117,7 +118,11 @@ TEST_F(SimulatedSubmaps, PoseIsTheCentroidOfTheWindowPoints) {
     std::size_t window = 0;
     for (std::size_t j = m.anchor_scan; j < log_->scans.size() && s[j] < m.travel + 2.0; ++j, ++window) {
       for (const Vec2& p : points_world(log_->scans[j])) {
-        auto& cell = cells.try_emplace({static_cast<std::int64_t>(std::floor(p.x() / 0.1)), static_cast<std::int64_t>(std::floor(p.y() / 0.1))}, Vec2::Zero(), 0).first->second;
+        auto& cell = cells
+                         .try_emplace({static_cast<std::int64_t>(std::floor(p.x() / 0.1)),
+                                       static_cast<std::int64_t>(std::floor(p.y() / 0.1))},
+                                      Vec2::Zero(), 0)
+                         .first->second;
         cell.first += p;
         ++cell.second;
       }
