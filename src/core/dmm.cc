@@ -8,6 +8,7 @@
 #include <queue>
 #include <string>
 
+#include "core/dmm_bounds.h"
 #include "core/error.h"
 
 namespace partslam {
@@ -65,28 +66,12 @@ Range search_range(const RotatedQuery& r, const OccupancyGrid& grid, const DmmCo
   return range;
 }
 
-// Sum of the grid's values at the query's cells shifted by (i, j): Eq. 1 on level 0, an upper bound above.
-int score_at(const OccupancyGrid& grid, const RotatedQuery& r, int i, int j) {
-  const int dx = i - grid.x0, dy = j - grid.y0;
-  const auto w = static_cast<unsigned>(grid.width), h = static_cast<unsigned>(grid.height);
-  const std::uint8_t* cells = grid.cells.data();
-  const int* xs = r.x.data();
-  const int* ys = r.y.data();
-  const std::size_t n = r.x.size();
-  int score = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto cx = static_cast<unsigned>(xs[k] + dx), cy = static_cast<unsigned>(ys[k] + dy);
-    if (cx < w && cy < h) score += cells[cy * w + cx];
-  }
-  return score;
-}
-
 void check_compatible(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
   validate(config);
   const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); };
-  if (!same(query.resolution, config.resolution) || !same(map.grid().resolution, config.resolution)) {
+  if (!same(query.resolution, config.resolution) || !same(map.grid.resolution, config.resolution)) {
     throw InputError("dmm: query (" + std::to_string(query.resolution) + " m), map (" +
-                     std::to_string(map.grid().resolution) + " m) and config (" + std::to_string(config.resolution) +
+                     std::to_string(map.grid.resolution) + " m) and config (" + std::to_string(config.resolution) +
                      " m) resolutions differ");
   }
 }
@@ -110,7 +95,10 @@ struct Candidate {
 
 bool by_score_descending(const Candidate& a, const Candidate& b) { return a.score > b.score; }
 
-// Depth-first branch-and-bound (Cartographer's FastCorrelativeScanMatcher2D::BranchAndBound).
+// Depth-first branch-and-bound (Cartographer's FastCorrelativeScanMatcher2D::BranchAndBound), 16-way: a node
+// at level 2 d is a block of 4^d x 4^d translations of one rotation; its sixteen children (level 2 d - 2) are
+// bounded in one pass over the query points (PackedLevel). Level 0 nodes are single translations, scored
+// exactly. The roots (level 2 depth) tile the search range and are not bounded themselves.
 class BranchAndBound {
  public:
   BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges, int bar)
@@ -119,55 +107,62 @@ class BranchAndBound {
   // Searches with candidates whose score does not exceed the bar pruned; returns the best candidate found
   // above the bar (rotation -1 when none).
   Candidate run() {
-    const int top = static_cast<int>(map_.pyramid.levels.size()) - 1;
-    const int step = 1 << top;
+    const int depth = static_cast<int>(map_.packed.size());
+    const int block = 1 << (2 * depth);
     std::vector<Candidate> candidates;
     for (std::size_t k = 0; k < ranges_.size(); ++k) {
       const Range& r = ranges_[k];
       if (r.empty()) continue;
-      for (int j = r.j_lo; j <= r.j_hi; j += step) {
-        for (int i = r.i_lo; i <= r.i_hi; i += step) candidates.push_back({static_cast<int>(k), i, j, 0});
+      for (int j = r.j_lo; j <= r.j_hi; j += block) {
+        for (int i = r.i_lo; i <= r.i_hi; i += block) expand({static_cast<int>(k), i, j, 0}, depth, candidates);
       }
     }
-    for (Candidate& c : candidates) c.score = bound(c, top);
     std::stable_sort(candidates.begin(), candidates.end(), by_score_descending);
-    descend(candidates, top);
+    descend(std::span<Candidate>(candidates), depth - 1);
     return best_;
   }
 
   std::int64_t candidates_scored() const { return scored_; }
 
  private:
-  int bound(const Candidate& c, int level) {
-    ++scored_;
-    return score_at(map_.pyramid.levels[static_cast<std::size_t>(level)],
-                    query_.rotations[static_cast<std::size_t>(c.rotation)], c.i, c.j);
+  // Appends the children (at depth - 1) of a node at depth d that lie inside the search range.
+  template <typename Out>
+  void expand(const Candidate& c, int d, Out& out) {
+    const PackedLevel& packed = map_.packed[static_cast<std::size_t>(d - 1)];
+    const Range& r = ranges_[static_cast<std::size_t>(c.rotation)];
+    const std::array<int, 16> bounds =
+        child_bounds(packed, query_.rotations[static_cast<std::size_t>(c.rotation)], c.i, c.j);
+    for (int b = 0; b < 4; ++b) {
+      const int j = c.j + b * packed.step;
+      if (j > r.j_hi) break;
+      for (int a = 0; a < 4; ++a) {
+        const int i = c.i + a * packed.step;
+        if (i > r.i_hi) break;
+        out.push_back({c.rotation, i, j, bounds[static_cast<std::size_t>(a + 4 * b)]});
+        ++scored_;
+      }
+    }
   }
 
-  template <typename Range_>
-  void descend(Range_& candidates, int level) {
+  struct Children {
+    std::array<Candidate, 16> items;
+    std::size_t size = 0;
+    void push_back(const Candidate& c) { items[size++] = c; }
+  };
+
+  // `candidates` are nodes at depth d (d = 0: single translations), sorted by bound.
+  void descend(std::span<Candidate> candidates, int d) {
     for (const Candidate& c : candidates) {
       if (c.score <= best_.score) break;  // sorted: no later candidate can beat the bar either
-      if (level == 0) {
+      if (d == 0) {
         best_ = c;
-        continue;
+        break;  // the rest score no more than c
       }
-      const int half = 1 << (level - 1);
-      const Range& r = ranges_[static_cast<std::size_t>(c.rotation)];
-      std::array<Candidate, 4> children;
-      std::size_t n = 0;
-      for (int dj : {0, half}) {
-        if (c.j + dj > r.j_hi) continue;
-        for (int di : {0, half}) {
-          if (c.i + di > r.i_hi) continue;
-          Candidate child{c.rotation, c.i + di, c.j + dj, 0};
-          child.score = bound(child, level - 1);
-          children[n++] = child;
-        }
-      }
-      std::stable_sort(children.begin(), children.begin() + static_cast<std::ptrdiff_t>(n), by_score_descending);
-      std::span<Candidate> span(children.data(), n);
-      descend(span, level - 1);
+      Children children;
+      expand(c, d, children);
+      std::stable_sort(children.items.begin(), children.items.begin() + static_cast<std::ptrdiff_t>(children.size),
+                       by_score_descending);
+      descend(std::span<Candidate>(children.items.data(), children.size), d - 1);
     }
   }
 
@@ -181,7 +176,7 @@ class BranchAndBound {
 std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
   std::vector<Range> ranges;
   ranges.reserve(query.rotations.size());
-  for (const RotatedQuery& r : query.rotations) ranges.push_back(search_range(r, map.grid(), config));
+  for (const RotatedQuery& r : query.rotations) ranges.push_back(search_range(r, map.grid, config));
   return ranges;
 }
 
@@ -214,8 +209,8 @@ void validate(const DmmConfig& c) {
           "angular_step must be in [0, pi/2] rad (0: automatic), got " + std::to_string(c.angular_step));
   require(c.angular_step == 0.0 || c.angular_step >= 1e-5, "angular_step must be 0 (automatic) or >= 1e-5 rad");
   require(c.dilation >= 0 && c.dilation <= 100, "dilation must be in [0, 100] cells, got " + std::to_string(c.dilation));
-  require(c.pyramid_levels >= 0 && c.pyramid_levels <= 16,
-          "pyramid_levels must be in [0, 16] (0: automatic), got " + std::to_string(c.pyramid_levels));
+  require(c.search_depth >= 0 && c.search_depth <= 8,
+          "search_depth must be in [0, 8] (0: automatic), got " + std::to_string(c.search_depth));
 }
 
 DmmConfig dmm_config_for_dictionary() {
@@ -240,9 +235,16 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
     const double c = std::cos(angle), s = std::sin(angle);
     r.x.reserve(points_query.size());
     r.y.reserve(points_query.size());
+    std::vector<std::pair<int, int>> cells;  // (row, column), sorted: the search skips rows off the grid
+    cells.reserve(points_query.size());
     for (const Vec2& p : points_query) {
-      r.x.push_back(static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
-      r.y.push_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)));
+      cells.emplace_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)),
+                         static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
+    }
+    std::sort(cells.begin(), cells.end());
+    for (const auto& [y, x] : cells) {
+      r.x.push_back(x);
+      r.y.push_back(y);
     }
     if (!r.x.empty()) {
       const auto [x_lo, x_hi] = std::minmax_element(r.x.begin(), r.x.end());
@@ -259,15 +261,20 @@ PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
   PreparedMap map;
   map.num_points = static_cast<int>(points_map.size());
   const OccupancyGrid grid = build_occupancy_grid(points_map, config.resolution, config.dilation);
-  int levels = config.pyramid_levels;
-  if (levels == 0) {
-    // Top-level blocks about as large as the translation window (or the whole target map).
+  int depth = config.search_depth;
+  if (depth == 0) {
+    // Root blocks of 4^depth cells: about 2 x 2 of them across the translation window (or the whole target).
     const int cells = config.linear_window > 0.0
                           ? 2 * static_cast<int>(std::floor(config.linear_window / config.resolution + 1e-9)) + 1
                           : std::max(grid.width, grid.height);
-    levels = std::clamp(static_cast<int>(std::bit_width(static_cast<unsigned>(std::max(cells - 1, 1)))), 1, 12);
+    depth = 1;
+    while (depth < 8 && (1 << (2 * depth)) * 2 < cells) ++depth;
   }
-  map.pyramid = build_grid_pyramid(grid, levels);
+  const GridPyramid pyramid = build_grid_pyramid(grid, 2 * depth - 1);
+  for (int d = 0; d < depth; ++d) {
+    map.packed.push_back(build_packed_level(pyramid.levels[static_cast<std::size_t>(2 * d)], 1 << (2 * d)));
+  }
+  map.grid = grid;
   return map;
 }
 
@@ -277,7 +284,7 @@ DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map, const Dm
 
 DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
   check_compatible(query, map, config);
-  const OccupancyGrid& grid = map.grid();
+  const OccupancyGrid& grid = map.grid;
   int best_score = -1, best_rotation = -1, best_i = 0, best_j = 0;
   std::int64_t scored = 0;
   std::vector<int> acc;

@@ -45,8 +45,8 @@ TEST(DmmConfig, ValidateNamesTheField) {
   c.dilation = -1;
   EXPECT_NE(message(c).find("dilation"), std::string::npos);
   c = {};
-  c.pyramid_levels = 40;
-  EXPECT_NE(message(c).find("pyramid_levels"), std::string::npos);
+  c.search_depth = 9;
+  EXPECT_NE(message(c).find("search_depth"), std::string::npos);
   c = {};
   c.linear_window = std::nan("");
   EXPECT_NE(message(c).find("linear_window"), std::string::npos);
@@ -60,8 +60,9 @@ TEST(PrepareQuery, CanonicalRotationsAndAutoStep) {
   ASSERT_EQ(q.rotations.size(), 4u * 5u);
   EXPECT_NEAR(q.rotations[0].angle, -2.0 * kDeg, 1e-12);
   EXPECT_NEAR(q.rotations[7].angle, 90.0 * kDeg, 1e-12);
-  EXPECT_EQ(q.rotations[7].x, (std::vector<int>{0, -20}));  // (1, 0) -> (0, 1); (0, 2) -> (-2, 0)
-  EXPECT_EQ(q.rotations[7].y, (std::vector<int>{10, 0}));
+  // (1, 0) -> (0, 1) and (0, 2) -> (-2, 0), sorted by row.
+  EXPECT_EQ(q.rotations[7].x, (std::vector<int>{-20, 0}));
+  EXPECT_EQ(q.rotations[7].y, (std::vector<int>{0, 10}));
   config.angular_step = 0.0;
   const PreparedQuery a = prepare_query({{10.0, 0.0}}, config);
   EXPECT_NEAR(a.angular_step, 0.01, 1e-4);  // one cell at 10 m
@@ -128,7 +129,7 @@ TEST(MatchDmm, EqualsExhaustiveOnManyPairs) {
       if (p == 4) pair.map = testing::make_pair(other, rng, {0, 0}, {0, 0}, 0.0, 8.0).map;  // irrelevant
       DmmConfig config = small_config();
       config.dilation = p % 3;
-      config.pyramid_levels = (p % 2 == 0) ? 0 : 3 + w % 3;
+      config.search_depth = (p % 2 == 0) ? 0 : 2 + w % 3;
       const PreparedQuery q = prepare_query(pair.query, config);
       const PreparedMap m = prepare_map(pair.map, config);
       const DmmResult bnb = match_dmm(q, m, config);
@@ -136,7 +137,7 @@ TEST(MatchDmm, EqualsExhaustiveOnManyPairs) {
       ASSERT_EQ(bnb.inliers, ref.inliers) << "world " << w << " pair " << p;
       EXPECT_LT(bnb.candidates_scored, ref.candidates_scored);
       // The reported pose really scores what is claimed (up to cell-boundary rounding of t + R x).
-      EXPECT_NEAR(count_inliers(pair.query, m.grid(), bnb.T_map_query), bnb.inliers, 0.02 * bnb.inliers + 1);
+      EXPECT_NEAR(count_inliers(pair.query, m.grid, bnb.T_map_query), bnb.inliers, 0.02 * bnb.inliers + 1);
       ++pairs;
     }
   }
@@ -192,7 +193,7 @@ TEST(MatchDmm, SmallCropOnLargeDictionary) {
   const Points2 dictionary = testing::sample_world(world, {-20, 20, -14, 14}, rng);
   DmmConfig config = dmm_config_for_dictionary();
   const PreparedMap m = prepare_map(dictionary, config);
-  EXPECT_GE(m.pyramid.levels.size(), 9u);
+  EXPECT_GE(m.packed.size(), 4u);
   for (const Vec2& centre : {Vec2(-12.0, 5.0), Vec2(8.0, -6.0), Vec2(15.0, 9.0)}) {
     // The crop is cut from the dictionary's own points: random walls are too self-similar for a resampled
     // crop to have a unique best fit, and crops under ~6 m x 5 m often fit equally well elsewhere.

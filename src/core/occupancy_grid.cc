@@ -92,6 +92,33 @@ GridPyramid build_grid_pyramid(const OccupancyGrid& base, int num_levels) {
   return pyramid;
 }
 
+PackedLevel build_packed_level(const OccupancyGrid& level, int step) {
+  if (step < 1 || step > (1 << 20)) {
+    throw InputError("packed level: step must be in [1, 2^20], got " + std::to_string(step));
+  }
+  PackedLevel packed;
+  packed.step = step;
+  if (level.width == 0 || level.height == 0) return packed;
+  packed.x0 = level.x0 - 3 * step;
+  packed.y0 = level.y0 - 3 * step;
+  packed.width = level.width + 3 * step;
+  packed.height = level.height + 3 * step;
+  packed.cells.assign((static_cast<std::size_t>(packed.width) + 1) * packed.height, 0);
+  for (int cy = 0; cy < packed.height; ++cy) {
+    std::uint16_t* row = &packed.cells[static_cast<std::size_t>(cy) * (packed.width + 1)];
+    for (int cx = 0; cx < packed.width; ++cx) {
+      unsigned bits = 0;
+      for (int b = 0; b < 4; ++b) {
+        for (int a = 0; a < 4; ++a) {
+          bits |= static_cast<unsigned>(level.at(packed.x0 + cx + a * step, packed.y0 + cy + b * step)) << (a + 4 * b);
+        }
+      }
+      row[cx] = static_cast<std::uint16_t>(bits);
+    }
+  }
+  return packed;
+}
+
 int count_inliers(const Points2& points, const OccupancyGrid& grid, const Pose2& T_grid_points) {
   int inliers = 0;
   for (const Vec2& p : points) inliers += grid.at(T_grid_points * p);

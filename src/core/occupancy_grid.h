@@ -62,6 +62,30 @@ struct GridPyramid {
 /// Throws InputError for num_levels outside [1, 16].
 GridPyramid build_grid_pyramid(const OccupancyGrid& base, int num_levels);
 
+/// A 4 x 4 block of cells of one pyramid level in 16 bits, so that a single lookup per query point bounds all
+/// sixteen children of a branch-and-bound node: bit a + 4 b of lattice cell (x, y) is
+/// level.at(x + a step, y + b step), a, b in {0, 1, 2, 3}. Stored over x in [level.x0 - 3 step, level.x0 +
+/// level.width), same in y; cells outside read 0.
+struct PackedLevel {
+  int step = 1;   ///< offset between the packed cells [cells]; 2^h for pyramid level h
+  int x0 = 0;     ///< lattice index of the first column
+  int y0 = 0;     ///< lattice index of the first row
+  int width = 0;  ///< columns
+  int height = 0; ///< rows
+  /// Row-major with stride width + 1: every row ends in a 0, which lookups left or right of the grid may read.
+  std::vector<std::uint16_t> cells;
+
+  std::uint16_t at(int x, int y) const {
+    const unsigned cx = static_cast<unsigned>(x - x0), cy = static_cast<unsigned>(y - y0);
+    return cx < static_cast<unsigned>(width) && cy < static_cast<unsigned>(height)
+               ? cells[static_cast<std::size_t>(cy) * (static_cast<std::size_t>(width) + 1) + cx]
+               : std::uint16_t{0};
+  }
+};
+
+/// Throws InputError for step outside [1, 2^20].
+PackedLevel build_packed_level(const OccupancyGrid& level, int step);
+
 /// Eq. 1 at one pose: the number of points p with grid.at(T_grid_points * p) == 1.
 int count_inliers(const Points2& points, const OccupancyGrid& grid, const Pose2& T_grid_points);
 
