@@ -6,10 +6,14 @@
 
 namespace partslam::apps {
 
+void register_info(CLI::App& app);    // cmd_info.cc
+void register_export(CLI::App& app);  // cmd_export.cc
+
 // One line per subcommand; keep them in this order: foundation, matching, parts, evaluation.
 
 inline void register_all(CLI::App& app) {
-  (void)app;
+  register_info(app);
+  register_export(app);
 }
 
 }  // namespace partslam::apps

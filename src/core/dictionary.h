@@ -16,10 +16,13 @@ struct DictionaryConfig {
 };
 
 struct Dictionary {
-  std::string name;
-  double alignment_angle = 0;  ///< rotation applied about the centroid [rad]
-  Pose2 T_world_dict;          ///< dictionary frame in the source log's world frame
-  Points2 points;              ///< dictionary frame [m]
+  std::string name;              ///< unique within a database, non-empty
+  std::string source;            ///< log it was built from
+  double resolution = 0.1;       ///< cell the points were downsampled to [m]
+  double alignment_angle = 0;    ///< rotation applied about the centroid [rad]
+  Pose2 T_world_dict;            ///< dictionary frame in the source log's world frame
+  Points2 points;                ///< dictionary frame [m]
+  std::string metadata = "{}";   ///< free JSON object (builder parameters)
 };
 
 /// Builds the dictionary from a scan stream; throws InputError when it has too few points.

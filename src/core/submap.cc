@@ -59,18 +59,21 @@ Submaps build_submaps(const Scans& scans, const SubmapConfig& config) {
   validate(config);
   const std::vector<double> s = travel_distances(scans);
   Submaps submaps;
+  // Anchors: the first scan at or past each multiple of the spacing, so that there is one submap per
+  // `spacing` of travel whatever the scan spacing (restarting the count at each anchor would add the
+  // overshoot every time: 0.6 m instead of 0.5 m with scans every 0.1 m). The travel is a sum of
+  // floating-point steps, so a multiple reached up to rounding counts as reached.
+  const double tolerance = 1e-9 * std::max(1.0, s.empty() ? 0.0 : s.back());
   double next_anchor = 0.0;
-  std::size_t j_begin = 0;
   for (std::size_t i = 0; i < scans.size(); ++i) {
-    if (s[i] < next_anchor) continue;
-    next_anchor = s[i] + config.spacing;
+    if (s[i] < next_anchor - tolerance) continue;
+    next_anchor = (std::floor((s[i] + tolerance) / config.spacing) + 1.0) * config.spacing;
     Submap m;
     m.anchor_scan = static_cast<std::int64_t>(i);
     m.anchor_timestamp = scans[i].timestamp;
     m.travel = s[i];
     Points2 world;
-    j_begin = i;
-    for (std::size_t j = j_begin; j < scans.size() && s[j] < s[i] + config.window_length; ++j) {
+    for (std::size_t j = i; j < scans.size() && s[j] < s[i] + config.window_length; ++j) {
       const Points2 pts = points_world(scans[j]);
       world.insert(world.end(), pts.begin(), pts.end());
       m.scan_timestamps.push_back(scans[j].timestamp);

@@ -1,0 +1,129 @@
+// Runs the built partslam binary (PARTSLAM_BINARY) on a map database made here with hand-built submaps.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/map_database.h"
+
+namespace partslam {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliRun run_partslam(const std::string& args) {
+  const std::string command = std::string("'") + PARTSLAM_BINARY + "' " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) run.output += buffer.data();
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+int count_lines(const fs::path& p) {
+  std::ifstream in(p);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  return lines;
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("partslam_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    db_ = dir_ / "maps.db";
+    io::MapDatabase db = io::MapDatabase::open(db_, io::MapDatabase::Mode::kCreate);
+    Submaps submaps(7);
+    for (std::size_t i = 0; i < submaps.size(); ++i) {
+      submaps[i].T_world_map = Pose2{10.0 * static_cast<double>(i), 0.0, 0.0};
+      for (std::size_t j = 0; j < 20 + i; ++j) submaps[i].points.emplace_back(0.1 * j, -0.2 * j);
+    }
+    db.store_dataset({"sim-loop", "simulator", io::DatasetKind::kSubmaps, {}}, submaps);
+    db.store_dataset({"sim-other", "simulator", io::DatasetKind::kSubmaps, {}}, Submaps(2));
+    db.put_descriptor(3, "fr079", 3, {io::Bytes(16, 0x5a), 126});
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+  fs::path db_;
+};
+
+TEST_F(CliTest, InfoCountsSubmaps) {
+  const CliRun run = run_partslam("info " + quoted(db_));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("sim-loop: 7 submaps, mean 23.0 points, map ids 1..7"));
+  EXPECT_THAT(run.output, HasSubstr("sim-other: 2 submaps"));
+  EXPECT_THAT(run.output, HasSubstr("total: 9 submaps, 161 points"));
+  EXPECT_THAT(run.output, HasSubstr("dictionary fr079, K=3: 1 maps, mean 126.0 bits"));
+
+  const CliRun json = run_partslam("info --json --check " + quoted(db_));
+  EXPECT_EQ(json.exit_code, 0) << json.output;
+  EXPECT_THAT(json.output, HasSubstr("\"submaps\": 9"));
+}
+
+TEST_F(CliTest, ExportWritesCsvAndPly) {
+  const fs::path csv = dir_ / "map5.csv";
+  const CliRun run = run_partslam("export " + quoted(db_) + " --map 5 --format csv --out " + quoted(csv));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(count_lines(csv), 1 + 24);  // header + map 5 (index 4) has 24 points
+  EXPECT_THAT(run.output, HasSubstr("wrote 24 points of map 5 (dataset 'sim-loop', submap 4)"));
+
+  const fs::path ply = dir_ / "map1.ply";
+  const CliRun world = run_partslam("export " + quoted(db_) + " --map 2 --frame world --out " + quoted(ply));
+  EXPECT_EQ(world.exit_code, 0) << world.output;
+  EXPECT_EQ(count_lines(ply), 8 + 21);  // PLY header + points
+  std::ifstream in(ply);
+  std::string line;
+  for (int i = 0; i < 9; ++i) std::getline(in, line);
+  EXPECT_EQ(line, "10.000000 0.000000 0");  // first point (0, 0) moved by T_world_map
+}
+
+TEST_F(CliTest, BadMapIdExitsNonZeroWithMessage) {
+  const fs::path out = dir_ / "missing.csv";
+  const CliRun run = run_partslam("export " + quoted(db_) + " --map 99 --format csv --out " + quoted(out));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.output, HasSubstr("partslam: error:"));
+  EXPECT_THAT(run.output, HasSubstr("no map with id 99"));
+  EXPECT_FALSE(fs::exists(out));
+
+  const CliRun format = run_partslam("export " + quoted(db_) + " --map 1 --format xyz");
+  EXPECT_EQ(format.exit_code, 1);
+  EXPECT_THAT(format.output, HasSubstr("--format"));
+  const CliRun neither = run_partslam("export " + quoted(db_));
+  EXPECT_EQ(neither.exit_code, 1);
+  EXPECT_THAT(neither.output, HasSubstr("--map ID or --dictionary NAME"));
+}
+
+TEST_F(CliTest, InfoRefusesNonDatabase) {
+  const fs::path text = dir_ / "notes.txt";
+  std::ofstream(text) << "hello\n";
+  const CliRun run = run_partslam("info " + quoted(text));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.output, HasSubstr("not an SQLite database"));
+  const CliRun missing = run_partslam("info " + quoted(dir_ / "nope.db"));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_THAT(missing.output, HasSubstr("no such file"));
+}
+
+}  // namespace
+}  // namespace partslam

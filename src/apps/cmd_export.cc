@@ -1,0 +1,88 @@
+// partslam export FILE (--map ID | --dictionary NAME): writes one stored map's points as PLY or CSV,
+// atomically, in the map frame (as stored) or the source log's world frame.
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <memory>
+
+#include "apps/commands.h"
+#include "core/error.h"
+#include "io/map_database.h"
+#include "io/point_export.h"
+
+namespace partslam::apps {
+namespace {
+
+struct ExportOptions {
+  std::string file;
+  bool has_map = false;
+  std::int64_t map_id = -1;
+  std::string dictionary;
+  std::string format;  // empty: from --out's extension, else csv
+  std::string out;     // empty: map_<ID>.<format> or dictionary_<NAME>.<format>
+  std::string frame = "map";
+};
+
+io::PointFormat resolve_format(const ExportOptions& options) {
+  if (!options.format.empty()) return io::parse_point_format(options.format);
+  return std::filesystem::path(options.out).extension() == ".ply" ? io::PointFormat::kPly
+                                                                  : io::PointFormat::kCsv;
+}
+
+void run_export(const ExportOptions& options, std::ostream& log) {
+  const bool by_map = options.has_map;
+  if (by_map == !options.dictionary.empty()) {
+    throw InputError("export: give exactly one of --map ID or --dictionary NAME");
+  }
+  if (options.frame != "map" && options.frame != "world") {
+    throw InputError("--frame: expected map or world, got '" + options.frame + "'");
+  }
+  const io::PointFormat format = resolve_format(options);
+  const std::string extension = format == io::PointFormat::kPly ? ".ply" : ".csv";
+  const io::MapDatabase db = io::MapDatabase::open(options.file, io::MapDatabase::Mode::kReadOnly);
+
+  Points2 points;
+  Pose2 T_world_map;
+  std::string what;
+  std::string out = options.out;
+  if (by_map) {
+    const io::MapLocation where = db.locate(options.map_id);
+    Submap submap = db.load_submap(options.map_id);
+    points = std::move(submap.points);
+    T_world_map = submap.T_world_map;
+    what = "map " + std::to_string(options.map_id) + " (dataset '" + where.dataset_name + "', submap " +
+           std::to_string(where.index) + ")";
+    if (out.empty()) out = "map_" + std::to_string(options.map_id) + extension;
+  } else {
+    io::Dictionary dictionary = db.load_dictionary(options.dictionary);
+    points = std::move(dictionary.points);
+    T_world_map = dictionary.T_world_dict;
+    what = "dictionary '" + options.dictionary + "'";
+    if (out.empty()) out = "dictionary_" + options.dictionary + extension;
+  }
+  if (options.frame == "world") points = transform(T_world_map, points);
+  io::write_points(out, points, format);
+  log << "wrote " << points.size() << " points of " << what << " in the " << options.frame << " frame to "
+      << out << "\n";
+}
+
+}  // namespace
+
+void register_export(CLI::App& app) {
+  auto options = std::make_shared<ExportOptions>();
+  CLI::App* cmd = app.add_subcommand("export", "Write one stored map's points as PLY or CSV");
+  cmd->add_option("file", options->file, "map database file")->required();
+  auto* map = cmd->add_option("--map", options->map_id, "global map id (see 'partslam info')");
+  auto* dictionary = cmd->add_option("--dictionary", options->dictionary, "export a dictionary map instead");
+  map->excludes(dictionary);
+  cmd->add_option("--format", options->format, "ply or csv (default: from --out's extension, else csv)");
+  cmd->add_option("--out", options->out, "output path (default: map_<ID>.<format> in the current folder)");
+  cmd->add_option("--frame", options->frame,
+                  "map (as stored, centred and aligned) or world (the log's frame)")
+      ->capture_default_str();
+  cmd->callback([options, map] {
+    options->has_map = map->count() > 0;
+    run_export(*options, std::cout);
+  });
+}
+
+}  // namespace partslam::apps

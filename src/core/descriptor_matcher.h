@@ -1,0 +1,31 @@
+// Descriptor matcher (paper §"Descriptor Matcher", Eqs. 3-6; DESIGN.md "DM"): the likelihood that a local
+// (query) map and a global (stored) map show the same place, from their descriptor boxes on the dictionary:
+//   f_RS(Bl, Bg) = area(Bl ∩ Bg) / sqrt(area(Bl) area(Bg))                       (region similarity, Eq. 3)
+//   Max-Max            F_MM  = max_i max_j f_RS(Bl_i, Bg_j)                          (Eq. 4)
+//   Sum-Max            F_SM  = sum_i max_j f_RS(Bl_i, Bg_j)                          (Eq. 5)
+//   Sum-Max-Weighted   F_SMW = sum_i max_j f_RS(Bl_i, Bg_j) * AS(Bl_i)               (Eq. 6)
+// i runs over the query's parts, j over the stored map's parts; AS is the query part's appearance score.
+// This file holds the reference (double precision, one pair at a time); descriptor_database.h scores a whole
+// database with the same definitions on integer boxes, much faster.
+#pragma once
+
+#include <string_view>
+
+#include "core/part.h"
+
+namespace partslam {
+
+enum class Matcher { kMaxMax, kSumMax, kSumMaxWeighted };
+
+/// "max-max", "sum-max" or "sum-max-weighted".
+const char* to_string(Matcher matcher);
+/// Inverse of to_string (also accepts "mm", "sm", "smw"); throws InputError naming the value otherwise.
+Matcher matcher_from_string(std::string_view name);
+
+/// f_RS (Eq. 3), in [0, 1]; 0 when either box is empty.
+double region_similarity(const Box2& a, const Box2& b);
+
+/// F_MM, F_SM or F_SMW between a query and a stored descriptor (Eqs. 4-6); 0 when either has no parts.
+double match_score(const MapDescriptor& query, const MapDescriptor& stored, Matcher matcher);
+
+}  // namespace partslam

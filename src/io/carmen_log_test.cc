@@ -1,0 +1,346 @@
+#include "io/carmen_log.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/line_reader.h"
+#include "io/test_files.h"
+
+namespace partslam::io {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::TempDir;
+using testing::write_text;
+
+constexpr double kPi = std::numbers::pi;
+
+// FLASER: 4 beams at -90, -45, 0, 45 deg (kCarmen: pi/4); 81.91 = no return, 0 = invalid.
+// ROBOTLASER1: 3 beams from -90 deg every 0.5 rad, max_range 50 (60 dropped), 2 remissions.
+constexpr std::string_view kTinyLog =
+    "# CARMEN Logfile\n"
+    "PARAM robot_front_laser_max 81.9 nohost 0\n"
+    "\n"
+    "   \t \n"
+    "FLASER 4 1.0 2.0 81.91 0 0.5 1.0 1.5707963267948966 0.4 0.9 1.5 100.25 host 100.3\n"
+    "ODOM 0.4 0.9 1.5 0.1 0.2 0.3 100.2 host 100.2\n"
+    "NEFF 10\n"
+    "VERTEX2 0 1 2 3\n"
+    "EDGE2 0 1 0 0 0 1 0 1 1 0 0\n"
+    "SYNC 1 host 2\n"
+    "UNKNOWN_MSG2 a b c\n"
+    "NEFF 12\n"
+    "ROBOTLASER1 0 -1.5707963267948966 3.14159 0.5 50.0 0.1 0 3 1.0 60.0 2.0 2 7 8 "
+    "1 2 0.5 0.9 1.9 0.3 0 0 0 0 0 200.5 host 200.6\n";
+
+void expect_near(const Vec2& p, double x, double y) {
+  EXPECT_NEAR(p.x(), x, 1e-9);
+  EXPECT_NEAR(p.y(), y, 1e-9);
+}
+
+TEST(CarmenLog, ParsesTinyLogWithKnownAnswers) {
+  for (const bool gz : {false, true}) {
+    TempDir dir;
+    const auto path = dir / "tiny.log";
+    write_text(path, kTinyLog, gz);
+    const CarmenLog log = read_carmen_log(path);
+    ASSERT_EQ(log.scans.size(), 2u);
+
+    const Scan& f = log.scans[0];
+    EXPECT_DOUBLE_EQ(f.timestamp, 100.25);
+    EXPECT_EQ(f.num_beams, 4);
+    EXPECT_DOUBLE_EQ(f.T_world_laser.x, 0.5);
+    EXPECT_DOUBLE_EQ(f.T_world_laser.y, 1.0);
+    EXPECT_NEAR(f.T_world_laser.theta, kPi / 2, 1e-12);
+    EXPECT_DOUBLE_EQ(f.T_world_odom.x, 0.4);
+    EXPECT_DOUBLE_EQ(f.T_world_odom.theta, 1.5);
+    ASSERT_EQ(f.points_laser.size(), 2u);  // 81.91 and 0 dropped
+    expect_near(f.points_laser[0], 0.0, -1.0);
+    expect_near(f.points_laser[1], std::sqrt(2.0), -std::sqrt(2.0));
+    expect_near(points_world(f)[0], 1.5, 1.0);  // (0,-1) turned by 90 deg, shifted by (0.5, 1)
+
+    const Scan& r = log.scans[1];
+    EXPECT_DOUBLE_EQ(r.timestamp, 200.5);
+    EXPECT_EQ(r.num_beams, 3);
+    EXPECT_DOUBLE_EQ(r.T_world_laser.x, 1.0);
+    EXPECT_DOUBLE_EQ(r.T_world_laser.theta, 0.5);
+    EXPECT_DOUBLE_EQ(r.T_world_odom.y, 1.9);
+    ASSERT_EQ(r.points_laser.size(), 2u);  // 60 >= max_range 50
+    expect_near(r.points_laser[0], 0.0, -1.0);
+    expect_near(r.points_laser[1], 2.0 * std::cos(-kPi / 2 + 1.0), 2.0 * std::sin(-kPi / 2 + 1.0));
+
+    ASSERT_EQ(log.odometry.size(), 1u);
+    EXPECT_DOUBLE_EQ(log.odometry[0].timestamp, 100.2);
+    EXPECT_DOUBLE_EQ(log.odometry[0].T_world_odom.y, 0.9);
+    EXPECT_DOUBLE_EQ(log.odometry[0].rv, 0.2);
+
+    const CarmenLogStats& s = log.stats;
+    EXPECT_EQ(s.lines, 13u);
+    EXPECT_EQ(s.flaser, 1u);
+    EXPECT_EQ(s.robotlaser, 1u);
+    EXPECT_EQ(s.odom, 1u);
+    EXPECT_EQ(s.comments, 1u);
+    EXPECT_EQ(s.blank, 2u);
+    EXPECT_EQ(s.beams, 7u);
+    EXPECT_EQ(s.valid_beams, 4u);
+    const std::map<std::string, std::size_t, std::less<>> skipped{
+        {"EDGE2", 1}, {"NEFF", 2}, {"PARAM", 1}, {"SYNC", 1}, {"UNKNOWN_MSG2", 1}, {"VERTEX2", 1}};
+    EXPECT_EQ(s.skipped, skipped);
+  }
+}
+
+TEST(CarmenLog, StreamingReaderReportsLinesAndOdometry) {
+  TempDir dir;
+  write_text(dir / "tiny.log", kTinyLog, false);
+  CarmenReader reader(dir / "tiny.log");
+  ASSERT_TRUE(reader.next().has_value());
+  EXPECT_EQ(reader.line(), 5u);
+  EXPECT_TRUE(reader.odometry().empty());
+  ASSERT_TRUE(reader.next().has_value());
+  EXPECT_EQ(reader.line(), 13u);
+  EXPECT_EQ(reader.odometry().size(), 1u);
+  EXPECT_FALSE(reader.next().has_value());
+  EXPECT_EQ(reader.take_odometry().size(), 1u);
+  EXPECT_TRUE(reader.odometry().empty());
+}
+
+TEST(CarmenLog, SpacingConventionsAndRangeOptions) {
+  EXPECT_DOUBLE_EQ(flaser_angle_increment(180, FlaserSpacing::kCarmen), kPi / 180);
+  EXPECT_DOUBLE_EQ(flaser_angle_increment(181, FlaserSpacing::kCarmen), kPi / 180);
+  EXPECT_DOUBLE_EQ(flaser_angle_increment(360, FlaserSpacing::kCarmen), kPi / 360);
+  EXPECT_DOUBLE_EQ(flaser_angle_increment(361, FlaserSpacing::kCarmen), kPi / 360);
+  EXPECT_DOUBLE_EQ(flaser_angle_increment(181, FlaserSpacing::kPiOverN), kPi / 181);
+  EXPECT_DOUBLE_EQ(flaser_angle_increment(180, FlaserSpacing::kPiOverNMinus1), kPi / 179);
+
+  TempDir dir;
+  write_text(dir / "tiny.log", kTinyLog, false);
+  LogReadOptions options;
+  options.flaser_spacing = FlaserSpacing::kPiOverNMinus1;  // 4 beams: -90, -30, 30, 90 deg
+  options.max_usable_range = 1.5;                          // drops the 2 m beams
+  const CarmenLog log = read_carmen_log(dir / "tiny.log", options);
+  ASSERT_EQ(log.scans[0].points_laser.size(), 1u);
+  expect_near(log.scans[0].points_laser[0], 0.0, -1.0);
+  options.max_usable_range = 30.0;
+  options.min_range = 1.0;  // drops the 1 m beams (range <= min_range)
+  const CarmenLog log2 = read_carmen_log(dir / "tiny.log", options);
+  ASSERT_EQ(log2.scans[0].points_laser.size(), 1u);
+  expect_near(log2.scans[0].points_laser[0], 2.0 * std::cos(-kPi / 6), 2.0 * std::sin(-kPi / 6));
+}
+
+TEST(CarmenLog, ValidatesOptions) {
+  LogReadOptions options;
+  options.max_usable_range = 0.0;
+  EXPECT_THAT([&] { validate(options); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("max_usable_range")));
+  options = {};
+  options.min_range = -1.0;
+  EXPECT_THAT([&] { validate(options); }, ::testing::ThrowsMessage<InputError>(HasSubstr("min_range")));
+  options = {};
+  options.no_return_range = std::nan("");
+  EXPECT_THAT([&] { validate(options); }, ::testing::ThrowsMessage<InputError>(HasSubstr("no_return_range")));
+  EXPECT_THROW(CarmenReader("/nonexistent", options), InputError);
+}
+
+// ---- malformed lines: every one must throw naming file, line 2 and the field ----
+
+struct BadLine {
+  const char* label;
+  std::string line;
+  const char* expected;  ///< substring of the message after "<file>:2: "
+};
+
+class MalformedLine : public ::testing::TestWithParam<std::tuple<BadLine, bool>> {};
+
+TEST_P(MalformedLine, ThrowsNamingFileLineAndField) {
+  const auto& [bad, gz] = GetParam();
+  TempDir dir;
+  const auto path = dir / "bad.clf.gz";
+  write_text(path, "ODOM 0 0 0 0 0 0 1.0 host 1.0\n" + bad.line + "\nODOM 0 0 0 0 0 0 2.0 host 2.0\n", gz);
+  EXPECT_THAT([&] { read_carmen_log(path); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("bad.clf.gz:2: " + std::string(bad.expected))));
+}
+
+const std::string kRanges4 = "FLASER 4 1 2 3 4 ";
+const std::string kPoses = "0 0 0 0 0 0 ";
+const std::string kRobotHead = "ROBOTLASER1 0 -1.57 3.14 0.5 50 0.1 0 2 1 2 ";
+const std::string kRobotTail = "0 0 0 0 0 0 0 0 0 0 0 5.0 host 5.0";
+
+INSTANTIATE_TEST_SUITE_P(
+    CarmenLog, MalformedLine,
+    ::testing::Combine(
+        ::testing::Values(
+            BadLine{"too_few_ranges", "FLASER 4 1 2 3 " + kPoses + "1.0 h 1.0",
+                    "FLASER logger_timestamp: missing (line has 14 fields, expected 15; does num_readings 4"},
+            BadLine{"too_many_ranges", "FLASER 3 1 2 3 4 " + kPoses + "1.0 h 1.0",
+                    "FLASER: 1 extra field(s)"},
+            BadLine{"ranges_only", "FLASER 4 1 2", "FLASER range[2]: missing"},
+            BadLine{"no_count", "FLASER", "FLASER num_readings: missing"},
+            BadLine{"fractional_count", "FLASER 4.5 1 2 3 4",
+                    "FLASER num_readings: not a whole number '4.5'"},
+            BadLine{"huge_count", "FLASER 999999999 1", "FLASER num_readings: out of range '999999999'"},
+            BadLine{"zero_count", "FLASER 0 " + kPoses + "1 h 1", "FLASER num_readings: no beams"},
+            BadLine{"text_range", "FLASER 4 1 abc 3 4 " + kPoses + "1.0 h 1.0",
+                    "FLASER range[1]: not a number 'abc'"},
+            BadLine{"nan_range", "FLASER 4 1 2 nan 4 " + kPoses + "1.0 h 1.0",
+                    "FLASER range[2]: not a finite number 'nan'"},
+            BadLine{"inf_pose", kRanges4 + "0 inf 0 0 0 0 1.0 h 1.0", "FLASER y: not a finite number 'inf'"},
+            BadLine{"suffix_garbage", kRanges4 + "0 0 1.5rad 0 0 0 1.0 h 1.0",
+                    "FLASER theta: not a number '1.5rad'"},
+            BadLine{"overflow", kRanges4 + kPoses + "1e999 h 1.0",
+                    "FLASER ipc_timestamp: number out of range"},
+            BadLine{"bad_logger_time", kRanges4 + kPoses + "1.0 h x",
+                    "FLASER logger_timestamp: not a number 'x'"},
+            BadLine{"odom_missing", "ODOM 1 2 3 0 0 0 5.0 host", "ODOM logger_timestamp: missing"},
+            BadLine{"odom_text", "ODOM 1 2 - 0 0 0 5.0 host 5.0", "ODOM theta: not a number '-'"},
+            BadLine{"odom_extra", "ODOM 1 2 3 0 0 0 5.0 host 5.0 7", "ODOM: 1 extra field(s)"},
+            BadLine{"robot_short_head", "ROBOTLASER1 0 -1.57 3.14", "ROBOTLASER1 angular_res: missing"},
+            BadLine{"robot_zero_res", "ROBOTLASER1 0 -1.57 3.14 0 50 0.1 0 2 1 2 0 " + kRobotTail,
+                    "ROBOTLASER1 angular_res: must not be zero"},
+            BadLine{"robot_missing_remissions", kRobotHead + "2 7 " + kRobotTail,
+                    "ROBOTLASER1 logger_timestamp: missing"},
+            BadLine{"robot_bad_remission", kRobotHead + "2 7 x " + kRobotTail,
+                    "ROBOTLASER1 remission[1]: not a number 'x'"},
+            BadLine{"robot_bad_pose", kRobotHead + "0 0 0 nan 0 0 0 0 0 0 0 0 5.0 host 5.0",
+                    "ROBOTLASER1 laser_theta: not a finite number 'nan'"},
+            BadLine{"robot_no_remission_count", "ROBOTLASER1 0 -1.57 3.14 0.5 50 0.1 0 2 1 2",
+                    "ROBOTLASER1 num_remissions: missing"},
+            BadLine{"not_a_message", "hello world", "not a CARMEN message: line starts with 'hello'"},
+            BadLine{"numbers_only", "1216.63 1217.49 0.4 0 0 0 0 0", "not a CARMEN message"},
+            BadLine{"binary", std::string("FLASER 4 \x01\x02", 11), "binary data (byte 0x01 at column 10)"},
+            BadLine{"nul_byte", std::string("ODOM 1\0 2", 9), "binary data (byte 0x00 at column 7)"}),
+        ::testing::Bool()),
+    [](const auto& info) {
+      return std::string(std::get<0>(info.param).label) + (std::get<1>(info.param) ? "_gz" : "_plain");
+    });
+
+// ---- whole-file failures ----
+
+TEST(CarmenLog, RejectsMissingFileDirectoryAndNonLogs) {
+  TempDir dir;
+  EXPECT_THAT([&] { read_carmen_log(dir / "missing.clf"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("missing.clf: cannot open")));
+  std::filesystem::create_directory(dir / "folder");
+  EXPECT_THAT([&] { read_carmen_log(dir / "folder"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("is a directory")));
+  for (const bool gz : {false, true}) {
+    write_text(dir / "empty.log", "", gz);
+    EXPECT_THAT([&] { read_carmen_log(dir / "empty.log"); },
+                ::testing::ThrowsMessage<InputError>(HasSubstr("empty.log: not a CARMEN log")));
+    write_text(dir / "comments.log", "# only\n# comments\nPARAM a b c 0\n", gz);
+    EXPECT_THAT(
+        [&] { read_carmen_log(dir / "comments.log"); },
+        ::testing::ThrowsMessage<InputError>(HasSubstr("not a CARMEN log (no FLASER, ROBOTLASER1 or ODOM")));
+  }
+  std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
+  testing::write_bytes(dir / "image.png", png);
+  EXPECT_THAT([&] { read_carmen_log(dir / "image.png"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("image.png:1: not a CARMEN message")));
+  testing::write_bytes(dir / "blob.bin", std::string("\x1f\x9d\x90\x00\x00\x07\n", 7));
+  EXPECT_THAT(
+      [&] { read_carmen_log(dir / "blob.bin"); },
+      ::testing::ThrowsMessage<InputError>(HasSubstr("blob.bin:1: binary data (byte 0x1f at column 1)")));
+  testing::write_bytes(dir / "long.log", std::string(LineReader::kMaxLineBytes + 10, 'A'));
+  EXPECT_THAT([&] { read_carmen_log(dir / "long.log"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("long.log:1: line longer than")));
+}
+
+/// A deterministic log of n FLASER lines whose random ranges do not compress away.
+std::string random_log(int n) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> range(0.5, 20.0);
+  std::ostringstream out;
+  out.precision(4);
+  for (int i = 0; i < n; ++i) {
+    out << "FLASER 180";
+    for (int b = 0; b < 180; ++b) out << ' ' << range(rng);
+    out << " 0 0 0 0 0 0 " << i << " host " << i << '\n';
+  }
+  return out.str();
+}
+
+TEST(CarmenLog, TruncatedAndCorruptGzipThrowAfterTheGoodScans) {
+  TempDir dir;
+  const auto path = dir / "cut.clf.gz";
+  write_text(path, random_log(200), true);
+  const std::string full = testing::read_bytes(path);
+  EXPECT_EQ(read_carmen_log(path).scans.size(), 200u);
+  testing::write_bytes(path, std::string_view(full).substr(0, full.size() * 6 / 10));
+  CarmenReader reader(path);
+  std::size_t scans = 0;
+  EXPECT_THAT(
+      [&] {
+        while (reader.next()) ++scans;
+      },
+      ::testing::ThrowsMessage<InputError>(HasSubstr("truncated gzip data")));
+  EXPECT_GT(scans, 50u);
+  EXPECT_LT(scans, 200u);
+
+  testing::write_bytes(path, std::string_view(full).substr(0, 2));  // magic bytes only
+  EXPECT_THAT([&] { read_carmen_log(path); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("cut.clf.gz:1: truncated")));
+
+  std::string corrupt = full;
+  for (std::size_t i = 20; i < 60; ++i) corrupt[i] = static_cast<char>(i * 37);
+  testing::write_bytes(path, corrupt);
+  EXPECT_THAT([&] { read_carmen_log(path); }, ::testing::ThrowsMessage<InputError>(HasSubstr("gzip data")));
+}
+
+TEST(CarmenLog, DetectsGzipByContentNotNameAndAcceptsCrlf) {
+  TempDir dir;
+  write_text(dir / "looks_plain.log", kTinyLog, true);
+  EXPECT_EQ(read_carmen_log(dir / "looks_plain.log").scans.size(), 2u);
+  std::string crlf;
+  for (const char c : kTinyLog) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  write_text(dir / "looks_gz.clf.gz", crlf, false);
+  const CarmenLog log = read_carmen_log(dir / "looks_gz.clf.gz");
+  ASSERT_EQ(log.scans.size(), 2u);
+  EXPECT_DOUBLE_EQ(log.scans[1].timestamp, 200.5);
+}
+
+TEST(CarmenLog, MutatedLogsParseOrThrowInputErrorNeverAnythingElse) {
+  TempDir dir;
+  const auto path = dir / "mutant.log";
+  std::mt19937 rng(42);
+  const std::string alphabet = "0123456789.-+eE naifFLASERODOM#\n\t\x01\xff";
+  std::size_t parsed = 0, rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text(kTinyLog);
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0:
+          text[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          text.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
+      }
+    }
+    write_text(path, text, trial % 2 == 1);
+    try {
+      const CarmenLog log = read_carmen_log(path);
+      for (const Scan& scan : log.scans) {
+        for (const Vec2& p : scan.points_laser) ASSERT_TRUE(std::isfinite(p.x()) && std::isfinite(p.y()));
+      }
+      ++parsed;
+    } catch (const InputError& e) {
+      ASSERT_THAT(e.what(), HasSubstr("mutant.log")) << text;
+      ++rejected;
+    }
+  }
+  EXPECT_GT(parsed, 10u);
+  EXPECT_GT(rejected, 75u);
+}
+
+}  // namespace
+}  // namespace partslam::io

@@ -1,0 +1,278 @@
+#include "io/map_database.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <system_error>
+#include <utility>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+#include "io/map_database_internal.h"
+
+namespace partslam::io {
+namespace {
+
+namespace fs = std::filesystem;
+using sqlite::Connection;
+using sqlite::Statement;
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE datasets (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  name TEXT NOT NULL UNIQUE,
+  source TEXT NOT NULL,
+  kind TEXT NOT NULL,
+  config TEXT NOT NULL,
+  created TEXT NOT NULL
+) STRICT;
+CREATE TABLE submaps (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  dataset_id INTEGER NOT NULL REFERENCES datasets(id) ON DELETE CASCADE,
+  idx INTEGER NOT NULL,
+  anchor_scan INTEGER NOT NULL,
+  anchor_timestamp REAL NOT NULL,
+  travel REAL NOT NULL,
+  alignment_angle REAL NOT NULL,
+  world_x REAL NOT NULL,
+  world_y REAL NOT NULL,
+  world_theta REAL NOT NULL,
+  point_count INTEGER NOT NULL,
+  points BLOB NOT NULL,
+  scan_timestamps BLOB NOT NULL,
+  UNIQUE (dataset_id, idx)
+) STRICT;
+CREATE TABLE dictionaries (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  name TEXT NOT NULL UNIQUE,
+  source TEXT NOT NULL,
+  resolution REAL NOT NULL,
+  alignment_angle REAL NOT NULL,
+  world_x REAL NOT NULL,
+  world_y REAL NOT NULL,
+  world_theta REAL NOT NULL,
+  point_count INTEGER NOT NULL,
+  points BLOB NOT NULL,
+  metadata TEXT NOT NULL,
+  created TEXT NOT NULL
+) STRICT;
+CREATE TABLE descriptors (
+  dictionary TEXT NOT NULL,
+  k INTEGER NOT NULL,
+  map_id INTEGER NOT NULL REFERENCES submaps(id) ON DELETE CASCADE,
+  bits INTEGER NOT NULL,
+  data BLOB NOT NULL,
+  PRIMARY KEY (dictionary, k, map_id)
+) STRICT, WITHOUT ROWID;
+CREATE INDEX descriptors_by_map ON descriptors(map_id);
+)sql";
+
+constexpr std::array<const char*, 4> kTables = {"datasets", "submaps", "dictionaries", "descriptors"};
+
+std::uint32_t big_endian(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+
+bool has_journal(const fs::path& path) {
+  std::error_code ec;
+  for (const char* suffix : {"-journal", "-wal"}) {
+    if (fs::file_size(path.string() + suffix, ec) > 0 && !ec) return true;
+  }
+  return false;
+}
+
+// Checks the 100-byte SQLite header before SQLite sees the file, for clear messages about files that are
+// not databases or were cut short (SQLite itself would only say "file is not a database" or "malformed").
+void check_header(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open for reading");
+  std::array<unsigned char, 100> header{};
+  in.read(reinterpret_cast<char*>(header.data()), header.size());
+  const auto got = static_cast<std::size_t>(in.gcount());
+  const std::string prefix = path.string() + ": ";
+  if (got == 0) throw InputError(prefix + "empty file, not a PartSLAM map database");
+  static constexpr char kMagic[] = "SQLite format 3";  // with its terminating NUL: 16 bytes
+  if (got < sizeof(kMagic) || !std::equal(kMagic, kMagic + sizeof(kMagic), header.begin())) {
+    throw InputError(prefix + "not an SQLite database (no SQLite header), so not a PartSLAM map database");
+  }
+  if (got < header.size()) {
+    throw InputError(prefix + "truncated SQLite database (" + std::to_string(got) +
+                     " bytes, shorter than its header)");
+  }
+  std::uint32_t page_size = (std::uint32_t{header[16]} << 8) | header[17];
+  if (page_size == 1) page_size = 65536;
+  if (page_size < 512 || (page_size & (page_size - 1)) != 0) {
+    throw InputError(prefix + "corrupt SQLite header (page size " + std::to_string(page_size) + ")");
+  }
+  // The header's page count is valid when the change counter (offset 24) matches offset 92. A journal
+  // beside the file means an interrupted write that SQLite will roll back, so the count may not hold yet.
+  const std::uint32_t page_count = big_endian(&header[28]);
+  const bool count_valid = page_count > 0 && big_endian(&header[24]) == big_endian(&header[92]);
+  if (count_valid && !has_journal(path)) {
+    const std::uintmax_t expected = std::uintmax_t{page_count} * page_size;
+    const std::uintmax_t actual = fs::file_size(path);
+    if (actual < expected) {
+      throw InputError(prefix + "truncated database: the file has " + std::to_string(actual) +
+                       " bytes but its header declares " + std::to_string(page_count) + " pages of " +
+                       std::to_string(page_size) + " bytes (" + std::to_string(expected) + " bytes)");
+    }
+  }
+}
+
+void check_schema(const Connection& db) {
+  const std::string prefix = db.path().string() + ": ";
+  const auto application_id = static_cast<std::uint32_t>(db.query_int("PRAGMA application_id"));
+  const std::int64_t version = db.query_int("PRAGMA user_version");
+  if (application_id != static_cast<std::uint32_t>(kMapDatabaseApplicationId)) {
+    char hex[16];
+    std::snprintf(hex, sizeof(hex), "0x%08X", application_id);
+    throw InputError(prefix + "an SQLite database of another application, not a PartSLAM map database " +
+                     "(application_id " + hex + ", expected 0x50534C4D)");
+  }
+  if (version > kMapDatabaseSchemaVersion) {
+    throw InputError(prefix + "schema version " + std::to_string(version) +
+                     " is newer than this partslam supports (" + std::to_string(kMapDatabaseSchemaVersion) +
+                     "); use a newer partslam");
+  }
+  if (version < 1) throw InputError(prefix + "unsupported schema version " + std::to_string(version));
+  for (const char* table : kTables) {
+    Statement find(db, "SELECT 1 FROM sqlite_schema WHERE type = 'table' AND name = ?1");
+    if (!find.bind_text(1, table).step()) {
+      throw InputError(prefix + "damaged PartSLAM map database: table '" + table + "' is missing");
+    }
+  }
+}
+
+// Builds an empty database beside path and links it into place without replacing a file that another
+// process may have created meanwhile.
+void create_empty(const fs::path& path) {
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  if (!fs::is_directory(folder)) {
+    throw InputError(path.string() + ": cannot create database: folder " + folder.string() +
+                     " does not exist");
+  }
+  const fs::path tmp = temporary_sibling(path);
+  std::error_code ec;
+  try {
+    Connection db = Connection::open(tmp, Connection::Access::kCreate);
+    db.exec("BEGIN");
+    db.exec("PRAGMA application_id = " + std::to_string(kMapDatabaseApplicationId));
+    db.exec("PRAGMA user_version = " + std::to_string(kMapDatabaseSchemaVersion));
+    db.exec(kSchema);
+    db.exec("COMMIT");
+  } catch (const InputError& e) {
+    fs::remove(tmp, ec);
+    throw InputError(path.string() + ": cannot create database (" + e.what() + ")");
+  }
+  fs::create_hard_link(tmp, path, ec);
+  if (!ec || ec == std::errc::file_exists) {
+    fs::remove(tmp, ec);
+  } else {
+    commit_temporary(tmp, path);  // no hard links on this file system
+  }
+}
+
+}  // namespace
+
+std::string to_string(DatasetKind kind) { return kind == DatasetKind::kSubmaps ? "submaps" : "dictionary"; }
+
+DatasetKind parse_dataset_kind(const std::string& name) {
+  if (name == "submaps") return DatasetKind::kSubmaps;
+  if (name == "dictionary") return DatasetKind::kDictionary;
+  throw InputError("dataset kind: expected submaps or dictionary, got '" + name + "'");
+}
+
+MapDatabase::MapDatabase(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+MapDatabase::MapDatabase(MapDatabase&&) noexcept = default;
+MapDatabase& MapDatabase::operator=(MapDatabase&&) noexcept = default;
+MapDatabase::~MapDatabase() = default;
+
+MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) {
+    if (mode != Mode::kCreate) throw InputError(path.string() + ": no such file");
+    create_empty(path);
+  } else if (!fs::is_regular_file(status)) {
+    throw InputError(path.string() + ": not a regular file");
+  }
+  check_header(path);
+  // Opened read-write even for kReadOnly (SQLite falls back to read-only for a write-protected file), so
+  // that a reader can roll back the hot journal of an interrupted write; kReadOnly is enforced above SQLite
+  // (require_writable) and by PRAGMA query_only.
+  const bool read_only = mode == Mode::kReadOnly;
+  auto impl =
+      std::make_unique<Impl>(Impl{Connection::open(path, Connection::Access::kReadWrite), read_only, 0});
+  check_schema(impl->db);
+  impl->db.exec("PRAGMA foreign_keys = ON");
+  if (read_only) impl->db.exec("PRAGMA query_only = ON");
+  return MapDatabase(std::move(impl));
+}
+
+const fs::path& MapDatabase::path() const { return impl_->db.path(); }
+
+void MapDatabase::require_writable() const {
+  if (impl_->read_only) throw InputError(path().string() + ": opened read-only, cannot write");
+}
+
+MapDatabase::Transaction::Transaction(MapDatabase& db) : db_(db) {
+  db.require_writable();
+  outermost_ = db.impl_->depth == 0;
+  db.impl_->db.exec(outermost_ ? "BEGIN IMMEDIATE" : "SAVEPOINT partslam_nested");
+  ++db.impl_->depth;
+}
+
+void MapDatabase::Transaction::commit() {
+  if (done_) throw std::logic_error("MapDatabase::Transaction committed twice");
+  db_.impl_->db.exec(outermost_ ? "COMMIT" : "RELEASE partslam_nested");
+  done_ = true;
+  --db_.impl_->depth;
+}
+
+MapDatabase::Transaction::~Transaction() {
+  if (done_) return;
+  --db_.impl_->depth;
+  try {
+    if (outermost_) {
+      if (db_.impl_->db.in_transaction()) db_.impl_->db.exec("ROLLBACK");
+    } else {
+      db_.impl_->db.exec("ROLLBACK TO partslam_nested; RELEASE partslam_nested");
+    }
+  } catch (const InputError&) {
+    // SQLite may already have rolled back (e.g. after a full disk); nothing else to undo.
+  }
+}
+
+std::vector<DescriptorSetInfo> MapDatabase::descriptor_sets() const {
+  Statement query(impl_->db,
+                  "SELECT dictionary, k, COUNT(*), AVG(bits) FROM descriptors GROUP BY dictionary, k "
+                  "ORDER BY dictionary, k");
+  std::vector<DescriptorSetInfo> sets;
+  while (query.step()) {
+    sets.push_back({query.text(0), static_cast<int>(query.int64(1)), query.int64(2), query.real(3)});
+  }
+  return sets;
+}
+
+DatabaseSummary MapDatabase::summary() const {
+  DatabaseSummary s;
+  s.schema_version = static_cast<int>(impl_->db.query_int("PRAGMA user_version"));
+  s.datasets = datasets();
+  s.dictionaries = dictionaries();
+  s.descriptor_sets = descriptor_sets();
+  Statement totals(impl_->db, "SELECT COUNT(*), COALESCE(SUM(point_count), 0) FROM submaps");
+  totals.step();
+  s.submap_count = totals.int64(0);
+  s.point_count = totals.int64(1);
+  return s;
+}
+
+void MapDatabase::check_integrity() const {
+  Statement check(impl_->db, "PRAGMA quick_check");
+  if (check.step() && check.text(0) != "ok") {
+    throw InputError(path().string() + ": integrity check failed: " + check.text(0));
+  }
+}
+
+}  // namespace partslam::io

@@ -1,0 +1,201 @@
+// The map database: one SQLite file holding datasets of submaps, dictionary maps and packed part
+// descriptors (DESIGN.md, data flow "... ──► packed descriptor ──► map database").
+//
+// Schema (version 1; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 1; STRICT tables):
+//   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig, created)
+//   submaps      (id = global map id, dataset_id, idx within dataset, anchor_scan, anchor_timestamp, travel,
+//                 alignment_angle, world_x/world_y/world_theta = T_world_map, point_count, points BLOB,
+//                 scan_timestamps BLOB)
+//   dictionaries (id, name UNIQUE, source, resolution, alignment_angle, world_x/y/theta, point_count,
+//                 points BLOB, metadata JSON, created)
+//   descriptors  (dictionary, k, map_id, bits, data BLOB), primary key (dictionary, k, map_id)
+// Blobs are little-endian (io/blob_codec.h): points are float32 pairs (< 0.4 um rounding in a submap),
+// timestamps float64. Every other number is stored exactly. Map ids are never reused (AUTOINCREMENT).
+//
+// Crash safety: a new file is built (schema and header) at a temporary sibling and renamed into place, so
+// the path never holds a half-initialised database. Every write then runs in a transaction (rollback
+// journal), so an interrupted run leaves the database as it was before the write; store_dataset() writes
+// a dataset and its submaps in one transaction. Callers may group several writes in a Transaction.
+//
+// Opening checks the file: missing, not SQLite, empty, truncated, foreign (other application_id), or a
+// newer schema version all throw InputError naming the file and the problem. SQLite errors met later
+// (e.g. corruption found while reading) are InputError naming the file too.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/dictionary.h"
+#include "core/part_codec.h"
+#include "core/submap.h"
+#include "io/blob_codec.h"
+
+namespace partslam::io {
+
+inline constexpr std::int32_t kMapDatabaseApplicationId = 0x50534C4D;  // "PSLM"
+inline constexpr int kMapDatabaseSchemaVersion = 1;
+
+/// What a dataset's submaps are for: maps to match, or the submaps of a dictionary log.
+enum class DatasetKind { kSubmaps, kDictionary };
+
+std::string to_string(DatasetKind kind);
+/// Parses "submaps" or "dictionary"; throws InputError otherwise.
+DatasetKind parse_dataset_kind(const std::string& name);
+
+/// What the caller gives to create a dataset.
+struct DatasetSpec {
+  std::string name;    ///< unique within the database, non-empty
+  std::string source;  ///< where the submaps came from (log path)
+  DatasetKind kind = DatasetKind::kSubmaps;
+  SubmapConfig config;  ///< the parameters the submaps were built with
+};
+
+/// A stored dataset with its counts.
+struct DatasetInfo {
+  std::int64_t id = -1;
+  DatasetSpec spec;
+  std::string created;  ///< UTC, ISO 8601
+  std::int64_t submap_count = 0;
+  double mean_points = 0.0;        ///< mean points per submap (0 when empty)
+  std::int64_t first_map_id = -1;  ///< smallest map id of the dataset (-1 when empty)
+  std::int64_t last_map_id = -1;   ///< largest map id of the dataset (-1 when empty)
+};
+
+/// Where a map id lives.
+struct MapLocation {
+  std::int64_t map_id = -1;
+  std::int64_t dataset_id = -1;
+  std::string dataset_name;
+  std::int64_t index = -1;  ///< position within its dataset, from 0
+};
+
+/// Dictionaries are partslam::Dictionary (core/dictionary.h).
+using partslam::Dictionary;
+
+struct DictionaryInfo {
+  std::int64_t id = -1;
+  std::string name;
+  std::string source;
+  double resolution = 0.0;  ///< [m]
+  std::int64_t point_count = 0;
+  std::string created;  ///< UTC, ISO 8601
+};
+
+/// An opaque packed descriptor: `bits` meaningful bits in ceil(bits / 8) bytes.
+/// Descriptors are stored as partslam::PackedDescriptor (core/part_codec.h), an opaque blob of `bits` bits.
+using partslam::PackedDescriptor;
+
+struct DescriptorRecord {
+  std::int64_t map_id = -1;
+  PackedDescriptor descriptor;
+};
+
+/// Descriptors stored for one (dictionary, K).
+struct DescriptorSetInfo {
+  std::string dictionary;
+  int k = 0;
+  std::int64_t count = 0;
+  double mean_bits = 0.0;
+};
+
+struct DatabaseSummary {
+  int schema_version = 0;
+  std::vector<DatasetInfo> datasets;
+  std::vector<DictionaryInfo> dictionaries;
+  std::vector<DescriptorSetInfo> descriptor_sets;
+  std::int64_t submap_count = 0;  ///< over all datasets
+  std::int64_t point_count = 0;   ///< over all submaps
+};
+
+class MapDatabase {
+ public:
+  enum class Mode {
+    kReadOnly,   ///< the file must exist; writes throw (an interrupted write's journal is still rolled back)
+    kReadWrite,  ///< the file must exist
+    kCreate,     ///< opens the file read-write, creating an empty database first when it is missing
+  };
+
+  /// Opens (and checks) a database; see the file comment for what is refused.
+  static MapDatabase open(const std::filesystem::path& path, Mode mode);
+
+  MapDatabase(MapDatabase&&) noexcept;
+  MapDatabase& operator=(MapDatabase&&) noexcept;
+  ~MapDatabase();
+
+  const std::filesystem::path& path() const;
+
+  /// RAII transaction: commit() makes the writes since construction durable; destruction without
+  /// commit() (e.g. by an exception) rolls them back. Nests (inner ones are savepoints). Must not outlive
+  /// its database; create and destroy in LIFO order.
+  class Transaction {
+   public:
+    explicit Transaction(MapDatabase& db);
+    Transaction(const Transaction&) = delete;
+    Transaction& operator=(const Transaction&) = delete;
+    ~Transaction();
+    void commit();
+
+   private:
+    MapDatabase& db_;
+    bool outermost_ = false;
+    bool done_ = false;
+  };
+
+  // ---- datasets and submaps ----
+  /// Creates an empty dataset; throws InputError when the name is taken or the config is invalid.
+  std::int64_t add_dataset(const DatasetSpec& spec);
+  /// Appends submaps to a dataset (indices continue after the last stored one); returns their map ids.
+  std::vector<std::int64_t> add_submaps(std::int64_t dataset_id, const Submaps& submaps);
+  /// add_dataset + add_submaps in one transaction; returns the dataset id.
+  std::int64_t store_dataset(const DatasetSpec& spec, const Submaps& submaps);
+  /// Removes a dataset with its submaps and their descriptors.
+  void remove_dataset(std::int64_t dataset_id);
+
+  std::vector<DatasetInfo> datasets() const;
+  /// Throws InputError when there is no such dataset.
+  DatasetInfo dataset(std::int64_t dataset_id) const;
+  std::optional<DatasetInfo> find_dataset(const std::string& name) const;
+  /// Map ids of a dataset, in index order.
+  std::vector<std::int64_t> map_ids(std::int64_t dataset_id) const;
+  /// The submaps of a dataset in index order; Submap::id is the global map id.
+  Submaps load_submaps(std::int64_t dataset_id) const;
+  /// One submap by global map id; throws InputError naming the id when it does not exist.
+  Submap load_submap(std::int64_t map_id) const;
+  MapLocation locate(std::int64_t map_id) const;
+
+  // ---- dictionaries ----
+  /// Stores a dictionary map; throws InputError when the name is taken.
+  std::int64_t add_dictionary(const Dictionary& dictionary);
+  /// Throws InputError naming the dictionary when it does not exist.
+  Dictionary load_dictionary(const std::string& name) const;
+  std::vector<DictionaryInfo> dictionaries() const;
+  void remove_dictionary(const std::string& name);
+
+  // ---- descriptors, keyed by (map id, dictionary name, K) ----
+  /// Inserts or replaces one descriptor. Throws InputError for an unknown map id, k < 1, an empty
+  /// dictionary name, or bytes.size() != ceil(bits / 8).
+  void put_descriptor(std::int64_t map_id, const std::string& dictionary, int k, const PackedDescriptor& d);
+  /// Inserts or replaces many descriptors of one (dictionary, K) in one transaction.
+  void put_descriptors(const std::string& dictionary, int k, const std::vector<DescriptorRecord>& records);
+  std::optional<PackedDescriptor> get_descriptor(std::int64_t map_id, const std::string& dictionary,
+                                                 int k) const;
+  /// All descriptors of one (dictionary, K), by increasing map id.
+  std::vector<DescriptorRecord> load_descriptors(const std::string& dictionary, int k) const;
+  std::vector<DescriptorSetInfo> descriptor_sets() const;
+
+  DatabaseSummary summary() const;
+  /// Runs SQLite's quick_check over the whole file; throws InputError describing the first problem.
+  void check_integrity() const;
+
+ private:
+  struct Impl;
+  explicit MapDatabase(std::unique_ptr<Impl> impl);
+  void require_writable() const;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace partslam::io

@@ -1,0 +1,33 @@
+// Private to the map database's .cc files: the state behind MapDatabase and shared checks.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "io/map_database.h"
+#include "io/sqlite.h"
+
+namespace partslam::io {
+
+struct MapDatabase::Impl {
+  sqlite::Connection db;
+  bool read_only = false;
+  int depth = 0;  ///< open Transactions
+};
+
+namespace internal {
+
+/// Throws InputError "<context>: <field> must be finite" (SQLite would store NaN as NULL).
+inline void require_finite(double value, const std::string& context, const char* field) {
+  if (!std::isfinite(value)) {
+    throw InputError(context + ": " + field + " must be finite, got " + std::to_string(value));
+  }
+}
+
+inline void require_name(const std::string& name, const std::string& what) {
+  if (name.empty()) throw InputError(what + " name must not be empty");
+}
+
+}  // namespace internal
+}  // namespace partslam::io

@@ -1,0 +1,163 @@
+// MapDatabase: dictionary maps and packed part descriptors.
+#include <nlohmann/json.hpp>
+
+#include "io/map_database.h"
+#include "io/map_database_internal.h"
+
+namespace partslam::io {
+namespace {
+
+using internal::require_finite;
+using sqlite::Statement;
+
+void check_descriptor(const PackedDescriptor& d, const std::string& context) {
+  if (d.bits < 0 || d.bytes.size() != static_cast<std::size_t>((d.bits + 7) / 8)) {
+    throw InputError(context + ": descriptor of " + std::to_string(d.bits) + " bits must hold " +
+                     std::to_string(d.bits < 0 ? 0 : (d.bits + 7) / 8) + " bytes, has " +
+                     std::to_string(d.bytes.size()));
+  }
+}
+
+std::string descriptor_context(const std::string& file, std::int64_t map_id, const std::string& dictionary,
+                               int k) {
+  return file + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
+         "', K=" + std::to_string(k) + ")";
+}
+
+PackedDescriptor read_descriptor(const Statement& q, int bits_column, const std::string& context) {
+  PackedDescriptor d;
+  d.bits = q.int64(bits_column);
+  const auto blob = q.blob(bits_column + 1);
+  d.bytes.assign(blob.begin(), blob.end());
+  try {
+    check_descriptor(d, context);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (corrupt database)");
+  }
+  return d;
+}
+
+}  // namespace
+
+std::int64_t MapDatabase::add_dictionary(const Dictionary& d) {
+  require_writable();
+  internal::require_name(d.name, "dictionary");
+  const std::string context = "dictionary '" + d.name + "'";
+  if (!(d.resolution > 0.0) || !std::isfinite(d.resolution)) {
+    throw InputError(context + ": resolution must be a positive finite number");
+  }
+  require_finite(d.alignment_angle, context, "alignment_angle");
+  require_finite(d.T_world_dict.x, context, "T_world_dict.x");
+  require_finite(d.T_world_dict.y, context, "T_world_dict.y");
+  require_finite(d.T_world_dict.theta, context, "T_world_dict.theta");
+  const auto metadata = nlohmann::json::parse(d.metadata, nullptr, /*allow_exceptions=*/false);
+  if (!metadata.is_object())
+    throw InputError(context + ": metadata must be a JSON object, got '" + d.metadata + "'");
+  Statement exists(impl_->db, "SELECT id FROM dictionaries WHERE name = ?1");
+  if (exists.bind_text(1, d.name).step()) {
+    throw InputError(path().string() + ": a dictionary named '" + d.name + "' already exists");
+  }
+  Statement insert(impl_->db,
+                   "INSERT INTO dictionaries (name, source, resolution, alignment_angle, world_x, world_y,"
+                   " world_theta, point_count, points, metadata, created) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7,"
+                   " ?8, ?9, ?10, strftime('%Y-%m-%dT%H:%M:%SZ', 'now')) RETURNING id");
+  insert.bind_text(1, d.name)
+      .bind_text(2, d.source)
+      .bind_real(3, d.resolution)
+      .bind_real(4, d.alignment_angle);
+  insert.bind_real(5, d.T_world_dict.x).bind_real(6, d.T_world_dict.y).bind_real(7, d.T_world_dict.theta);
+  insert.bind_int(8, static_cast<std::int64_t>(d.points.size()));
+  insert.bind_blob(9, encode_points_f32(d.points, context)).bind_text(10, metadata.dump());
+  insert.step();
+  const std::int64_t id = insert.int64(0);
+  insert.run();
+  return id;
+}
+
+Dictionary MapDatabase::load_dictionary(const std::string& name) const {
+  Statement q(
+      impl_->db,
+      "SELECT source, resolution, alignment_angle, world_x, world_y, world_theta, point_count, points,"
+      " metadata FROM dictionaries WHERE name = ?1");
+  if (!q.bind_text(1, name).step()) {
+    throw InputError(path().string() + ": no dictionary named '" + name + "'");
+  }
+  const std::string context = path().string() + ": dictionary '" + name + "'";
+  Dictionary d;
+  d.name = name;
+  d.source = q.text(0);
+  d.resolution = q.real(1);
+  d.alignment_angle = q.real(2);
+  d.T_world_dict = Pose2{q.real(3), q.real(4), q.real(5)};
+  const std::int64_t count = q.int64(6);
+  if (count < 0) throw InputError(context + ": negative point count (corrupt database)");
+  d.points = decode_points_f32(q.blob(7), static_cast<std::size_t>(count), context);
+  d.metadata = q.text(8);
+  return d;
+}
+
+std::vector<DictionaryInfo> MapDatabase::dictionaries() const {
+  Statement q(impl_->db,
+              "SELECT id, name, source, resolution, point_count, created FROM dictionaries ORDER BY id");
+  std::vector<DictionaryInfo> out;
+  while (q.step()) out.push_back({q.int64(0), q.text(1), q.text(2), q.real(3), q.int64(4), q.text(5)});
+  return out;
+}
+
+void MapDatabase::remove_dictionary(const std::string& name) {
+  require_writable();
+  Statement remove(impl_->db, "DELETE FROM dictionaries WHERE name = ?1 RETURNING id");
+  if (!remove.bind_text(1, name).step()) {
+    throw InputError(path().string() + ": no dictionary named '" + name + "'");
+  }
+  remove.run();
+}
+
+void MapDatabase::put_descriptor(std::int64_t map_id, const std::string& dictionary, int k,
+                                 const PackedDescriptor& d) {
+  put_descriptors(dictionary, k, {{map_id, d}});
+}
+
+void MapDatabase::put_descriptors(const std::string& dictionary, int k,
+                                  const std::vector<DescriptorRecord>& records) {
+  internal::require_name(dictionary, "descriptor dictionary");
+  if (k < 1) throw InputError("descriptor K must be >= 1, got " + std::to_string(k));
+  Transaction transaction(*this);
+  Statement exists(impl_->db, "SELECT 1 FROM submaps WHERE id = ?1");
+  Statement insert(
+      impl_->db,
+      "INSERT OR REPLACE INTO descriptors (dictionary, k, map_id, bits, data) VALUES (?1, ?2, ?3, ?4, ?5)");
+  for (const DescriptorRecord& r : records) {
+    const std::string context = descriptor_context(path().string(), r.map_id, dictionary, k);
+    check_descriptor(r.descriptor, context);
+    exists.reset();
+    if (!exists.bind_int(1, r.map_id).step()) throw InputError(context + ": no map with this id");
+    insert.reset();
+    insert.bind_text(1, dictionary).bind_int(2, k).bind_int(3, r.map_id).bind_int(4, r.descriptor.bits);
+    insert.bind_blob(5, r.descriptor.bytes).run();
+  }
+  transaction.commit();
+}
+
+std::optional<PackedDescriptor> MapDatabase::get_descriptor(std::int64_t map_id,
+                                                            const std::string& dictionary, int k) const {
+  Statement q(impl_->db,
+              "SELECT bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 AND map_id = ?3");
+  if (!q.bind_text(1, dictionary).bind_int(2, k).bind_int(3, map_id).step()) return std::nullopt;
+  return read_descriptor(q, 0, descriptor_context(path().string(), map_id, dictionary, k));
+}
+
+std::vector<DescriptorRecord> MapDatabase::load_descriptors(const std::string& dictionary, int k) const {
+  Statement q(impl_->db,
+              "SELECT map_id, bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 ORDER BY map_id");
+  q.bind_text(1, dictionary).bind_int(2, k);
+  std::vector<DescriptorRecord> out;
+  while (q.step()) {
+    const std::int64_t map_id = q.int64(0);
+    out.push_back(
+        {map_id, read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k))});
+  }
+  return out;
+}
+
+}  // namespace partslam::io

@@ -1,0 +1,404 @@
+#include "io/map_database.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "core/error.h"
+#include "io/sqlite.h"
+
+namespace partslam::io {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using Mode = MapDatabase::Mode;
+
+// Hand-made submaps with awkward values: timestamps that need float64, points off the float32 grid.
+Submaps make_submaps(int count, int points_each, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> coord(-6.4, 6.4);
+  Submaps submaps;
+  for (int i = 0; i < count; ++i) {
+    Submap m;
+    m.id = i;
+    m.anchor_scan = 10 * i + 3;
+    m.anchor_timestamp = 1.0e9 + 0.123456789 * i;
+    m.travel = 0.5 * i + 1e-9;
+    m.alignment_angle = 0.1 + 0.01 * i;
+    m.T_world_map = Pose2{1.5 * i, -2.25 * i + 1.0 / 3.0, 0.3 - 0.02 * i};
+    for (int j = 0; j < points_each; ++j) m.points.emplace_back(coord(rng), coord(rng));
+    for (int j = 0; j < 4; ++j) m.scan_timestamps.push_back(m.anchor_timestamp + 0.0251 * j);
+    submaps.push_back(std::move(m));
+  }
+  return submaps;
+}
+
+Points2 rounded_to_float(const Points2& points) {
+  Points2 out;
+  for (const Vec2& p : points) out.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+  return out;
+}
+
+class MapDatabaseTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("partslam_db_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // The message of the InputError that opening path throws ("" when it opens).
+  static std::string open_error(const fs::path& path, Mode mode = Mode::kReadOnly) {
+    try {
+      MapDatabase::open(path, mode);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(MapDatabaseTest, SubmapsRoundTripExactlyUpToFloat32Points) {
+  const fs::path path = dir_ / "maps.db";
+  const Submaps submaps = make_submaps(5, 300, 1);
+  DatasetSpec spec{"fr079-corrected", "/data/fr079.log", DatasetKind::kSubmaps, {}};
+  spec.config.window_length = 3.0;
+  spec.config.resolution = 0.05;
+  spec.config.min_points = 7;
+  spec.config.align = false;
+  std::int64_t dataset_id = 0;
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    dataset_id = db.store_dataset(spec, submaps);
+  }
+  const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+  const Submaps loaded = db.load_submaps(dataset_id);
+  ASSERT_EQ(loaded.size(), submaps.size());
+  const std::vector<std::int64_t> ids = db.map_ids(dataset_id);
+  for (std::size_t i = 0; i < submaps.size(); ++i) {
+    const Submap& a = submaps[i];
+    const Submap& b = loaded[i];
+    EXPECT_EQ(b.id, ids[i]);
+    EXPECT_EQ(b.anchor_scan, a.anchor_scan);
+    EXPECT_EQ(b.anchor_timestamp, a.anchor_timestamp);
+    EXPECT_EQ(b.travel, a.travel);
+    EXPECT_EQ(b.alignment_angle, a.alignment_angle);
+    EXPECT_EQ(b.T_world_map.x, a.T_world_map.x);
+    EXPECT_EQ(b.T_world_map.y, a.T_world_map.y);
+    EXPECT_EQ(b.T_world_map.theta, a.T_world_map.theta);
+    EXPECT_EQ(b.scan_timestamps, a.scan_timestamps);
+    EXPECT_EQ(b.points, rounded_to_float(a.points));
+    for (std::size_t j = 0; j < a.points.size(); ++j) {
+      ASSERT_LT((b.points[j] - a.points[j]).cwiseAbs().maxCoeff(), 6.4 * std::ldexp(1.0, -24));
+    }
+  }
+  const Submap one = db.load_submap(ids[3]);
+  EXPECT_EQ(one.points, loaded[3].points);
+  EXPECT_EQ(db.locate(ids[3]).index, 3);
+  EXPECT_EQ(db.locate(ids[3]).dataset_name, "fr079-corrected");
+
+  const DatasetInfo info = db.dataset(dataset_id);
+  EXPECT_EQ(info.spec.name, spec.name);
+  EXPECT_EQ(info.spec.source, spec.source);
+  EXPECT_EQ(info.spec.kind, DatasetKind::kSubmaps);
+  EXPECT_EQ(info.spec.config.window_length, 3.0);
+  EXPECT_EQ(info.spec.config.resolution, 0.05);
+  EXPECT_EQ(info.spec.config.min_points, 7);
+  EXPECT_FALSE(info.spec.config.align);
+  EXPECT_EQ(info.submap_count, 5);
+  EXPECT_DOUBLE_EQ(info.mean_points, 300.0);
+  EXPECT_EQ(info.first_map_id, ids.front());
+  EXPECT_EQ(info.last_map_id, ids.back());
+  EXPECT_EQ(info.created.size(), 20u);  // 2024-01-02T03:04:05Z
+  EXPECT_THAT(open_error(path), ::testing::IsEmpty());
+}
+
+TEST_F(MapDatabaseTest, MapIdsAreGlobalAndNeverReused) {
+  MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
+  const std::int64_t a = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1));
+  const std::int64_t b =
+      db.store_dataset({"b", "b.log", DatasetKind::kDictionary, {}}, make_submaps(2, 10, 2));
+  EXPECT_EQ(db.map_ids(a), (std::vector<std::int64_t>{1, 2, 3}));
+  EXPECT_EQ(db.map_ids(b), (std::vector<std::int64_t>{4, 5}));
+  db.remove_dataset(b);  // held the largest ids
+  EXPECT_THROW(db.load_submap(5), InputError);
+  const std::int64_t c = db.store_dataset({"c", "c.log", DatasetKind::kSubmaps, {}}, make_submaps(1, 10, 4));
+  EXPECT_EQ(db.map_ids(c), (std::vector<std::int64_t>{6}));
+  EXPECT_EQ(db.add_submaps(a, make_submaps(1, 10, 3)), (std::vector<std::int64_t>{7}));
+  EXPECT_EQ(db.locate(7).index, 3);
+  EXPECT_EQ(db.locate(7).dataset_id, a);
+  EXPECT_EQ(db.dataset(c).spec.name, "c");
+  EXPECT_EQ(db.summary().submap_count, 5);
+  EXPECT_EQ(db.summary().point_count, 50);
+  EXPECT_THAT(db.datasets(), ::testing::SizeIs(2));
+}
+
+TEST_F(MapDatabaseTest, RefusesDuplicateNamesBadConfigAndUnknownIds) {
+  MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
+  db.add_dataset({"a", "a.log", DatasetKind::kSubmaps, {}});
+  try {
+    db.add_dataset({"a", "other.log", DatasetKind::kSubmaps, {}});
+    FAIL() << "duplicate accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("'a' already exists"));
+  }
+  SubmapConfig bad;
+  bad.resolution = -1;
+  EXPECT_THROW(db.add_dataset({"b", "b.log", DatasetKind::kSubmaps, bad}), InputError);
+  EXPECT_THROW(db.add_dataset({"", "b.log", DatasetKind::kSubmaps, {}}), InputError);
+  EXPECT_THROW(db.add_submaps(42, make_submaps(1, 5, 1)), InputError);
+  try {
+    db.load_submap(99);
+    FAIL() << "unknown map id accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("no map with id 99"));
+    EXPECT_THAT(e.what(), HasSubstr("maps.db"));
+  }
+  EXPECT_THROW(parse_dataset_kind("maps"), InputError);
+}
+
+TEST_F(MapDatabaseTest, DescriptorsPutGetReplaceAndCascade) {
+  MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
+  const std::int64_t ds = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1));
+  const std::vector<std::int64_t> ids = db.map_ids(ds);
+  const PackedDescriptor d126{Bytes{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0x3f}, 126};
+  db.put_descriptor(ids[1], "fr079", 3, d126);
+  const auto got = db.get_descriptor(ids[1], "fr079", 3);
+  ASSERT_TRUE(got.has_value());
+  EXPECT_EQ(got->bytes, d126.bytes);
+  EXPECT_EQ(got->bits, 126);
+  EXPECT_FALSE(db.get_descriptor(ids[1], "fr079", 2).has_value());
+  EXPECT_FALSE(db.get_descriptor(ids[1], "albert", 3).has_value());
+  EXPECT_FALSE(db.get_descriptor(ids[0], "fr079", 3).has_value());
+
+  db.put_descriptor(ids[1], "fr079", 3, {Bytes{0xab}, 5});  // replaces
+  EXPECT_EQ(db.get_descriptor(ids[1], "fr079", 3)->bytes, Bytes{0xab});
+  db.put_descriptors("fr079", 3, {{ids[2], {Bytes{7, 7}, 16}}, {ids[0], {Bytes{}, 0}}});
+  const std::vector<DescriptorRecord> all = db.load_descriptors("fr079", 3);
+  ASSERT_EQ(all.size(), 3u);
+  EXPECT_EQ(all[0].map_id, ids[0]);
+  EXPECT_EQ(all[0].descriptor.bits, 0);
+  EXPECT_EQ(all[2].descriptor.bytes, (Bytes{7, 7}));
+  ASSERT_EQ(db.descriptor_sets().size(), 1u);
+  EXPECT_EQ(db.descriptor_sets()[0].count, 3);
+  EXPECT_DOUBLE_EQ(db.descriptor_sets()[0].mean_bits, 7.0);
+
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 3, {Bytes{1, 2}, 126}), InputError);  // length
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 0, {Bytes{1}, 8}), InputError);       // K
+  EXPECT_THROW(db.put_descriptor(ids[0], "", 3, {Bytes{1}, 8}), InputError);            // name
+  EXPECT_THROW(db.put_descriptor(1234, "fr079", 3, {Bytes{1}, 8}), InputError);         // map id
+  // A failing record leaves the batch unwritten.
+  EXPECT_THROW(db.put_descriptors("fr079", 4, {{ids[0], {Bytes{1}, 8}}, {999, {Bytes{1}, 8}}}), InputError);
+  EXPECT_TRUE(db.load_descriptors("fr079", 4).empty());
+
+  db.remove_dataset(ds);
+  EXPECT_TRUE(db.load_descriptors("fr079", 3).empty());
+}
+
+TEST_F(MapDatabaseTest, DictionariesRoundTrip) {
+  MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
+  Dictionary d;
+  d.name = "fr079";
+  d.source = "fr079.log";
+  d.resolution = 0.1;
+  d.alignment_angle = 0.25;
+  d.T_world_dict = Pose2{3.0, -4.0, 0.5};
+  d.points = make_submaps(1, 5000, 9)[0].points;
+  d.metadata = R"({"scans": 4933})";
+  db.add_dictionary(d);
+  EXPECT_THROW(db.add_dictionary(d), InputError);
+  d.name = "bad";
+  d.metadata = "[1, 2]";
+  EXPECT_THROW(db.add_dictionary(d), InputError);
+  const Dictionary loaded = db.load_dictionary("fr079");
+  EXPECT_EQ(loaded.points, rounded_to_float(d.points));
+  EXPECT_EQ(loaded.T_world_dict.theta, 0.5);
+  EXPECT_EQ(loaded.alignment_angle, 0.25);
+  EXPECT_EQ(loaded.metadata, R"({"scans":4933})");
+  ASSERT_EQ(db.dictionaries().size(), 1u);
+  EXPECT_EQ(db.dictionaries()[0].point_count, 5000);
+  EXPECT_THROW(db.load_dictionary("albert"), InputError);
+  db.remove_dictionary("fr079");
+  EXPECT_TRUE(db.dictionaries().empty());
+}
+
+TEST_F(MapDatabaseTest, TransactionRolledBackOnExceptionLeavesNoPartialDataset) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+  db.store_dataset({"kept", "k.log", DatasetKind::kSubmaps, {}}, make_submaps(2, 10, 1));
+  try {
+    MapDatabase::Transaction transaction(db);
+    const std::int64_t id = db.add_dataset({"partial", "p.log", DatasetKind::kSubmaps, {}});
+    db.add_submaps(id, make_submaps(3, 10, 2));
+    throw std::runtime_error("interrupted");
+  } catch (const std::runtime_error&) {
+  }
+  // A bad submap in the middle of a batch: the dataset and the submaps before it are rolled back too.
+  Submaps bad = make_submaps(4, 10, 3);
+  bad[2].travel = std::nan("");
+  try {
+    db.store_dataset({"bad", "b.log", DatasetKind::kSubmaps, {}}, bad);
+    FAIL() << "NaN travel accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("submap 2: travel must be finite"));
+  }
+  bad[2].travel = 1.0;
+  bad[3].points[5].x() = INFINITY;
+  EXPECT_THROW(db.store_dataset({"bad", "b.log", DatasetKind::kSubmaps, {}}, bad), InputError);
+
+  const MapDatabase reopened = MapDatabase::open(path, Mode::kReadOnly);
+  ASSERT_EQ(reopened.datasets().size(), 1u);
+  EXPECT_EQ(reopened.datasets()[0].spec.name, "kept");
+  EXPECT_EQ(reopened.summary().submap_count, 2);
+  EXPECT_FALSE(reopened.find_dataset("partial").has_value());
+  // The connection is usable after the rollbacks.
+  db.store_dataset({"bad", "b.log", DatasetKind::kSubmaps, {}}, make_submaps(1, 10, 4));
+  EXPECT_EQ(db.summary().submap_count, 3);
+}
+
+TEST_F(MapDatabaseTest, ProcessKilledMidTransactionLeavesNoPartialDataset) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase::open(path, Mode::kCreate)
+      .store_dataset({"kept", "k.log", DatasetKind::kSubmaps, {}}, make_submaps(2, 10, 1));
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    // ~10 MB in one transaction: more than SQLite's page cache, so pages spill into the file mid-way.
+    MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
+    MapDatabase::Transaction transaction(db);
+    db.store_dataset({"partial", "p.log", DatasetKind::kSubmaps, {}}, make_submaps(2500, 500, 2));
+    ::_exit(0);  // dies without commit or any destructor, like a killed process
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_TRUE(fs::exists(path.string() + "-journal"));  // a hot journal is left behind
+  // Any reader with write access rolls the journal back, as SQLite does.
+  const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+  EXPECT_FALSE(fs::exists(path.string() + "-journal"));
+  db.check_integrity();
+  ASSERT_EQ(db.datasets().size(), 1u);
+  EXPECT_EQ(db.datasets()[0].spec.name, "kept");
+  EXPECT_EQ(db.summary().submap_count, 2);
+}
+
+TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
+  const fs::path path = dir_ / "maps.db";
+  EXPECT_THAT(open_error(path, Mode::kReadOnly), HasSubstr("no such file"));
+  EXPECT_THAT(open_error(path, Mode::kReadWrite), HasSubstr("no such file"));
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_THAT(open_error(dir_ / "no-folder" / "maps.db", Mode::kCreate), HasSubstr("does not exist"));
+  EXPECT_THAT(open_error(dir_, Mode::kCreate), HasSubstr("not a regular file"));
+  MapDatabase::open(path, Mode::kCreate);
+  MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+  try {
+    db.add_dataset({"a", "a.log", DatasetKind::kSubmaps, {}});
+    FAIL() << "write to read-only database accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("read-only"));
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);  // no temporaries
+}
+
+TEST_F(MapDatabaseTest, RefusesNewerSchemaVersion) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase::open(path, Mode::kCreate);
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 2");
+  const std::string error = open_error(path, Mode::kReadWrite);
+  EXPECT_THAT(error, HasSubstr(path.string()));
+  EXPECT_THAT(error, HasSubstr("schema version 2 is newer"));
+}
+
+TEST_F(MapDatabaseTest, RefusesForeignSqliteDatabase) {
+  const fs::path path = dir_ / "other.sqlite";
+  sqlite::Connection::open(path, sqlite::Connection::Access::kCreate)
+      .exec("CREATE TABLE t (x); INSERT INTO t VALUES (1)");
+  const std::string error = open_error(path, Mode::kCreate);
+  EXPECT_THAT(error, HasSubstr(path.string()));
+  EXPECT_THAT(error, HasSubstr("not a PartSLAM map database"));
+  EXPECT_THAT(error, HasSubstr("application_id 0x00000000"));
+}
+
+TEST_F(MapDatabaseTest, RefusesGarbageAndEmptyFiles) {
+  const fs::path garbage = dir_ / "garbage.db";
+  std::ofstream(garbage) << "x,y\n1.0,2.0\n";
+  EXPECT_THAT(open_error(garbage), HasSubstr("not an SQLite database"));
+  const fs::path empty = dir_ / "empty.db";
+  std::ofstream{empty};
+  EXPECT_THAT(open_error(empty, Mode::kCreate), HasSubstr("empty file"));
+}
+
+TEST_F(MapDatabaseTest, RefusesTruncatedDatabase) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase::open(path, Mode::kCreate)
+      .store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(20, 500, 1));
+  const auto size = fs::file_size(path);
+  ASSERT_GT(size, 20u * 4000u);
+  fs::resize_file(path, size / 2);
+  const std::string error = open_error(path);
+  EXPECT_THAT(error, HasSubstr(path.string()));
+  EXPECT_THAT(error, HasSubstr("truncated database"));
+  fs::resize_file(path, 50);
+  EXPECT_THAT(open_error(path), HasSubstr("truncated SQLite database"));
+}
+
+TEST_F(MapDatabaseTest, CorruptContentGivesInputError) {
+  const fs::path path = dir_ / "maps.db";
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 50, 1));
+    db.check_integrity();
+  }
+  // A points blob whose length disagrees with its point count.
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
+      .exec("UPDATE submaps SET points = substr(points, 1, 100) WHERE id = 2");
+  const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+  try {
+    db.load_submap(2);
+    FAIL() << "short blob accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("map 2: points blob holds 100 bytes, expected 400"));
+  }
+  EXPECT_THROW(db.load_submaps(1), InputError);
+  EXPECT_NO_THROW(db.load_submap(1));
+
+  // Overwritten b-tree pages: SQLite's own errors come back as InputError naming the file.
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(4096);
+    const std::string junk(static_cast<std::size_t>(fs::file_size(path)) - 8192, '\xff');
+    f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+  }
+  try {
+    const MapDatabase broken = MapDatabase::open(path, Mode::kReadOnly);
+    broken.check_integrity();
+    broken.load_submaps(1);
+    FAIL() << "corrupt pages accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path.string()));
+  }
+}
+
+TEST(BlobCodec, LittleEndianAndLengthChecked) {
+  const Bytes bytes = encode_points_f32({{1.0, -2.0}}, "test");
+  EXPECT_EQ(bytes, (Bytes{0x00, 0x00, 0x80, 0x3f, 0x00, 0x00, 0x00, 0xc0}));
+  EXPECT_EQ(encode_f64({1.0}), (Bytes{0, 0, 0, 0, 0, 0, 0xf0, 0x3f}));
+  EXPECT_EQ(decode_points_f32(bytes, 1, "test"), (Points2{{1.0, -2.0}}));
+  EXPECT_THROW(decode_points_f32(bytes, 2, "test"), InputError);
+  EXPECT_THROW(decode_f64(std::span(bytes).first(7), "test"), InputError);
+  EXPECT_THROW(encode_points_f32({{1e39, 0.0}}, "test"), InputError);
+  EXPECT_THROW(decode_points_f32(Bytes{0, 0, 0xc0, 0x7f, 0, 0, 0, 0}, 1, "test"), InputError);  // NaN
+}
+
+}  // namespace
+}  // namespace partslam::io
