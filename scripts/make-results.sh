@@ -22,6 +22,6 @@ run 2 aces/aces-corrected.log.gz fr101/fr101-corrected.log.gz
 run 3 intel/intel-corrected.log.gz fr079/fr079-corrected.log.gz
 run 4 corrected/freiburg-campus-corrected.log.gz intel/intel-corrected.log.gz
 run 5 fr079/fr079-corrected.log.gz fr101/fr101-corrected.log.gz
-/usr/bin/python3 scripts/results_table.py "$OUT" > docs/RESULTS.md.tmp
+/usr/bin/python3 scripts/results_table.py "$OUT" README.md > docs/RESULTS.md.tmp
 mv docs/RESULTS.md.tmp docs/RESULTS.md
-echo "wrote docs/RESULTS.md"
+echo "wrote docs/RESULTS.md and the results table of README.md"

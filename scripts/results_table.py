@@ -105,7 +105,36 @@ def main(folder):
             w(f"![data set #{i+1}](results/fig_d_set{i+1}.png)")
             w("")
     print("\n".join(out))
+    return sets, by, labels
+
+
+def update_readme(readme, sets, by, labels):
+    """Replaces the block between the results markers of README.md with the headline ANR table."""
+    headline = ["dMM", "dMM-RANSAC", "iMM cpd:3", "iMM cpd:5", "hMM cpd:3", "rerank10 hMM cpd:3"]
+    rows = ["ANR % on the five data sets (ours / the paper's; lower is better, random = 50 %), "
+            f"{sets[0]['tasks'] if sets[0] else '?'} tasks, N = {sets[0]['db_size'] if sets[0] else '?'}. "
+            "Regenerate with `make results`; full table, recall, time and Fig. D in [docs/RESULTS.md](docs/RESULTS.md).",
+            "",
+            "| method | " + " | ".join(f"#{i+1}" for i in range(5)) + " | bits/map | µs/pair (#1) |",
+            "|---|" + "---|" * 7]
+    for label in [l for l in headline if l in labels]:
+        cells = []
+        for i in range(5):
+            m = by[i].get(label)
+            paper = PAPER.get(label, [None] * 5)[i]
+            cells.append((f"{m['anr']:.1f}" if m else "–") + (f" / {paper:.1f}" if paper is not None else ""))
+        m1 = by[0].get(label)
+        rows.append(f"| {label} | " + " | ".join(cells) +
+                    (f" | {m1['bits_per_map']:.0f} | {m1['ms_per_pair']*1e3:.3f} |" if m1 else " | – | – |"))
+    text = pathlib.Path(readme).read_text()
+    begin, end = "<!-- results:begin -->", "<!-- results:end -->"
+    a, b = text.index(begin) + len(begin), text.index(end)
+    tmp = pathlib.Path(readme + ".tmp")
+    tmp.write_text(text[:a] + "\n" + "\n".join(rows) + "\n" + text[b:])
+    tmp.replace(readme)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "docs/results")
+    result = main(sys.argv[1] if len(sys.argv) > 1 else "docs/results")
+    if len(sys.argv) > 2:
+        update_readme(sys.argv[2], *result)
