@@ -48,6 +48,9 @@ TEST(Evaluation, DirectMatchingRanksTheRevisitFirstOnTheSimulator) {
   EXPECT_GT(m.summary.recall_at_1, 0.6);
   EXPECT_GT(m.ms_per_pair, 0.0);
   EXPECT_NEAR(m.bits_per_map, 14.0 * r.mean_points, 1e-9);
+  // Every relevant pair is posed; nearly all poses agree with the simulator's exact map poses.
+  EXPECT_EQ(m.poses_checked, 24u);
+  EXPECT_GT(m.pose_within_tolerance, 0.9);
 }
 
 TEST(Evaluation, EveryMethodRunsAndThreadsDoNotChangeRanks) {
