@@ -1,6 +1,6 @@
 // partslam describe DB --dict NAME: the offline half of PartSLAM (DESIGN.md data flow, "CPD" and "MD"). Runs
-// common pattern discovery of every stored submap (of one dataset, or all) against a stored dictionary, keeps up
-// to P parts per map, and stores in one transaction the packed descriptor of the top K parts for each K of
+// common pattern discovery of every stored submap (of one dataset, or all) against a stored dictionary, keeps
+// up to P parts per map, and stores in one transaction the packed descriptor of the top K parts for each K of
 // --k, plus the whole P-part list under K = P (with appearance scores when P > 16: the hMM query list). The
 // codec is derived from the dictionary's points and K (core/descriptor_layout.h), so `match` decodes without
 // any stored codec state.
@@ -15,6 +15,7 @@
 #include <set>
 
 #include "apps/commands.h"
+#include "apps/stored_parts.h"
 #include "core/cpd.h"
 #include "core/descriptor_layout.h"
 #include "core/error.h"
@@ -31,6 +32,7 @@ struct DescribeOptions {
   std::vector<int> ks = {1, 2, 3, 4, 5};
   int threads = 1;
   bool verbose = false;
+  std::string maximality = "point";
   CpdConfig cpd;
 };
 
@@ -54,16 +56,19 @@ std::vector<io::DatasetInfo> chosen_datasets(const io::MapDatabase& db, const st
 }
 
 void run_describe(DescribeOptions o) {
-  if (o.parts < 1 || o.parts > 10000) throw InputError("--parts must be in [1, 10000], got " + std::to_string(o.parts));
+  if (o.parts < 1 || o.parts > 10000)
+    throw InputError("--parts must be in [1, 10000], got " + std::to_string(o.parts));
   if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
   std::set<int> ks;
   for (int k : o.ks) {
     if (k < 1 || k > o.parts)
-      throw InputError("--k: every K must be in [1, P = " + std::to_string(o.parts) + "], got " + std::to_string(k));
+      throw InputError("--k: every K must be in [1, P = " + std::to_string(o.parts) + "], got " +
+                       std::to_string(k));
     ks.insert(k);
   }
   ks.insert(o.parts);  // the hMM query list
   o.cpd.max_parts = o.parts;
+  o.cpd.maximality = parse_maximality(o.maximality);
   validate(o.cpd);
 
   using Clock = std::chrono::steady_clock;
@@ -79,9 +84,11 @@ void run_describe(DescribeOptions o) {
   }
   for (const Submaps& s : loaded)
     for (const Submap& m : s) maps.push_back({m.id, &m, {}, 0});
-  if (maps.empty()) throw InputError(o.db + ": no submaps to describe (run 'partslam submaps LOG --db " + o.db + "')");
-  std::cout << "describe " << maps.size() << " maps of " << names << " against dictionary '" << dictionary.name
-            << "' (" << dictionary.points.size() << " points): P = " << o.parts << " parts, K =";
+  if (maps.empty())
+    throw InputError(o.db + ": no submaps to describe (run 'partslam submaps LOG --db " + o.db + "')");
+  std::cout << "describe " << maps.size() << " maps of " << names << " against dictionary '"
+            << dictionary.name << "' (" << dictionary.points.size() << " points): P = " << o.parts
+            << " parts, K =";
   for (int k : ks) std::cout << " " << k;
   std::cout << "\n";
   if (o.parts <= kMaxUnscoredParts) {
@@ -146,12 +153,14 @@ void run_describe(DescribeOptions o) {
   for (double t : cpd_ms) mean_ms += t;
   mean_ms /= static_cast<double>(maps.size());
   std::cout << "CPD: " << mean_ms << " ms per map (min " << *std::min_element(cpd_ms.begin(), cpd_ms.end())
-            << ", max " << *std::max_element(cpd_ms.begin(), cpd_ms.end()) << "), " << cpd_s << " s on " << o.threads
-            << " thread" << (o.threads > 1 ? "s" : "") << "\n";
-  std::cout << "parts per map: mean " << mean_parts << ", min " << *std::min_element(counts.begin(), counts.end())
-            << ", max " << *std::max_element(counts.begin(), counts.end()) << "\n";
-  std::cout << std::setw(6) << "K" << std::setw(12) << "bits/part" << std::setw(12) << "mean parts" << std::setw(12)
-            << "bits/map" << std::setw(10) << "min" << std::setw(10) << "max" << "\n";
+            << ", max " << *std::max_element(cpd_ms.begin(), cpd_ms.end()) << "), " << cpd_s << " s on "
+            << o.threads << " thread" << (o.threads > 1 ? "s" : "") << "\n";
+  std::cout << "parts per map: mean " << mean_parts << ", min "
+            << *std::min_element(counts.begin(), counts.end()) << ", max "
+            << *std::max_element(counts.begin(), counts.end()) << "\n";
+  std::cout << std::setw(6) << "K" << std::setw(12) << "bits/part" << std::setw(12) << "mean parts"
+            << std::setw(12) << "bits/map" << std::setw(10) << "min" << std::setw(10) << "max"
+            << "\n";
   for (const auto& [k, records] : sets) {
     double bits = 0;
     int lo = records.front().descriptor.bits, hi = lo;
@@ -160,10 +169,14 @@ void run_describe(DescribeOptions o) {
       lo = std::min(lo, r.descriptor.bits), hi = std::max(hi, r.descriptor.bits);
     }
     const int per_part = bits_per_part(descriptor_codec_config(dictionary.points, k));
-    std::cout << std::setw(6) << k << std::setw(12) << per_part << std::setw(12) << bits / per_part / records.size()
-              << std::setw(12) << bits / static_cast<double>(records.size()) << std::setw(10) << lo << std::setw(10)
-              << hi << (k == o.parts ? "  (hMM query list" : "")
-              << (k == o.parts && k > kMaxUnscoredParts ? ", with AS)" : k == o.parts ? ")" : "") << "\n";
+    std::cout << std::setw(6) << k << std::setw(12) << per_part << std::setw(12)
+              << bits / per_part / records.size() << std::setw(12)
+              << bits / static_cast<double>(records.size()) << std::setw(10) << lo << std::setw(10) << hi
+              << (k == o.parts ? "  (hMM query list" : "")
+              << (k == o.parts && k > kMaxUnscoredParts ? ", with AS)"
+                  : k == o.parts                        ? ")"
+                                                        : "")
+              << "\n";
   }
   std::cout << "stored " << sets.size() * maps.size() << " descriptors in " << o.db << "\n";
 }
@@ -173,16 +186,24 @@ void run_describe(DescribeOptions o) {
 void register_describe(CLI::App& app) {
   auto o = std::make_shared<DescribeOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "describe", "Find every stored map's parts against a dictionary (CPD) and store their packed descriptors");
+      "describe",
+      "Find every stored map's parts against a dictionary (CPD) and store their packed descriptors");
   cmd->add_option("db", o->db, "map database file")->required();
   cmd->add_option("--dict", o->dictionary, "stored dictionary to describe against")->required();
   cmd->add_option("--parts", o->parts, "P: parts kept per map, stored as K = P (the hMM query list)")
       ->capture_default_str();
-  cmd->add_option("--k", o->ks, "parts per stored descriptor, comma-separated")->delimiter(',')->capture_default_str();
+  cmd->add_option("--k", o->ks, "parts per stored descriptor, comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--dataset", o->dataset, "describe only this dataset (default: every submaps dataset)");
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->add_option("--partitions", o->cpd.partitions, "CPD: random partitions per map")->capture_default_str();
   cmd->add_option("--tsize", o->cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
+  cmd->add_option(
+         "--mc", o->maximality,
+         "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "
+         "points that fit the dictionary)")
+      ->capture_default_str();
   cmd->add_option("--seed", o->cpd.seed, "CPD: base seed (mixed with each map id)")->capture_default_str();
   cmd->add_flag("--verbose", o->verbose, "print one line per map");
   cmd->callback([o] { run_describe(*o); });

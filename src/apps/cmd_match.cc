@@ -30,7 +30,9 @@ namespace partslam::apps {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 struct MatchOptions {
   std::string db;
@@ -60,8 +62,8 @@ struct Row {
 
 // dMM of the query against some candidates; timings go to `timing`.
 std::vector<DmmResult> direct_scores(const Submap& query, const std::vector<Candidate>& candidates,
-                                     const std::vector<std::size_t>& which, const MatchOptions& o, SchemeKind scheme,
-                                     int top_k, std::string& timing) {
+                                     const std::vector<std::size_t>& which, const MatchOptions& o,
+                                     SchemeKind scheme, int top_k, std::string& timing) {
   const long n = static_cast<long>(which.size());
   std::vector<DmmResult> results(which.size());
   char buf[200];
@@ -75,8 +77,8 @@ std::vector<DmmResult> direct_scores(const Submap& query, const std::vector<Cand
 #pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
     for (long i = 0; i < n; ++i) results[i] = match_dmm_ransac(query.points, maps[i], o.ransac);
     const double match = ms_since(t0);
-    std::snprintf(buf, sizeof buf, "inlier grids %.1f ms (offline), RANSAC %.1f ms (%.3f ms per map)", prep, match,
-                  match / std::max<double>(1.0, n));
+    std::snprintf(buf, sizeof buf, "inlier grids %.1f ms (offline), RANSAC %.1f ms (%.3f ms per map)", prep,
+                  match, match / std::max<double>(1.0, n));
     timing += buf;
     return results;
   }
@@ -96,8 +98,8 @@ std::vector<DmmResult> direct_scores(const Submap& query, const std::vector<Cand
     results = match_dmm_many(prepared, maps, o.dmm, o.threads == 1 ? top_k : 0, o.threads);
   }
   const double match = ms_since(t0);
-  std::snprintf(buf, sizeof buf, "grids %.1f ms (offline), query %.2f ms, dMM %.1f ms (%.3f ms per map%s)", grids,
-                prep, match, match / std::max<double>(1.0, n),
+  std::snprintf(buf, sizeof buf, "grids %.1f ms (offline), query %.2f ms, dMM %.1f ms (%.3f ms per map%s)",
+                grids, prep, match, match / std::max<double>(1.0, n),
                 o.threads == 1 && top_k > 0 && scheme == SchemeKind::kDmm ? ", top-k pruning" : "");
   timing += buf;
   return results;
@@ -108,10 +110,11 @@ std::string resolve_descriptor_dictionary(const io::MapDatabase& db, const std::
   std::set<std::string> names;
   for (const io::DescriptorSetInfo& s : db.descriptor_sets()) names.insert(s.dictionary);
   if (names.empty()) {
-    throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " + db.path().string() +
-                     " --dict NAME' first");
+    throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " +
+                     db.path().string() + " --dict NAME' first");
   }
-  if (names.size() > 1) throw InputError(db.path().string() + ": descriptors of several dictionaries: choose --dict");
+  if (names.size() > 1)
+    throw InputError(db.path().string() + ": descriptors of several dictionaries: choose --dict");
   return *names.begin();
 }
 
@@ -134,14 +137,17 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
     }
   }
   if (missing > 0) {
-    throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) + " maps have no K=" +
-                     std::to_string(k) + " descriptor for dictionary '" + dictionary.name +
-                     "': " + describe_hint(db, dictionary.name, k));
+    throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) +
+                     " maps have no K=" + std::to_string(k) + " descriptor for dictionary '" +
+                     dictionary.name + "': " + describe_hint(db, dictionary.name, k));
   }
   const bool imm = method.scheme == SchemeKind::kImm;
-  const int query_k = imm ? k : o.query_parts > 0 ? o.query_parts : query_list_parts(db, dictionary.name, query.id);
+  const int query_k = imm                 ? k
+                      : o.query_parts > 0 ? o.query_parts
+                                          : query_list_parts(db, dictionary.name, query.id);
   if (query_k == 0) {
-    throw InputError("map " + std::to_string(query.id) + " has no hMM query list (a descriptor of more than " +
+    throw InputError("map " + std::to_string(query.id) +
+                     " has no hMM query list (a descriptor of more than " +
                      std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary.name +
                      "': run 'partslam describe " + db.path().string() + " --dict " + dictionary.name +
                      "' first (it stores the P-part list as K = P)");
@@ -149,8 +155,8 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
   const std::optional<MapDescriptor> query_descriptor = load_descriptor(db, dictionary, query_k, query.id);
   if (!query_descriptor) {
     throw InputError("the query map " + std::to_string(query.id) + " has no K=" + std::to_string(query_k) +
-                     " descriptor for dictionary '" + dictionary.name + "': " +
-                     describe_hint(db, dictionary.name, query_k));
+                     " descriptor for dictionary '" + dictionary.name +
+                     "': " + describe_hint(db, dictionary.name, query_k));
   }
   const double load_ms = ms_since(t0);
   t0 = Clock::now();
@@ -171,34 +177,35 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
   return {scores.begin(), scores.end()};
 }
 
-void print_row(std::size_t rank, const Row& row, const Candidate& c, const Submap& query, const std::string& dataset,
-               bool all, bool pose) {
+void print_row(std::size_t rank, const Row& row, const Candidate& c, const Submap& query,
+               const std::string& dataset, bool all, bool pose) {
   char buf[400];
   int len = std::snprintf(buf, sizeof buf, "%5zu %7lld", rank, static_cast<long long>(c.map->id));
   auto add = [&](const char* fmt, auto... v) {
     len += std::snprintf(buf + len, sizeof buf - static_cast<std::size_t>(len), fmt, v...);
   };
   if (all) add(" %12.12s", c.dataset.c_str());
-  if (row.descriptor_score) add(" %9.4f", *row.descriptor_score);
+  if (row.descriptor_score) add(" %10.4f", *row.descriptor_score);
   const bool same_world = c.dataset == dataset;
   if (row.dmm) {
     const DmmResult& r = *row.dmm;
     const Pose2& T = r.T_map_query;
-    add(" %7d %5.1f  %7.2f %7.2f %7.1f", r.inliers, 100 * r.inlier_fraction, T.x, T.y, T.theta * 180 / std::numbers::pi);
+    add(" %7d %5.1f  %7.2f %7.2f %8.1f", r.inliers, 100 * r.inlier_fraction, T.x, T.y,
+        T.theta * 180 / std::numbers::pi);
     if (same_world) {
       const Pose2 implied = c.map->T_world_map * T;
-      add("  %7.2f %7.2f %7.1f", implied.x - query.T_world_map.x, implied.y - query.T_world_map.y,
+      add("  %7.2f %7.2f %8.1f", implied.x - query.T_world_map.x, implied.y - query.T_world_map.y,
           wrap_angle(implied.theta - query.T_world_map.theta) * 180 / std::numbers::pi);
     } else {
-      add("  %7s %7s %7s", "-", "-", "-");
+      add("  %7s %7s %8s", "-", "-", "-");
     }
   } else if (pose) {  // a rerank row below the top R
-    add(" %7s %5s  %7s %7s %7s  %7s %7s %7s", "-", "-", "-", "-", "-", "-", "-", "-");
+    add(" %7s %5s  %7s %7s %8s  %7s %7s %8s", "-", "-", "-", "-", "-", "-", "-", "-");
   }
   if (same_world) {
-    add(" %7.2f", (c.map->T_world_map.translation() - query.T_world_map.translation()).norm());
+    add(" %8.2f", (c.map->T_world_map.translation() - query.T_world_map.translation()).norm());
   } else {
-    add(" %7s", "-");
+    add(" %8s", "-");
   }
   std::cout << buf << "\n";
 }
@@ -236,19 +243,14 @@ void run_match(const MatchOptions& o) {
   const double load_ms = ms_since(t_start);
   if (candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
 
-  std::cout << "query map " << query.id << " (dataset '" << where.dataset_name << "', submap " << where.index << ", "
-            << query.points.size() << " points); " << method.label() << " over " << candidates.size() << " maps"
-            << (o.all ? " of every dataset" : " of its dataset");
-  if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
-  std::cout << "\n";
-
   std::vector<Row> rows(candidates.size());
   for (std::size_t i = 0; i < rows.size(); ++i) rows[i].candidate = i;
   std::vector<std::size_t> everyone(candidates.size());
   for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
   std::string timing;
   if (!method.uses_descriptors()) {
-    const std::vector<DmmResult> r = direct_scores(query, candidates, everyone, o, method.scheme, o.top, timing);
+    const std::vector<DmmResult> r =
+        direct_scores(query, candidates, everyone, o, method.scheme, o.top, timing);
     for (std::size_t i = 0; i < rows.size(); ++i) rows[i].dmm = r[i], rows[i].score = r[i].inliers;
   } else {
     const std::vector<double> s = descriptor_scores(db, query, candidates, method, o, timing);
@@ -258,7 +260,8 @@ void run_match(const MatchOptions& o) {
       std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return s[a] > s[b]; });
       order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(method.rerank)));
       timing += "; rerank: ";
-      const std::vector<DmmResult> r = direct_scores(query, candidates, order, o, SchemeKind::kDmm, 0, timing);
+      const std::vector<DmmResult> r =
+          direct_scores(query, candidates, order, o, SchemeKind::kDmm, 0, timing);
       // The top R move above every other map, ordered by dMM; hMM breaks dMM ties.
       for (std::size_t j = 0; j < order.size(); ++j) {
         Row& row = rows[order[j]];
@@ -269,12 +272,20 @@ void run_match(const MatchOptions& o) {
   }
   std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
 
+  std::cout << "query map " << query.id << " (dataset '" << where.dataset_name << "', submap " << where.index
+            << ", " << query.points.size() << " points); " << method.label() << " over " << candidates.size()
+            << " maps" << (o.all ? " of every dataset" : " of its dataset");
+  if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
+  std::cout << "\n";
   const bool pose = !method.uses_descriptors() || method.scheme == SchemeKind::kRerank;
   std::string header = " rank     map";
   if (o.all) header += "      dataset";
   if (method.uses_descriptors()) header += method.scheme == SchemeKind::kImm ? "  iMM score" : "  hMM score";
-  if (pose) header += " inliers  inl%   x [m]   y [m] th[deg]  dx [m]  dy [m] dth[deg]";
-  header += " dist[m]";
+  char columns[160];
+  std::snprintf(columns, sizeof columns, " %7s %5s  %7s %7s %8s  %7s %7s %8s", "inliers", "inl%", "x [m]",
+                "y [m]", "th [deg]", "dx [m]", "dy [m]", "dth[deg]");
+  if (pose) header += columns;
+  header += " dist [m]";
   std::cout << header << "\n";
   const std::size_t shown = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(o.top));
   for (std::size_t r = 0; r < shown; ++r)
@@ -286,19 +297,24 @@ void run_match(const MatchOptions& o) {
 
 void register_match(CLI::App& app) {
   auto o = std::make_shared<MatchOptions>();
-  CLI::App* cmd = app.add_subcommand("match", "Rank the stored maps for one query map (dMM, iMM, hMM, rerank)");
+  CLI::App* cmd =
+      app.add_subcommand("match", "Rank the stored maps for one query map (dMM, iMM, hMM, rerank)");
   cmd->add_option("db", o->db, "map database file")->required();
   cmd->add_option("--query", o->query, "global map id of the query (see 'partslam info')")->required();
-  cmd->add_option("--method", o->method,
-                  "dmm, dmm-ransac, dmm-exhaustive, imm:K[:maxmax|summax|smw], hmm:K[:maxmax|summax|smw], rerank:R:K")
+  cmd->add_option(
+         "--method", o->method,
+         "dmm, dmm-ransac, dmm-exhaustive, imm:K[:maxmax|summax|smw], hmm:K[:maxmax|summax|smw], rerank:R:K")
       ->capture_default_str();
   cmd->add_option("--top", o->top, "rows of the ranking to print")->capture_default_str();
-  cmd->add_option("--dict", o->dictionary, "dictionary of the descriptors (default: the only one with descriptors)");
+  cmd->add_option("--dict", o->dictionary,
+                  "dictionary of the descriptors (default: the only one with descriptors)");
   cmd->add_flag("--all", o->all, "rank the maps of every submaps dataset, not only the query's");
-  cmd->add_option("--min-gap", o->min_gap,
-                  "leave out maps of the query's dataset within this travel of the query [m] (20 finds loop closures)")
+  cmd->add_option(
+         "--min-gap", o->min_gap,
+         "leave out maps of the query's dataset within this travel of the query [m] (20 finds loop closures)")
       ->capture_default_str();
-  cmd->add_option("--query-parts", o->query_parts, "K of the stored hMM query list (default: the longest one)");
+  cmd->add_option("--query-parts", o->query_parts,
+                  "K of the stored hMM query list (default: the longest one)");
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->callback([o] { run_match(*o); });
 }

@@ -11,7 +11,6 @@
 #include "apps/commands.h"
 #include "apps/stored_parts.h"
 #include "core/cpd.h"
-#include "core/descriptor_layout.h"
 #include "core/error.h"
 #include "io/map_database.h"
 #include "io/render.h"
@@ -26,15 +25,19 @@ struct RenderOptions {
   int parts = 5;
   std::string out;
   bool fresh = false;
+  std::string maximality = "point";
   CpdConfig cpd;
   io::RenderConfig render;
 };
 
-void run_render(const RenderOptions& o) {
-  if (o.parts < 1 || o.parts > 100) throw InputError("--parts must be in [1, 100], got " + std::to_string(o.parts));
+void run_render(RenderOptions o) {
+  if (o.parts < 1 || o.parts > 100)
+    throw InputError("--parts must be in [1, 100], got " + std::to_string(o.parts));
+  o.cpd.maximality = parse_maximality(o.maximality);
   validate(o.cpd);
   validate(o.render);
-  if (std::filesystem::path(o.out).extension() != ".png") throw InputError("--out: expected a .png file, got '" + o.out + "'");
+  if (std::filesystem::path(o.out).extension() != ".png")
+    throw InputError("--out: expected a .png file, got '" + o.out + "'");
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
   const io::MapLocation where = db.locate(o.map_id);
   const Submap submap = db.load_submap(o.map_id);
@@ -42,7 +45,8 @@ void run_render(const RenderOptions& o) {
   io::PartsFigure figure;
   figure.map_points = submap.points;
   std::optional<io::Dictionary> dictionary;
-  if (!o.dictionary.empty() || db.dictionaries().size() == 1) dictionary = resolve_dictionary(db, o.dictionary);
+  if (!o.dictionary.empty() || db.dictionaries().size() == 1)
+    dictionary = resolve_dictionary(db, o.dictionary);
   std::string source = "no dictionary in the database: no parts";
   if (dictionary) {
     if (!o.fresh) {
@@ -58,25 +62,28 @@ void run_render(const RenderOptions& o) {
     if (figure.parts.empty()) {
       const auto t0 = std::chrono::steady_clock::now();
       const PreparedDictionary prepared = prepare_dictionary(dictionary->points, o.cpd);
-      const CpdResult cpd = discover_parts(submap.points, prepared, o.cpd, static_cast<std::uint64_t>(o.map_id));
+      const CpdResult cpd =
+          discover_parts(submap.points, prepared, o.cpd, static_cast<std::uint64_t>(o.map_id));
       figure.parts = select_top_parts(cpd.parts, o.parts).parts;
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      source = "CPD on the fly (" + std::to_string(static_cast<long>(ms)) + " ms, " + std::to_string(cpd.parts.size()) +
-               " parts found)";
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      source = "CPD on the fly (" + std::to_string(static_cast<long>(ms)) + " ms, " +
+               std::to_string(cpd.parts.size()) + " parts found)";
     }
     source += ", dictionary '" + dictionary->name + "'";
   }
   figure.map_title = "map " + std::to_string(o.map_id) + " (" + where.dataset_name + ", submap " +
-                     std::to_string(where.index) + "): keypoint boxes of " + std::to_string(figure.parts.size()) +
-                     " parts";
+                     std::to_string(where.index) + "): keypoint boxes of " +
+                     std::to_string(figure.parts.size()) + " parts";
   if (!o.dictionary.empty()) {
     figure.show_dictionary = true;
-    figure.dictionary_title = "dictionary '" + dictionary->name + "': descriptor boxes, crops carried onto them";
+    figure.dictionary_title =
+        "dictionary '" + dictionary->name + "': descriptor boxes, crops carried onto them";
     figure.dictionary_points = dictionary->points;
   }
   io::write_parts_figure(o.out, figure, o.render);
-  std::cout << "map " << o.map_id << " (dataset '" << where.dataset_name << "', submap " << where.index << "): "
-            << figure.parts.size() << " parts from " << source << "; wrote " << o.out << " ("
+  std::cout << "map " << o.map_id << " (dataset '" << where.dataset_name << "', submap " << where.index
+            << "): " << figure.parts.size() << " parts from " << source << "; wrote " << o.out << " ("
             << std::filesystem::file_size(o.out) / 1024 << " KiB)\n";
 }
 
@@ -84,7 +91,8 @@ void run_render(const RenderOptions& o) {
 
 void register_render(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand("render", "Draw a stored map's parts and their descriptor boxes (Fig. E) as PNG");
+  CLI::App* cmd =
+      app.add_subcommand("render", "Draw a stored map's parts and their descriptor boxes (Fig. E) as PNG");
   cmd->add_option("db", o->db, "map database file")->required();
   cmd->add_option("--map", o->map_id, "global map id (see 'partslam info')")->required();
   cmd->add_option("--dict", o->dictionary,
@@ -93,6 +101,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--out", o->out, "PNG file to write (atomically)")->required();
   cmd->add_flag("--fresh", o->fresh, "run CPD even when descriptors are stored");
   cmd->add_option("--cpd-parts", o->cpd.max_parts, "CPD on the fly: parts searched (as describe --parts)")
+      ->capture_default_str();
+  cmd->add_option("--mc", o->maximality, "CPD on the fly: MC reading, point or inlier (as describe --mc)")
       ->capture_default_str();
   cmd->add_option("--width", o->render.width, "image width [px]")->capture_default_str();
   cmd->callback([o] { run_render(*o); });

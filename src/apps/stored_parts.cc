@@ -5,6 +5,12 @@
 
 namespace partslam::apps {
 
+MaximalityMode parse_maximality(const std::string& name) {
+  if (name == "point") return MaximalityMode::kPointShare;
+  if (name == "inlier") return MaximalityMode::kInlierShare;
+  throw InputError("--mc: expected point or inlier, got '" + name + "'");
+}
+
 io::Dictionary resolve_dictionary(const io::MapDatabase& db, const std::string& name) {
   if (!name.empty()) return db.load_dictionary(name);
   const std::vector<io::DictionaryInfo> all = db.dictionaries();
@@ -25,23 +31,23 @@ std::string describe_hint(const io::MapDatabase& db, const std::string& dictiona
          (k > kMaxUnscoredParts ? " --parts " : " --k ") + std::to_string(k) + "' first";
 }
 
-std::map<std::int64_t, MapDescriptor> load_descriptor_set(const io::MapDatabase& db, const io::Dictionary& dictionary,
-                                                          int k) {
+std::map<std::int64_t, MapDescriptor> load_descriptor_set(const io::MapDatabase& db,
+                                                          const io::Dictionary& dictionary, int k) {
   const CodecConfig codec = descriptor_codec_config(dictionary.points, k);
   std::map<std::int64_t, MapDescriptor> out;
   for (const io::DescriptorRecord& r : db.load_descriptors(dictionary.name, k)) {
     try {
       out.emplace(r.map_id, decode_stored(r.descriptor, k, codec));
     } catch (const InputError& e) {
-      throw InputError(db.path().string() + ": descriptor of map " + std::to_string(r.map_id) + " (dictionary '" +
-                       dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
+      throw InputError(db.path().string() + ": descriptor of map " + std::to_string(r.map_id) +
+                       " (dictionary '" + dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
     }
   }
   return out;
 }
 
-std::optional<MapDescriptor> load_descriptor(const io::MapDatabase& db, const io::Dictionary& dictionary, int k,
-                                             std::int64_t map_id) {
+std::optional<MapDescriptor> load_descriptor(const io::MapDatabase& db, const io::Dictionary& dictionary,
+                                             int k, std::int64_t map_id) {
   const std::optional<PackedDescriptor> packed = db.get_descriptor(map_id, dictionary.name, k);
   if (!packed) return std::nullopt;
   try {

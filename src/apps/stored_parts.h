@@ -7,10 +7,14 @@
 #include <optional>
 #include <string>
 
+#include "core/cpd.h"
 #include "core/part.h"
 #include "io/map_database.h"
 
 namespace partslam::apps {
+
+/// CPD's MC reading from its CLI name: "point" or "inlier"; throws InputError otherwise.
+MaximalityMode parse_maximality(const std::string& name);
 
 /// The dictionary named, or when name is empty the only dictionary of the database; throws InputError naming
 /// what is missing or ambiguous.
@@ -20,12 +24,12 @@ io::Dictionary resolve_dictionary(const io::MapDatabase& db, const std::string& 
 std::string describe_hint(const io::MapDatabase& db, const std::string& dictionary, int k);
 
 /// Every stored descriptor of (dictionary, K), decoded, by map id.
-std::map<std::int64_t, MapDescriptor> load_descriptor_set(const io::MapDatabase& db, const io::Dictionary& dictionary,
-                                                          int k);
+std::map<std::int64_t, MapDescriptor> load_descriptor_set(const io::MapDatabase& db,
+                                                          const io::Dictionary& dictionary, int k);
 
 /// One map's stored descriptor of (dictionary, K), decoded; nullopt when there is none.
-std::optional<MapDescriptor> load_descriptor(const io::MapDatabase& db, const io::Dictionary& dictionary, int k,
-                                             std::int64_t map_id);
+std::optional<MapDescriptor> load_descriptor(const io::MapDatabase& db, const io::Dictionary& dictionary,
+                                             int k, std::int64_t map_id);
 
 /// K of the longest hMM query list (K > kMaxUnscoredParts, appearance scores stored) kept for the dictionary
 /// that holds map_id; 0 when there is none.

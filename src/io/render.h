@@ -1,8 +1,8 @@
 // The paper's Fig. E as a PNG (cairo): what a map's parts are. Top panel: the map's points (canonical frame)
-// with the keypoint box of every part, one colour per part. Optional bottom panel: the dictionary map's points
-// with the matching descriptor boxes in the same colours, and each part's cropped points carried onto its
-// descriptor box (turned by the part's quarter turns about the box centre), so the fit can be judged by eye.
-// Parts are numbered best appearance score (AS, Eq. 2) first; the label gives the AS.
+// with the keypoint box of every part, one colour per part. Optional bottom panel: the dictionary map's
+// points with the matching descriptor boxes in the same colours, and each part's cropped points carried onto
+// its descriptor box (turned by the part's quarter turns about the box centre), so the fit can be judged by
+// eye. Parts are numbered best appearance score (AS, Eq. 2) first; the label gives the AS.
 #pragma once
 
 #include <filesystem>
@@ -14,13 +14,13 @@
 namespace partslam::io {
 
 struct PartsFigure {
-  std::string map_title;          ///< caption of the top panel
-  Points2 map_points;             ///< the map's points, map frame [m]
-  std::vector<Part> parts;        ///< keypoint boxes in the map frame, descriptor boxes in the dictionary frame
-  bool show_scores = true;        ///< label the parts with their AS (false when the AS is not known)
-  bool show_dictionary = false;   ///< draw the bottom panel
-  std::string dictionary_title;   ///< caption of the bottom panel
-  Points2 dictionary_points;      ///< the dictionary's points, dictionary frame [m]
+  std::string map_title;    ///< caption of the top panel
+  Points2 map_points;       ///< the map's points, map frame [m]
+  std::vector<Part> parts;  ///< keypoint boxes in the map frame, descriptor boxes in the dictionary frame
+  bool show_scores = true;  ///< label the parts with their AS (false when the AS is not known)
+  bool show_dictionary = false;  ///< draw the bottom panel
+  std::string dictionary_title;  ///< caption of the bottom panel
+  Points2 dictionary_points;     ///< the dictionary's points, dictionary frame [m]
 };
 
 struct RenderConfig {
@@ -36,6 +36,7 @@ void validate(const RenderConfig& config);
 
 /// Writes the figure atomically (temporary sibling, then rename); throws InputError naming the path when it
 /// cannot be written, leaving nothing behind.
-void write_parts_figure(const std::filesystem::path& path, const PartsFigure& figure, const RenderConfig& config = {});
+void write_parts_figure(const std::filesystem::path& path, const PartsFigure& figure,
+                        const RenderConfig& config = {});
 
 }  // namespace partslam::io
