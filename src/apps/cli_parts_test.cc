@@ -104,6 +104,19 @@ TEST_F(CliPartsTest, DescribeStoresEveryK) {
     EXPECT_LE(r.descriptor.bits, 3 * 44);
   }
   for (const io::DescriptorRecord& r : db.load_descriptors("d", 20)) EXPECT_EQ(r.descriptor.bits % 52, 0);
+
+  // One thread gives the same descriptors as two (CPD is seeded by the map id).
+  const fs::path serial = base_dir_ / "serial.db";
+  fs::copy_file(base_dir_ / "base.db", serial, fs::copy_options::overwrite_existing);
+  ASSERT_EQ(run_partslam("describe " + quoted(serial) + " --dict d --parts 20 --k 3 --threads 1").exit_code,
+            0);
+  const auto one = io::MapDatabase::open(serial, io::MapDatabase::Mode::kReadOnly).load_descriptors("d", 3);
+  const auto two = db.load_descriptors("d", 3);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].map_id, two[i].map_id);
+    EXPECT_EQ(one[i].descriptor.bytes, two[i].descriptor.bytes);
+  }
 }
 
 TEST_F(CliPartsTest, DmmRanksARevisitFirstWithItsPose) {

@@ -150,7 +150,8 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
                      " has no hMM query list (a descriptor of more than " +
                      std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary.name +
                      "': run 'partslam describe " + db.path().string() + " --dict " + dictionary.name +
-                     "' first (it stores the P-part list as K = P)");
+                     "' first (it stores the P-part list as K = P when P > " +
+                     std::to_string(kMaxUnscoredParts) + "), or name a stored list with --query-parts");
   }
   const std::optional<MapDescriptor> query_descriptor = load_descriptor(db, dictionary, query_k, query.id);
   if (!query_descriptor) {
