@@ -175,6 +175,9 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
                 dictionary.name.c_str(), query_descriptor->parts.size(), query_k, load_ms, build_ms,
                 to_string(method.matcher), score_ms, score_ms * 1e6 / std::max<double>(1.0, scores.size()));
   timing += buf;
+  if (query_descriptor->parts.empty()) {
+    timing += "\nnote: CPD found no part of the query map, so every score is 0 (try 'describe --mc inlier')";
+  }
   return {scores.begin(), scores.end()};
 }
 
