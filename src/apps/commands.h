@@ -12,6 +12,9 @@ void register_info(CLI::App& app);     // cmd_info.cc
 void register_eval(CLI::App& app);     // cmd_eval.cc
 void register_demo(CLI::App& app);     // cmd_demo.cc
 void register_export(CLI::App& app);   // cmd_export.cc
+void register_describe(CLI::App& app);  // cmd_describe.cc
+void register_match(CLI::App& app);     // cmd_match.cc
+void register_render(CLI::App& app);    // cmd_render.cc
 
 // One line per subcommand; keep them in this order: foundation, matching, parts, evaluation.
 
@@ -20,6 +23,9 @@ inline void register_all(CLI::App& app) {
   register_dictionary(app);
   register_info(app);
   register_export(app);
+  register_match(app);
+  register_describe(app);
+  register_render(app);
   register_eval(app);
   register_demo(app);
 }

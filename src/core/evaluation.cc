@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "core/descriptor_database.h"
+#include "core/descriptor_layout.h"
 #include "core/error.h"
 
 namespace partslam {
@@ -89,11 +90,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
     CpdConfig cpd = config.cpd;
     cpd.max_parts = std::max(max_parts(methods), need_hmm_query ? config.hmm_query_parts : 0);
     const PreparedDictionary dictionary = prepare_dictionary(dictionary_points, cpd);
-    // Descriptor boxes may reach past the dictionary's points by up to a crop size.
-    const double margin = codec.crop_size;
-    codec.dictionary_extent = {dictionary.extent.x_min - margin, dictionary.extent.x_max + margin,
-                               dictionary.extent.y_min - margin, dictionary.extent.y_max + margin};
-    validate(codec);
+    codec = dictionary_codec_config(dictionary_points, codec);
     parallel_for(maps.size(), config.num_threads, "parts (CPD)", progress, [&](std::size_t i) {
       const auto t0 = Clock::now();
       parts[i] = discover_parts(maps[i].points, dictionary, cpd, static_cast<std::uint64_t>(i)).parts;

@@ -1,0 +1,326 @@
+// partslam match DB --query ID --method SPEC: the online half of PartSLAM (DESIGN.md, "Schemes"). Ranks every
+// other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map:
+//   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
+//   imm:K[:matcher]                  stored K-part descriptors on both sides (Eqs. 3-6)
+//   hmm:K[:matcher]                  the query's stored P-part list (with AS) against the stored K-part ones
+//   rerank:R:K                       hMM:K, then the top R reordered by dMM
+// For a pose, the implied world offset compares where the match puts the query (T_world_map * T_map_query)
+// with the query's own stored pose; "dist" is the stored distance between the two maps' centres.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <set>
+
+#include "apps/commands.h"
+#include "apps/stored_parts.h"
+#include "core/descriptor_database.h"
+#include "core/descriptor_layout.h"
+#include "core/dmm.h"
+#include "core/dmm_ransac.h"
+#include "core/error.h"
+#include "core/method_spec.h"
+#include "io/map_database.h"
+
+namespace partslam::apps {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+struct MatchOptions {
+  std::string db;
+  std::int64_t query = -1;
+  std::string method = "dmm";
+  int top = 10;
+  std::string dictionary;
+  bool all = false;
+  double min_gap = 0;
+  int query_parts = 0;
+  int threads = 1;
+  DmmConfig dmm;
+  DmmRansacConfig ransac;
+};
+
+struct Candidate {
+  const Submap* map = nullptr;
+  std::string dataset;
+};
+
+struct Row {
+  std::size_t candidate = 0;
+  double score = 0;  // ranking key
+  std::optional<double> descriptor_score;
+  std::optional<DmmResult> dmm;
+};
+
+// dMM of the query against some candidates; timings go to `timing`.
+std::vector<DmmResult> direct_scores(const Submap& query, const std::vector<Candidate>& candidates,
+                                     const std::vector<std::size_t>& which, const MatchOptions& o,
+                                     SchemeKind scheme, int top_k, std::string& timing) {
+  const long n = static_cast<long>(which.size());
+  std::vector<DmmResult> results(which.size());
+  char buf[200];
+  if (scheme == SchemeKind::kDmmRansac) {
+    auto t0 = Clock::now();
+    std::vector<PreparedRansacMap> maps(which.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
+    for (long i = 0; i < n; ++i) maps[i] = prepare_ransac_map(candidates[which[i]].map->points, o.ransac);
+    const double prep = ms_since(t0);
+    t0 = Clock::now();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
+    for (long i = 0; i < n; ++i) results[i] = match_dmm_ransac(query.points, maps[i], o.ransac);
+    const double match = ms_since(t0);
+    std::snprintf(buf, sizeof buf, "inlier grids %.1f ms (offline), RANSAC %.1f ms (%.3f ms per map)", prep,
+                  match, match / std::max<double>(1.0, n));
+    timing += buf;
+    return results;
+  }
+  auto t0 = Clock::now();
+  std::vector<PreparedMap> maps(which.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
+  for (long i = 0; i < n; ++i) maps[i] = prepare_map(candidates[which[i]].map->points, o.dmm);
+  const double grids = ms_since(t0);
+  t0 = Clock::now();
+  const PreparedQuery prepared = prepare_query(query.points, o.dmm);
+  const double prep = ms_since(t0);
+  t0 = Clock::now();
+  if (scheme == SchemeKind::kDmmExhaustive) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
+    for (long i = 0; i < n; ++i) results[i] = match_exhaustive(prepared, maps[i], o.dmm);
+  } else {
+    results = match_dmm_many(prepared, maps, o.dmm, o.threads == 1 ? top_k : 0, o.threads);
+  }
+  const double match = ms_since(t0);
+  std::snprintf(buf, sizeof buf, "grids %.1f ms (offline), query %.2f ms, dMM %.1f ms (%.3f ms per map%s)",
+                grids, prep, match, match / std::max<double>(1.0, n),
+                o.threads == 1 && top_k > 0 && scheme == SchemeKind::kDmm ? ", top-k pruning" : "");
+  timing += buf;
+  return results;
+}
+
+std::string resolve_descriptor_dictionary(const io::MapDatabase& db, const std::string& name) {
+  if (!name.empty()) return name;
+  std::set<std::string> names;
+  for (const io::DescriptorSetInfo& s : db.descriptor_sets()) names.insert(s.dictionary);
+  if (names.empty()) {
+    throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " +
+                     db.path().string() + " --dict NAME' first");
+  }
+  if (names.size() > 1)
+    throw InputError(db.path().string() + ": descriptors of several dictionaries: choose --dict");
+  return *names.begin();
+}
+
+// iMM / hMM scores of every candidate, from the stored descriptors.
+std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& query,
+                                      const std::vector<Candidate>& candidates, const MethodSpec& method,
+                                      const MatchOptions& o, std::string& timing) {
+  const io::Dictionary dictionary = db.load_dictionary(resolve_descriptor_dictionary(db, o.dictionary));
+  const int k = method.parts;
+  auto t0 = Clock::now();
+  std::map<std::int64_t, MapDescriptor> stored = load_descriptor_set(db, dictionary, k);
+  std::vector<MapDescriptor> database_maps;
+  std::size_t missing = 0;
+  for (const Candidate& c : candidates) {
+    auto it = stored.find(c.map->id);
+    if (it == stored.end()) {
+      ++missing;
+    } else {
+      database_maps.push_back(std::move(it->second));
+    }
+  }
+  if (missing > 0) {
+    throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) +
+                     " maps have no K=" + std::to_string(k) + " descriptor for dictionary '" +
+                     dictionary.name + "': " + describe_hint(db, dictionary.name, k));
+  }
+  const bool imm = method.scheme == SchemeKind::kImm;
+  const int query_k = imm                 ? k
+                      : o.query_parts > 0 ? o.query_parts
+                                          : query_list_parts(db, dictionary.name, query.id);
+  if (query_k == 0) {
+    throw InputError("map " + std::to_string(query.id) +
+                     " has no hMM query list (a descriptor of more than " +
+                     std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary.name +
+                     "': run 'partslam describe " + db.path().string() + " --dict " + dictionary.name +
+                     "' first (it stores the P-part list as K = P when P > " +
+                     std::to_string(kMaxUnscoredParts) + "), or name a stored list with --query-parts");
+  }
+  const std::optional<MapDescriptor> query_descriptor = load_descriptor(db, dictionary, query_k, query.id);
+  if (!query_descriptor) {
+    throw InputError("the query map " + std::to_string(query.id) + " has no K=" + std::to_string(query_k) +
+                     " descriptor for dictionary '" + dictionary.name +
+                     "': " + describe_hint(db, dictionary.name, query_k));
+  }
+  const double load_ms = ms_since(t0);
+  t0 = Clock::now();
+  DescriptorDatabaseConfig config;
+  config.parts_per_map = k;
+  const DescriptorDatabase database(database_maps, config);
+  const double build_ms = ms_since(t0);
+  t0 = Clock::now();
+  const std::vector<float> scores = database.score_all(*query_descriptor, method.matcher, {o.threads});
+  const double score_ms = ms_since(t0);
+  char buf[240];
+  std::snprintf(buf, sizeof buf,
+                "dictionary '%s', query %zu parts (K=%d), load %.1f ms, layout %.2f ms (offline), %s %.3f ms "
+                "(%.1f ns per map)",
+                dictionary.name.c_str(), query_descriptor->parts.size(), query_k, load_ms, build_ms,
+                to_string(method.matcher), score_ms, score_ms * 1e6 / std::max<double>(1.0, scores.size()));
+  timing += buf;
+  if (query_descriptor->parts.empty()) {
+    timing += "\nnote: CPD found no part of the query map, so every score is 0 (try 'describe --mc inlier')";
+  }
+  return {scores.begin(), scores.end()};
+}
+
+void print_row(std::size_t rank, const Row& row, const Candidate& c, const Submap& query,
+               const std::string& dataset, bool all, bool pose) {
+  char buf[400];
+  int len = std::snprintf(buf, sizeof buf, "%5zu %7lld", rank, static_cast<long long>(c.map->id));
+  auto add = [&](const char* fmt, auto... v) {
+    len += std::snprintf(buf + len, sizeof buf - static_cast<std::size_t>(len), fmt, v...);
+  };
+  if (all) add(" %12.12s", c.dataset.c_str());
+  if (row.descriptor_score) add(" %10.4f", *row.descriptor_score);
+  const bool same_world = c.dataset == dataset;
+  if (row.dmm) {
+    const DmmResult& r = *row.dmm;
+    const Pose2& T = r.T_map_query;
+    add(" %7d %5.1f  %7.2f %7.2f %8.1f", r.inliers, 100 * r.inlier_fraction, T.x, T.y,
+        T.theta * 180 / std::numbers::pi);
+    if (same_world) {
+      const Pose2 implied = c.map->T_world_map * T;
+      add("  %7.2f %7.2f %8.1f", implied.x - query.T_world_map.x, implied.y - query.T_world_map.y,
+          wrap_angle(implied.theta - query.T_world_map.theta) * 180 / std::numbers::pi);
+    } else {
+      add("  %7s %7s %8s", "-", "-", "-");
+    }
+  } else if (pose) {  // a rerank row below the top R
+    add(" %7s %5s  %7s %7s %8s  %7s %7s %8s", "-", "-", "-", "-", "-", "-", "-", "-");
+  }
+  if (same_world) {
+    add(" %8.2f", (c.map->T_world_map.translation() - query.T_world_map.translation()).norm());
+  } else {
+    add(" %8s", "-");
+  }
+  std::cout << buf << "\n";
+}
+
+void run_match(const MatchOptions& o) {
+  const MethodSpec method = parse_method_spec(o.method);
+  if (o.top < 1) throw InputError("--top must be >= 1, got " + std::to_string(o.top));
+  if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
+  if (o.min_gap < 0) throw InputError("--min-gap must be >= 0 m");
+  validate(o.dmm);
+  validate(o.ransac);
+  const auto t_start = Clock::now();
+  const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
+  const io::MapLocation where = db.locate(o.query);
+  const Submap query = db.load_submap(o.query);
+
+  // The candidates: the query's dataset, or every submaps dataset.
+  std::vector<std::pair<std::string, Submaps>> loaded;
+  for (const io::DatasetInfo& d : db.datasets()) {
+    if (d.id == where.dataset_id || (o.all && d.spec.kind == io::DatasetKind::kSubmaps))
+      loaded.emplace_back(d.spec.name, db.load_submaps(d.id));
+  }
+  std::vector<Candidate> candidates;
+  std::size_t too_recent = 0;
+  for (const auto& [name, maps] : loaded) {
+    for (const Submap& m : maps) {
+      if (m.id == query.id) continue;
+      if (name == where.dataset_name && std::abs(m.travel - query.travel) < o.min_gap) {
+        ++too_recent;
+        continue;
+      }
+      candidates.push_back({&m, name});
+    }
+  }
+  const double load_ms = ms_since(t_start);
+  if (candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
+
+  std::vector<Row> rows(candidates.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) rows[i].candidate = i;
+  std::vector<std::size_t> everyone(candidates.size());
+  for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
+  std::string timing;
+  if (!method.uses_descriptors()) {
+    const std::vector<DmmResult> r =
+        direct_scores(query, candidates, everyone, o, method.scheme, o.top, timing);
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i].dmm = r[i], rows[i].score = r[i].inliers;
+  } else {
+    const std::vector<double> s = descriptor_scores(db, query, candidates, method, o, timing);
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i].descriptor_score = rows[i].score = s[i];
+    if (method.scheme == SchemeKind::kRerank) {
+      std::vector<std::size_t> order = everyone;
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return s[a] > s[b]; });
+      order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(method.rerank)));
+      timing += "; rerank: ";
+      const std::vector<DmmResult> r =
+          direct_scores(query, candidates, order, o, SchemeKind::kDmm, 0, timing);
+      // The top R move above every other map, ordered by dMM; hMM breaks dMM ties.
+      for (std::size_t j = 0; j < order.size(); ++j) {
+        Row& row = rows[order[j]];
+        row.dmm = r[j];
+        row.score = 1e9 + r[j].inliers * 1e3 + s[order[j]];
+      }
+    }
+  }
+  std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
+
+  std::cout << "query map " << query.id << " (dataset '" << where.dataset_name << "', submap " << where.index
+            << ", " << query.points.size() << " points); " << method.label() << " over " << candidates.size()
+            << " maps" << (o.all ? " of every dataset" : " of its dataset");
+  if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
+  std::cout << "\n";
+  const bool pose = !method.uses_descriptors() || method.scheme == SchemeKind::kRerank;
+  std::string header = " rank     map";
+  if (o.all) header += "      dataset";
+  if (method.uses_descriptors()) header += method.scheme == SchemeKind::kImm ? "  iMM score" : "  hMM score";
+  char columns[160];
+  std::snprintf(columns, sizeof columns, " %7s %5s  %7s %7s %8s  %7s %7s %8s", "inliers", "inl%", "x [m]",
+                "y [m]", "th [deg]", "dx [m]", "dy [m]", "dth[deg]");
+  if (pose) header += columns;
+  header += " dist [m]";
+  std::cout << header << "\n";
+  const std::size_t shown = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(o.top));
+  for (std::size_t r = 0; r < shown; ++r)
+    print_row(r + 1, rows[r], candidates[rows[r].candidate], query, where.dataset_name, o.all, pose);
+  std::cout << "time: load " << static_cast<long>(load_ms) << " ms; " << timing << "\n";
+}
+
+}  // namespace
+
+void register_match(CLI::App& app) {
+  auto o = std::make_shared<MatchOptions>();
+  CLI::App* cmd =
+      app.add_subcommand("match", "Rank the stored maps for one query map (dMM, iMM, hMM, rerank)");
+  cmd->add_option("db", o->db, "map database file")->required();
+  cmd->add_option("--query", o->query, "global map id of the query (see 'partslam info')")->required();
+  cmd->add_option(
+         "--method", o->method,
+         "dmm, dmm-ransac, dmm-exhaustive, imm:K[:maxmax|summax|smw], hmm:K[:maxmax|summax|smw], rerank:R:K")
+      ->capture_default_str();
+  cmd->add_option("--top", o->top, "rows of the ranking to print")->capture_default_str();
+  cmd->add_option("--dict", o->dictionary,
+                  "dictionary of the descriptors (default: the only one with descriptors)");
+  cmd->add_flag("--all", o->all, "rank the maps of every submaps dataset, not only the query's");
+  cmd->add_option(
+         "--min-gap", o->min_gap,
+         "leave out maps of the query's dataset within this travel of the query [m] (20 finds loop closures)")
+      ->capture_default_str();
+  cmd->add_option("--query-parts", o->query_parts,
+                  "K of the stored hMM query list (default: the longest one)");
+  cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
+  cmd->callback([o] { run_match(*o); });
+}
+
+}  // namespace partslam::apps

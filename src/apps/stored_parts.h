@@ -1,0 +1,38 @@
+// Shared by `partslam describe`, `match` and `render`: the stored descriptors of one dictionary, decoded with
+// the codec that core/descriptor_layout.h derives from the dictionary's points and K.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "core/cpd.h"
+#include "core/part.h"
+#include "io/map_database.h"
+
+namespace partslam::apps {
+
+/// CPD's MC reading from its CLI name: "point" or "inlier"; throws InputError otherwise.
+MaximalityMode parse_maximality(const std::string& name);
+
+/// The dictionary named, or when name is empty the only dictionary of the database; throws InputError naming
+/// what is missing or ambiguous.
+io::Dictionary resolve_dictionary(const io::MapDatabase& db, const std::string& name);
+
+/// "run 'partslam describe DB --dict NAME --k K'": how to produce a missing descriptor set.
+std::string describe_hint(const io::MapDatabase& db, const std::string& dictionary, int k);
+
+/// Every stored descriptor of (dictionary, K), decoded, by map id.
+std::map<std::int64_t, MapDescriptor> load_descriptor_set(const io::MapDatabase& db,
+                                                          const io::Dictionary& dictionary, int k);
+
+/// One map's stored descriptor of (dictionary, K), decoded; nullopt when there is none.
+std::optional<MapDescriptor> load_descriptor(const io::MapDatabase& db, const io::Dictionary& dictionary,
+                                             int k, std::int64_t map_id);
+
+/// K of the longest hMM query list (K > kMaxUnscoredParts, appearance scores stored) kept for the dictionary
+/// that holds map_id; 0 when there is none.
+int query_list_parts(const io::MapDatabase& db, const std::string& dictionary, std::int64_t map_id);
+
+}  // namespace partslam::apps
