@@ -22,6 +22,7 @@ constexpr std::size_t kChunk = 65535;  // points per 16-bit count
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define PARTSLAM_DMM_AVX2 1
+// Eight points at a time: their cell indices are computed in one vector, then each cell is broadcast.
 __attribute__((target("avx2"))) void accumulate_avx2(const PassInput& in, std::array<int, 16>& bounds) {
   const __m256i bits = _mm256_setr_epi16(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384,
                                          static_cast<short>(32768));
@@ -30,17 +31,36 @@ __attribute__((target("avx2"))) void accumulate_avx2(const PassInput& in, std::a
   const int* xs = in.xs;
   const int* ys = in.ys;
   const int dx = in.dx, dy = in.dy;
+  const __m256i vdx = _mm256_set1_epi32(dx), vdy = _mm256_set1_epi32(dy);
+  const __m256i vwidth = _mm256_set1_epi32(static_cast<int>(width));
+  const __m256i vstride = _mm256_set1_epi32(static_cast<int>(stride));
+  alignas(32) std::array<std::uint32_t, 8> index;
   for (std::size_t begin = in.begin; begin < in.end; begin += kChunk) {
     const std::size_t end = std::min(in.end, begin + kChunk);
-    __m256i acc = _mm256_setzero_si256();
-    for (std::size_t k = begin; k < end; ++k) {
+    __m256i acc0 = _mm256_setzero_si256(), acc1 = _mm256_setzero_si256();
+    std::size_t k = begin;
+    for (; k + 8 <= end; k += 8) {
+      const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(xs + k));
+      const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ys + k));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(index.data()),
+                         _mm256_add_epi32(_mm256_mullo_epi32(_mm256_add_epi32(y, vdy), vstride),
+                                          _mm256_min_epu32(_mm256_add_epi32(x, vdx), vwidth)));
+      for (std::size_t p = 0; p < 8; p += 2) {
+        const __m256i v0 = _mm256_set1_epi16(static_cast<short>(cells[index[p]]));
+        const __m256i v1 = _mm256_set1_epi16(static_cast<short>(cells[index[p + 1]]));
+        acc0 = _mm256_sub_epi16(acc0, _mm256_cmpeq_epi16(_mm256_and_si256(v0, bits), bits));
+        acc1 = _mm256_sub_epi16(acc1, _mm256_cmpeq_epi16(_mm256_and_si256(v1, bits), bits));
+      }
+    }
+    for (; k < end; ++k) {
       const unsigned cx = std::min(static_cast<unsigned>(xs[k] + dx), width);
       const __m256i v = _mm256_set1_epi16(static_cast<short>(cells[static_cast<unsigned>(ys[k] + dy) * stride + cx]));
-      acc = _mm256_sub_epi16(acc, _mm256_cmpeq_epi16(_mm256_and_si256(v, bits), bits));  // +1 where set
+      acc0 = _mm256_sub_epi16(acc0, _mm256_cmpeq_epi16(_mm256_and_si256(v, bits), bits));
     }
-    alignas(32) std::array<std::uint16_t, 16> lanes;
-    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes.data()), acc);
-    for (std::size_t c = 0; c < 16; ++c) bounds[c] += lanes[c];
+    alignas(32) std::array<std::uint16_t, 16> lanes0, lanes1;
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes0.data()), acc0);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes1.data()), acc1);
+    for (std::size_t c = 0; c < 16; ++c) bounds[c] += lanes0[c] + lanes1[c];
   }
 }
 #endif

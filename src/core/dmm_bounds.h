@@ -3,8 +3,9 @@
 //   bound(a, b) = sum_x level(cell(x) + (i + a s, j + b s))
 // which is Eq. 1 itself at pyramid level 0 and an upper bound of it above (max-pooling). The query cells are
 // sorted by row, so points whose row misses the grid are skipped by binary search; a column off the grid is
-// clamped onto the zero column that ends every packed row. Counts are 16-bit SIMD lanes (AVX2 when the CPU
-// has it, else SSE2, else scalar), summed per chunk of 65535 points.
+// clamped onto the zero column that ends every packed row. Counts are 16-bit SIMD lanes, summed per chunk of
+// 65535 points: with AVX2 (chosen at run time) eight cell indices are computed in one vector and each cell
+// is broadcast to the sixteen lanes, masked and compared; else SSE2, else scalar.
 #pragma once
 
 #include <array>

@@ -103,7 +103,7 @@ PackedLevel build_packed_level(const OccupancyGrid& level, int step) {
   packed.y0 = level.y0 - 3 * step;
   packed.width = level.width + 3 * step;
   packed.height = level.height + 3 * step;
-  packed.cells.assign((static_cast<std::size_t>(packed.width) + 1) * packed.height, 0);
+  packed.cells.assign((static_cast<std::size_t>(packed.width) + 1) * packed.height + 1, 0);
   for (int cy = 0; cy < packed.height; ++cy) {
     std::uint16_t* row = &packed.cells[static_cast<std::size_t>(cy) * (packed.width + 1)];
     for (int cx = 0; cx < packed.width; ++cx) {
