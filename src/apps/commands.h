@@ -6,14 +6,20 @@
 
 namespace partslam::apps {
 
-void register_info(CLI::App& app);    // cmd_info.cc
-void register_export(CLI::App& app);  // cmd_export.cc
+void register_submaps(CLI::App& app);  // cmd_submaps.cc
+void register_dictionary(CLI::App& app);  // cmd_dictionary.cc
+void register_info(CLI::App& app);     // cmd_info.cc
+void register_eval(CLI::App& app);     // cmd_eval.cc
+void register_export(CLI::App& app);   // cmd_export.cc
 
 // One line per subcommand; keep them in this order: foundation, matching, parts, evaluation.
 
 inline void register_all(CLI::App& app) {
+  register_submaps(app);
+  register_dictionary(app);
   register_info(app);
   register_export(app);
+  register_eval(app);
 }
 
 }  // namespace partslam::apps

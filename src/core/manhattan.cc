@@ -7,17 +7,18 @@
 namespace partslam {
 namespace {
 
-double histogram_entropy(std::vector<std::int64_t>& bins) {
+// Entropy of the histogram of integer bin indices, counted in a dense array over [min, max].
+double histogram_entropy(const std::vector<std::int64_t>& bins, std::vector<int>& counts) {
   if (bins.empty()) return 0.0;
-  std::sort(bins.begin(), bins.end());
+  const auto [lo, hi] = std::minmax_element(bins.begin(), bins.end());
+  counts.assign(static_cast<std::size_t>(*hi - *lo + 1), 0);
+  for (std::int64_t b : bins) ++counts[static_cast<std::size_t>(b - *lo)];
   const double n = static_cast<double>(bins.size());
   double h = 0.0;
-  for (std::size_t i = 0; i < bins.size();) {
-    std::size_t j = i;
-    while (j < bins.size() && bins[j] == bins[i]) ++j;
-    const double p = static_cast<double>(j - i) / n;
+  for (int c : counts) {
+    if (c == 0) continue;
+    const double p = c / n;
     h -= p * std::log(p);
-    i = j;
   }
   return h;
 }
@@ -33,7 +34,8 @@ double axis_entropy(const Points2& points, double angle, double bin_size) {
     bx.push_back(static_cast<std::int64_t>(std::floor((c * p.x() - s * p.y()) / bin_size)));
     by.push_back(static_cast<std::int64_t>(std::floor((s * p.x() + c * p.y()) / bin_size)));
   }
-  return histogram_entropy(bx) + histogram_entropy(by);
+  std::vector<int> counts;
+  return histogram_entropy(bx, counts) + histogram_entropy(by, counts);
 }
 
 double manhattan_angle(const Points2& points, const ManhattanConfig& config) {

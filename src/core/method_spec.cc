@@ -30,27 +30,27 @@ int parse_count(const std::string& spec, const std::string& field, const std::st
   return v;
 }
 
-DescriptorMatcherKind parse_matcher(const std::string& spec, const std::string& name) {
-  if (name == "maxmax") return DescriptorMatcherKind::kMaxMax;
-  if (name == "summax") return DescriptorMatcherKind::kSumMax;
-  if (name == "smw") return DescriptorMatcherKind::kSumMaxWeighted;
+Matcher parse_matcher(const std::string& spec, const std::string& name) {
+  if (name == "maxmax") return Matcher::kMaxMax;
+  if (name == "summax") return Matcher::kSumMax;
+  if (name == "smw") return Matcher::kSumMaxWeighted;
   throw InputError("method '" + spec + "': unknown matcher '" + name + "' (expected maxmax, summax or smw)");
 }
 
-const char* matcher_label(DescriptorMatcherKind m) {
+const char* matcher_label(Matcher m) {
   switch (m) {
-    case DescriptorMatcherKind::kMaxMax: return "Max-Max";
-    case DescriptorMatcherKind::kSumMax: return "Sum-Max";
-    case DescriptorMatcherKind::kSumMaxWeighted: return "Sum-Max-Weighted";
+    case Matcher::kMaxMax: return "Max-Max";
+    case Matcher::kSumMax: return "Sum-Max";
+    case Matcher::kSumMaxWeighted: return "Sum-Max-Weighted";
   }
   return "";
 }
 
-const char* matcher_name(DescriptorMatcherKind m) {
+const char* matcher_name(Matcher m) {
   switch (m) {
-    case DescriptorMatcherKind::kMaxMax: return "maxmax";
-    case DescriptorMatcherKind::kSumMax: return "summax";
-    case DescriptorMatcherKind::kSumMaxWeighted: return "smw";
+    case Matcher::kMaxMax: return "maxmax";
+    case Matcher::kSumMax: return "summax";
+    case Matcher::kSumMaxWeighted: return "smw";
   }
   return "";
 }
@@ -64,9 +64,9 @@ std::string MethodSpec::label() const {
     case SchemeKind::kDmmRansac: return "dMM-RANSAC";
     case SchemeKind::kDmmExhaustive: return "dMM-exhaustive";
     case SchemeKind::kImm:
-      return (matcher == DescriptorMatcherKind::kSumMax ? "" : std::string(matcher_label(matcher)) + " ") + "iMM" + cpd;
+      return (matcher == Matcher::kSumMax ? "" : std::string(matcher_label(matcher)) + " ") + "iMM" + cpd;
     case SchemeKind::kHmm:
-      return (matcher == DescriptorMatcherKind::kSumMaxWeighted ? "" : std::string(matcher_label(matcher)) + " ") +
+      return (matcher == Matcher::kSumMaxWeighted ? "" : std::string(matcher_label(matcher)) + " ") +
              "hMM" + cpd;
     case SchemeKind::kRerank: return "rerank" + std::to_string(rerank) + " hMM" + cpd;
   }
@@ -88,15 +88,15 @@ MethodSpec parse_method_spec(const std::string& text) {
     m.scheme = kind == "imm" ? SchemeKind::kImm : SchemeKind::kHmm;
     m.parts = parse_count(text, f[1], "K (parts per map)", 1, kMaxParts);
     m.matcher = f.size() == 3 ? parse_matcher(text, f[2])
-                : m.scheme == SchemeKind::kImm ? DescriptorMatcherKind::kSumMax
-                                               : DescriptorMatcherKind::kSumMaxWeighted;
+                : m.scheme == SchemeKind::kImm ? Matcher::kSumMax
+                                               : Matcher::kSumMaxWeighted;
     m.spec = kind + ":" + std::to_string(m.parts) + ":" + matcher_name(m.matcher);
   } else if (kind == "rerank") {
     if (f.size() != 3) throw InputError("method '" + text + "': expected rerank:R:K");
     m.scheme = SchemeKind::kRerank;
     m.rerank = parse_count(text, f[1], "R (maps to rerank)", 1, 1000000);
     m.parts = parse_count(text, f[2], "K (parts per map)", 1, kMaxParts);
-    m.matcher = DescriptorMatcherKind::kSumMaxWeighted;
+    m.matcher = Matcher::kSumMaxWeighted;
     m.spec = "rerank:" + std::to_string(m.rerank) + ":" + std::to_string(m.parts);
   } else {
     throw InputError("method '" + text + "': unknown scheme '" + kind +

@@ -8,16 +8,17 @@
 #include <string>
 #include <vector>
 
+#include "core/descriptor_matcher.h"
+
 namespace partslam {
 
 enum class SchemeKind { kDmm, kDmmRansac, kDmmExhaustive, kImm, kHmm, kRerank };
-enum class DescriptorMatcherKind { kMaxMax, kSumMax, kSumMaxWeighted };
 
 struct MethodSpec {
   SchemeKind scheme = SchemeKind::kDmm;
   int parts = 0;   ///< K: parts per stored map (iMM, hMM, rerank)
   int rerank = 0;  ///< R: maps reordered by dMM (rerank)
-  DescriptorMatcherKind matcher = DescriptorMatcherKind::kSumMax;
+  Matcher matcher = Matcher::kSumMax;
   std::string spec;  ///< the text it was parsed from, normalised
 
   /// The paper's name: "dMM", "iMM cpd:3", "hMM cpd:3", "Max-Max hMM cpd:3", "rerank10 hMM cpd:3".

@@ -23,8 +23,8 @@ TEST(MethodSpec, ParsesEverySchemeWithPaperLabels) {
 }
 
 TEST(MethodSpec, DefaultMatchersFollowThePaper) {
-  EXPECT_EQ(parse_method_spec("imm:2").matcher, DescriptorMatcherKind::kSumMax);
-  EXPECT_EQ(parse_method_spec("hmm:2").matcher, DescriptorMatcherKind::kSumMaxWeighted);
+  EXPECT_EQ(parse_method_spec("imm:2").matcher, Matcher::kSumMax);
+  EXPECT_EQ(parse_method_spec("hmm:2").matcher, Matcher::kSumMaxWeighted);
   EXPECT_EQ(parse_method_spec("hmm:2").spec, "hmm:2:smw");
 }
 

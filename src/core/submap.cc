@@ -81,16 +81,21 @@ Submaps build_submaps(const Scans& scans, const SubmapConfig& config) {
     world = voxel_downsample(world, config.resolution);
     const Vec2 c = centroid(world);
     const double half = config.crop_size / 2.0;
-    Points2 local;
-    local.reserve(world.size());
+    // The alignment angle comes from the points within the crop's inscribed circle (a rotation-invariant
+    // region); the square crop is then taken in the canonical frame, so points stay inside +-crop_size / 2.
+    Points2 centred, disc;
+    centred.reserve(world.size());
     for (const Vec2& p : world) {
-      const Vec2 d = p - c;
-      if (std::abs(d.x()) < half && std::abs(d.y()) < half) local.push_back(d);
+      centred.push_back(p - c);
+      if (centred.back().norm() < half) disc.push_back(centred.back());
     }
-    if (static_cast<int>(local.size()) < config.min_points) continue;
-    m.alignment_angle = config.align ? manhattan_angle(local) : 0.0;
+    m.alignment_angle = config.align ? manhattan_angle(disc) : 0.0;
     const Pose2 T_map_centred{0.0, 0.0, m.alignment_angle};
-    m.points = transform(T_map_centred, local);
+    for (const Vec2& p : centred) {
+      const Vec2 q = T_map_centred * p;
+      if (std::abs(q.x()) < half && std::abs(q.y()) < half) m.points.push_back(q);
+    }
+    if (static_cast<int>(m.points.size()) < config.min_points) continue;
     m.T_world_map = Pose2{c.x(), c.y(), 0.0} * T_map_centred.inverse();
     m.id = static_cast<std::int64_t>(submaps.size());
     submaps.push_back(std::move(m));

@@ -1,0 +1,135 @@
+#include "apps/eval_run.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+
+#include "core/dictionary.h"
+#include "core/submap.h"
+#include "io/scan_source.h"
+
+namespace partslam::apps {
+namespace {
+
+// A one-line progress bar on stderr, redrawn in place; silent when stderr is not a terminal.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+  ~ProgressBar() {
+    if (enabled_ && drawn_) std::cerr << "\r\033[K" << std::flush;
+  }
+  void operator()(const std::string& stage, std::size_t done, std::size_t total) {
+    if (!enabled_ || total == 0) return;
+    const int percent = static_cast<int>(100 * done / total);
+    if (stage == stage_ && percent == percent_ && done != total) return;
+    stage_ = stage, percent_ = percent, drawn_ = true;
+    const int width = 30, filled = width * percent / 100;
+    std::cerr << "\r\033[K" << std::setw(22) << std::left << stage.substr(0, 22) << " ["
+              << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << std::right << std::setw(3)
+              << percent << "% " << done << "/" << total << std::flush;
+  }
+
+ private:
+  bool enabled_;
+  bool drawn_ = false;
+  std::string stage_;
+  int percent_ = -1;
+};
+
+}  // namespace
+
+void add_eval_options(CLI::App& cmd, EvalOptions& o) {
+  cmd.add_option("--input", o.input, "input CARMEN log (corrected), or sim[:SEED]")->required();
+  cmd.add_option("--dict", o.dictionary, "dictionary CARMEN log (another building), or sim[:SEED]")->required();
+  cmd.add_option("--methods", o.methods,
+                 "comma-separated: dmm, dmm-ransac, dmm-exhaustive, imm:K[:maxmax|summax|smw], "
+                 "hmm:K[:maxmax|summax|smw], rerank:R:K")
+      ->capture_default_str();
+  cmd.add_option("--db-size", o.config.tasks.db_size, "N: maps per task database")->capture_default_str();
+  cmd.add_option("--tasks", o.config.tasks.num_tasks, "tasks to sample")->capture_default_str();
+  cmd.add_option("--seed", o.config.tasks.seed, "task sampling seed")->capture_default_str();
+  cmd.add_option("--radius", o.config.tasks.radius, "R: relevant-pair radius [m]")->capture_default_str();
+  cmd.add_option("--gap", o.config.tasks.min_travel_gap, "G: min travel gap of a relevant pair [m]")
+      ->capture_default_str();
+  cmd.add_option("--threads", o.config.num_threads, "threads (results do not depend on it)")->capture_default_str();
+  cmd.add_option("--hmm-query-parts", o.config.hmm_query_parts, "parts of an hMM query")->capture_default_str();
+  cmd.add_option("--cpd-partitions", o.config.cpd.partitions, "CPD: random partitions per map")
+      ->capture_default_str();
+  cmd.add_option("--cpd-tsize", o.config.cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
+  cmd.add_flag("--quiet", o.quiet, "no progress bar");
+}
+
+EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
+  EvalRun run;
+  run.options = o;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<MethodSpec> methods = parse_method_list(o.methods);
+  validate(o.config.tasks);
+  const io::ScanSource input = io::load_scan_source(o.input);
+  const io::ScanSource dict = io::load_scan_source(o.dictionary);
+  run.input_name = input.name;
+  run.dictionary_name = dict.name;
+  const Submaps maps = build_submaps(input.scans);
+  const Dictionary dictionary = build_dictionary(dict.name, dict.scans);
+  const bool tty = !o.quiet && isatty(STDERR_FILENO);
+  if (!o.quiet) {
+    log << run.input_name << ": " << maps.size() << " submaps; dictionary " << run.dictionary_name << ": "
+        << dictionary.points.size() << " points\n";
+  }
+  ProgressBar bar(tty);
+  run.report = evaluate(maps, dictionary.points, methods, o.config,
+                        [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
+
+void print_table(const EvalRun& run, std::ostream& out) {
+  const EvalReport& r = run.report;
+  out << "input " << run.input_name << ", dictionary " << run.dictionary_name << ": " << r.maps << " maps (mean "
+      << std::fixed << std::setprecision(0) << r.mean_points << " points), " << r.relevant_pairs
+      << " relevant pairs, " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
+      << run.options.config.tasks.seed << "\n";
+  out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1"
+      << std::setw(8) << "R@1%" << std::setw(12) << "ms/pair" << std::setw(12) << "ms/query" << std::setw(10)
+      << "bits/map" << "\n";
+  for (const MethodResult& m : r.methods) {
+    out << std::left << std::setw(22) << m.method.label() << std::right << std::setprecision(1) << std::setw(8)
+        << m.summary.anr_percent << std::setprecision(3) << std::setw(8) << m.summary.recall_at_1 << std::setw(8)
+        << m.summary.recall_at_1pct << std::setprecision(5) << std::setw(12) << m.ms_per_pair << std::setprecision(2)
+        << std::setw(12) << m.ms_per_query << std::setprecision(0) << std::setw(10) << m.bits_per_map << "\n";
+  }
+  if (r.cpd_ms_per_map > 0) out << std::setprecision(1) << "CPD (offline): " << r.cpd_ms_per_map << " ms per map\n";
+  out << std::setprecision(1) << "total " << run.seconds << " s\n";
+}
+
+nlohmann::json to_json(const EvalRun& run) {
+  const EvalReport& r = run.report;
+  nlohmann::json j = {{"input", run.options.input},
+                      {"dictionary", run.options.dictionary},
+                      {"db_size", run.options.config.tasks.db_size},
+                      {"tasks", r.tasks},
+                      {"seed", run.options.config.tasks.seed},
+                      {"maps", r.maps},
+                      {"mean_points", r.mean_points},
+                      {"relevant_pairs", r.relevant_pairs},
+                      {"cpd_ms_per_map", r.cpd_ms_per_map},
+                      {"seconds", run.seconds}};
+  j["methods"] = nlohmann::json::array();
+  for (const MethodResult& m : r.methods) {
+    j["methods"].push_back({{"spec", m.method.spec},
+                            {"label", m.method.label()},
+                            {"anr", m.summary.anr_percent},
+                            {"recall_at_1", m.summary.recall_at_1},
+                            {"recall_at_1pct", m.summary.recall_at_1pct},
+                            {"ms_per_pair", m.ms_per_pair},
+                            {"ms_per_query", m.ms_per_query},
+                            {"ms_query_prep", m.ms_query_prep},
+                            {"bits_per_map", m.bits_per_map},
+                            {"normalized_ranks", m.normalized_ranks}});
+  }
+  return j;
+}
+
+}  // namespace partslam::apps

@@ -1,0 +1,44 @@
+// Shared by `partslam eval` and `partslam demo`: options, loading the input and dictionary, running the
+// evaluation with a progress bar, and printing / serialising the results.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+
+#include "core/evaluation.h"
+
+namespace partslam::apps {
+
+struct EvalOptions {
+  std::string input;       ///< CARMEN log or sim[:SEED]
+  std::string dictionary;  ///< CARMEN log or sim[:SEED] (another building)
+  std::string methods = "dmm,imm:3,hmm:3";
+  EvalConfig config;
+  std::string json;
+  std::string plot;
+  bool quiet = false;
+};
+
+/// Adds --input, --dict, --methods, --db-size, --tasks, --seed, --threads and the method parameters.
+void add_eval_options(CLI::App& cmd, EvalOptions& options);
+
+struct EvalRun {
+  EvalOptions options;
+  std::string input_name;
+  std::string dictionary_name;
+  EvalReport report;
+  double seconds = 0;
+};
+
+/// Loads both logs, builds submaps and the dictionary, and evaluates; progress goes to `log` when it is a
+/// terminal (and not quiet).
+EvalRun run_evaluation(const EvalOptions& options, std::ostream& log);
+
+void print_table(const EvalRun& run, std::ostream& out);
+
+/// The JSON shape of the evaluation issue (input, dictionary, db_size, tasks, seed, maps, mean_points, methods[]).
+nlohmann::json to_json(const EvalRun& run);
+
+}  // namespace partslam::apps

@@ -1,0 +1,74 @@
+// Common pattern discovery (DESIGN.md, "CPD"; paper §"Common Pattern Discovery", after Randomized Visual
+// Phrases, Jiang et al. 2012). The input map is randomly partitioned into grids of boxes, many times; every
+// box is a candidate keypoint box. For a candidate, the descriptor box is where the cropped points fit the
+// dictionary best, AS(B) = max_T sum_{x in crop(B)} P_R(T(x)) (Eq. 2, an exact dMM search of the crop against
+// the whole dictionary grid R). Criteria:
+//   MC (maximality): literal reading (default) — the crop holds at least t_size of the map's points (few,
+//       large parts); inlier-share reading — at least t_size of the crop's points are inliers on R.
+//   GC (geometric consistency): the descriptor boxes of the selected parts pairwise overlap.
+//   AS: among candidates meeting MC and GC, the highest AS first (greedy).
+// MD (select_top_parts) then keeps the top K. Everything is seeded and deterministic; parallel over maps gives
+// the same parts as serial.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/dmm.h"
+#include "core/part.h"
+
+namespace partslam {
+
+enum class MaximalityMode {
+  kPointShare,  ///< literal: |crop| / |map| >= t_size
+  kInlierShare  ///< |inliers of crop on dictionary| / |crop| >= t_size
+};
+
+struct CpdConfig {
+  int max_parts = 100;           ///< parts returned per map (the hMM query keeps ~100)
+  int partitions = 64;           ///< random partitions of the map tried at most
+  double min_cell_fraction = 0.4;  ///< smallest partition cell side, as a share of the map's box side
+  double max_cell_fraction = 1.2;  ///< largest partition cell side, as a share of the map's box side
+  MaximalityMode maximality = MaximalityMode::kPointShare;  ///< MC reading
+  double t_size = 0.9;           ///< MC threshold T^size
+  int min_crop_points = 20;      ///< crops with fewer points are never candidates
+  bool geometric_consistency = true;  ///< GC: selected descriptor boxes must pairwise overlap
+  double crop_resolution = 0.1;  ///< crops are downsampled to this cell before matching [m] (speed)
+  std::uint64_t seed = 1;        ///< base seed; each map mixes in its own key
+  DmmConfig dmm = dmm_config_for_dictionary();  ///< the crop-vs-dictionary search (Eq. 2)
+};
+
+/// Throws InputError naming the offending field.
+void validate(const CpdConfig& config);
+
+/// The dictionary prepared once for CPD (grid + pyramid) and the extent descriptor boxes live in.
+struct PreparedDictionary {
+  PreparedMap map;
+  Box2 extent;  ///< bounding box of the dictionary points [m]
+};
+
+PreparedDictionary prepare_dictionary(const Points2& dictionary_points, const CpdConfig& config = {});
+
+struct CpdStats {
+  int candidates = 0;       ///< distinct boxes generated
+  int passed_mc = 0;        ///< candidates meeting MC
+  int matched = 0;          ///< AS searches run
+  int passed_gc = 0;        ///< parts kept after GC
+};
+
+struct CpdResult {
+  std::vector<Part> parts;  ///< best AS first, at most max_parts
+  CpdStats stats;
+};
+
+/// Parts of one map (points in its canonical frame). map_key (e.g. the map id) seeds its partitions.
+CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& dictionary, const CpdConfig& config,
+                         std::uint64_t map_key);
+
+/// discover_parts over many maps; num_threads > 1 runs maps in parallel (OpenMP) with identical results.
+std::vector<CpdResult> discover_parts_many(const std::vector<const Points2*>& maps,
+                                           const std::vector<std::uint64_t>& map_keys,
+                                           const PreparedDictionary& dictionary, const CpdConfig& config,
+                                           int num_threads = 1);
+
+}  // namespace partslam

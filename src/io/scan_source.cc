@@ -1,0 +1,40 @@
+#include "io/scan_source.h"
+
+#include <charconv>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/simulator.h"
+
+namespace partslam::io {
+
+bool is_simulator_spec(const std::string& spec) { return spec == "sim" || spec.rfind("sim:", 0) == 0; }
+
+ScanSource load_scan_source(const std::string& spec, const LogReadOptions& options) {
+  ScanSource out;
+  out.source = spec;
+  if (is_simulator_spec(spec)) {
+    SimulatorConfig config;
+    if (spec.size() > 4) {
+      const char* first = spec.data() + 4;
+      const char* last = spec.data() + spec.size();
+      const auto [ptr, ec] = std::from_chars(first, last, config.seed);
+      if (ec != std::errc() || ptr != last) throw InputError("'" + spec + "': the simulator seed must be an integer");
+    }
+    out.name = "sim-" + std::to_string(config.seed);
+    out.scans = simulate(config).scans;
+    return out;
+  }
+  std::string name = std::filesystem::path(spec).filename().string();
+  for (const char* ext : {".gz", ".log", ".clf"}) {
+    const std::string e(ext);
+    if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0)
+      name.resize(name.size() - e.size());
+  }
+  out.name = name;
+  out.scans = read_carmen_log(spec, options).scans;
+  if (out.scans.empty()) throw InputError(spec + ": the log holds no laser scans");
+  return out;
+}
+
+}  // namespace partslam::io

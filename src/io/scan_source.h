@@ -1,0 +1,24 @@
+// Where scans come from on the command line: a CARMEN log (plain or gzip), or "sim[:SEED]" for the built-in
+// simulated building (DESIGN.md, "Embedded default"), so every command also runs without ../shared/data.
+#pragma once
+
+#include <string>
+
+#include "core/scan.h"
+#include "io/carmen_log.h"
+
+namespace partslam::io {
+
+struct ScanSource {
+  std::string name;    ///< dataset name: the log's file name without .gz/.log/.clf, or "sim-SEED"
+  std::string source;  ///< the spec it was loaded from
+  Scans scans;
+};
+
+/// True for "sim" and "sim:SEED".
+bool is_simulator_spec(const std::string& spec);
+
+/// Loads a log or runs the simulator. Throws InputError for an unreadable log or a bad seed.
+ScanSource load_scan_source(const std::string& spec, const LogReadOptions& options = {});
+
+}  // namespace partslam::io
