@@ -182,6 +182,18 @@ void BM_DmmCropOnDictionary(benchmark::State& state) {
 }
 BENCHMARK(BM_DmmCropOnDictionary)->Iterations(100)->Unit(benchmark::kMillisecond);
 
+// Preparation: once per stored map (grid + packed pyramid) and once per query (rotated cell sets).
+void BM_PrepareMap(benchmark::State& state) {
+  run_cycled(state, data().maps.size(), [&](std::size_t k) { return prepare_map(data().maps[k].points).packed.size(); });
+}
+BENCHMARK(BM_PrepareMap)->Iterations(400);
+
+void BM_PrepareQuery(benchmark::State& state) {
+  run_cycled(state, data().maps.size(),
+             [&](std::size_t k) { return prepare_query(data().maps[k].points).rotations.size(); });
+}
+BENCHMARK(BM_PrepareQuery)->Iterations(400);
+
 }  // namespace
 }  // namespace partslam
 

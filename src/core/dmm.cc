@@ -235,16 +235,27 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
     const double c = std::cos(angle), s = std::sin(angle);
     r.x.reserve(points_query.size());
     r.y.reserve(points_query.size());
-    std::vector<std::pair<int, int>> cells;  // (row, column), sorted: the search skips rows off the grid
-    cells.reserve(points_query.size());
+    // Cells sorted by row (a stable counting sort), so that the search skips rows off the grid.
+    std::vector<int> xs, ys;
+    xs.reserve(points_query.size());
+    ys.reserve(points_query.size());
     for (const Vec2& p : points_query) {
-      cells.emplace_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)),
-                         static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
+      xs.push_back(static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
+      ys.push_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)));
     }
-    std::sort(cells.begin(), cells.end());
-    for (const auto& [y, x] : cells) {
-      r.x.push_back(x);
-      r.y.push_back(y);
+    if (!ys.empty()) {
+      const auto [y_lo, y_hi] = std::minmax_element(ys.begin(), ys.end());
+      const int y0 = *y_lo;
+      std::vector<int> start(static_cast<std::size_t>(*y_hi - y0) + 2, 0);
+      for (const int y : ys) ++start[static_cast<std::size_t>(y - y0) + 1];
+      for (std::size_t m = 1; m < start.size(); ++m) start[m] += start[m - 1];
+      r.x.resize(xs.size());
+      r.y.resize(ys.size());
+      for (std::size_t k = 0; k < xs.size(); ++k) {
+        const auto slot = static_cast<std::size_t>(start[static_cast<std::size_t>(ys[k] - y0)]++);
+        r.x[slot] = xs[k];
+        r.y[slot] = ys[k];
+      }
     }
     if (!r.x.empty()) {
       const auto [x_lo, x_hi] = std::minmax_element(r.x.begin(), r.x.end());

@@ -53,7 +53,7 @@ void validate(const DmmConfig& config);
 DmmConfig dmm_config_for_dictionary();
 
 /// One rotation of the query, discretised on the lattice: cell k of the point set is (x[k], y[k]), sorted by
-/// (y, x) so that the points whose row misses a grid are found by binary search.
+/// y (stable) so that the points whose row misses a grid are found by binary search.
 struct RotatedQuery {
   double angle = 0.0;         ///< rotation about the query origin [rad]
   std::vector<int> x, y;      ///< lattice cells floor(R(angle) p / r), one per query point
