@@ -11,6 +11,7 @@ void register_dictionary(CLI::App& app);  // cmd_dictionary.cc
 void register_info(CLI::App& app);     // cmd_info.cc
 void register_eval(CLI::App& app);     // cmd_eval.cc
 void register_export(CLI::App& app);   // cmd_export.cc
+void register_match(CLI::App& app);    // cmd_match.cc
 
 // One line per subcommand; keep them in this order: foundation, matching, parts, evaluation.
 
@@ -19,6 +20,7 @@ inline void register_all(CLI::App& app) {
   register_dictionary(app);
   register_info(app);
   register_export(app);
+  register_match(app);
   register_eval(app);
 }
 
