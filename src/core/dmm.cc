@@ -204,7 +204,7 @@ class BranchAndBound {
         break;  // the rest score no more than c
       }
       // This node's cells: its parent's cells that can score in it (exactly c.score of them). Filtering
-      // pays only when it drops a good share.
+      // pays only when it drops at least half of them.
       CellList parent;
       const std::uint16_t* parent_values = nullptr;
       if (d + 1 == depth) {
@@ -216,7 +216,7 @@ class BranchAndBound {
       }
       Buffers& mine = buffers_[static_cast<std::size_t>(d)];
       CellList& list = lists_[static_cast<std::size_t>(d)];
-      if (static_cast<std::size_t>(c.score) * 4 < parent.size * 3) {
+      if (static_cast<std::size_t>(c.score) * 2 < parent.size) {
         list = {mine.x.get(), mine.y.get(), filter_cells(parent, parent_values, c.bit, mine.x.get(), mine.y.get())};
       } else {
         list = parent;
