@@ -166,6 +166,8 @@ void BM_DmmOneToN(benchmark::State& state) {
 }
 BENCHMARK(BM_DmmOneToN)->Arg(0)->Arg(1)->Iterations(10)->Unit(benchmark::kMillisecond);
 
+std::size_t bytes(const PreparedMap& m);
+
 // CPD (Eq. 2): 2-10 m crops of the submaps against a whole dictionary map (another building), translation
 // window = the whole dictionary (dmm_config_for_dictionary).
 void BM_DmmCropOnDictionary(benchmark::State& state) {
@@ -192,13 +194,23 @@ void BM_DmmCropOnDictionary(benchmark::State& state) {
   run_cycled(state, crops.size(), [&](std::size_t k) { return match_dmm(crops[k], map, config).inliers; });
   const Box2 box = bounding_box(dictionary.points);
   state.counters["dict_m2"] = box.area();
+  state.counters["dict_MB"] = static_cast<double>(bytes(map)) / (1024.0 * 1024.0);
   state.counters["crop_points"] = points / static_cast<double>(crops.size());
 }
 BENCHMARK(BM_DmmCropOnDictionary)->Iterations(100)->Unit(benchmark::kMillisecond);
 
 // Preparation: once per stored map (grid + packed pyramid) and once per query (rotated cell sets).
+std::size_t bytes(const PreparedMap& m) {
+  std::size_t total = m.grid.cells.size();
+  for (const PackedLevel& p : m.packed) total += p.cells.size() * sizeof(std::uint16_t);
+  return total;
+}
+
 void BM_PrepareMap(benchmark::State& state) {
   run_cycled(state, data().maps.size(), [&](std::size_t k) { return prepare_map(data().maps[k].points).packed.size(); });
+  double total = 0;
+  for (const PreparedMap& m : prepared().maps) total += static_cast<double>(bytes(m));
+  state.counters["kB_per_map"] = total / static_cast<double>(prepared().maps.size()) / 1024.0;
 }
 BENCHMARK(BM_PrepareMap)->Iterations(400);
 
