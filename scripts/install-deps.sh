@@ -10,6 +10,7 @@ PACKAGES=(
   libcairo2-dev        # PNG rendering (Fig. D, Fig. E)
   nlohmann-json3-dev   # --json output
   libgtest-dev libgmock-dev  # tests
+  python3              # scripts/results_table.py (make results)
   libbenchmark-dev     # benchmarks
 )
 missing=()

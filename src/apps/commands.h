@@ -10,6 +10,7 @@ void register_submaps(CLI::App& app);  // cmd_submaps.cc
 void register_dictionary(CLI::App& app);  // cmd_dictionary.cc
 void register_info(CLI::App& app);     // cmd_info.cc
 void register_eval(CLI::App& app);     // cmd_eval.cc
+void register_demo(CLI::App& app);     // cmd_demo.cc
 void register_export(CLI::App& app);   // cmd_export.cc
 void register_match(CLI::App& app);    // cmd_match.cc
 
@@ -22,6 +23,7 @@ inline void register_all(CLI::App& app) {
   register_export(app);
   register_match(app);
   register_eval(app);
+  register_demo(app);
 }
 
 }  // namespace partslam::apps

@@ -92,13 +92,20 @@ void print_table(const EvalRun& run, std::ostream& out) {
       << " relevant pairs, " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
       << run.options.config.tasks.seed << "\n";
   out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1"
-      << std::setw(8) << "R@1%" << std::setw(12) << "ms/pair" << std::setw(12) << "ms/query" << std::setw(10)
+      << std::setw(8) << "R@1%" << std::setw(12) << "us/pair" << std::setw(12) << "ms/query" << std::setw(10)
       << "bits/map" << "\n";
   for (const MethodResult& m : r.methods) {
     out << std::left << std::setw(22) << m.method.label() << std::right << std::setprecision(1) << std::setw(8)
         << m.summary.anr_percent << std::setprecision(3) << std::setw(8) << m.summary.recall_at_1 << std::setw(8)
-        << m.summary.recall_at_1pct << std::setprecision(5) << std::setw(12) << m.ms_per_pair << std::setprecision(2)
+        << m.summary.recall_at_1pct << std::setprecision(3) << std::setw(12) << m.ms_per_pair * 1e3
+        << std::setprecision(2)
         << std::setw(12) << m.ms_per_query << std::setprecision(0) << std::setw(10) << m.bits_per_map << "\n";
+  }
+  for (const MethodResult& m : r.methods) {
+    if (m.poses_checked == 0) continue;
+    out << std::setprecision(3) << m.method.label() << ": relative pose of the relevant map within "
+        << run.options.config.pose_tolerance_m << " m / " << run.options.config.pose_tolerance_rad << " rad in "
+        << m.pose_within_tolerance << " of " << m.poses_checked << " pairs\n";
   }
   if (r.cpd_ms_per_map > 0) out << std::setprecision(1) << "CPD (offline): " << r.cpd_ms_per_map << " ms per map\n";
   out << std::setprecision(1) << "total " << run.seconds << " s\n";
@@ -127,6 +134,8 @@ nlohmann::json to_json(const EvalRun& run) {
                             {"ms_per_query", m.ms_per_query},
                             {"ms_query_prep", m.ms_query_prep},
                             {"bits_per_map", m.bits_per_map},
+                            {"poses_checked", m.poses_checked},
+                            {"pose_within_tolerance", m.pose_within_tolerance},
                             {"normalized_ranks", m.normalized_ranks}});
   }
   return j;

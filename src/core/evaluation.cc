@@ -35,6 +35,7 @@ void parallel_for(std::size_t n, int num_threads, const std::string& stage, cons
 // What one task contributes to a method's figures.
 struct TaskOutcome {
   double rank = 0;
+  int pose = -1;        // -1: no pose for the relevant map; 0: wrong; 1: within tolerance
   double match_ms = 0;  // online matching of the whole task database
   double prep_ms = 0;   // the query's own preparation
 };
@@ -117,8 +118,14 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
   }
 
   // dMM scores of a task's maps (all of them, or a subset), timed.
+  // Is T_map_query of the relevant pair within tolerance of the truth T_map_world * T_world_query?
+  auto pose_ok = [&](const Task& task, const Pose2& T_map_query) {
+    const Pose2 truth = maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
+    return (truth.translation() - T_map_query.translation()).norm() <= config.pose_tolerance_m &&
+           std::abs(wrap_angle(truth.theta - T_map_query.theta)) <= config.pose_tolerance_rad;
+  };
   auto dmm_scores = [&](const Task& task, const std::vector<std::size_t>& which, bool exhaustive, double& prep_ms,
-                        double& match_ms) {
+                        double& match_ms, int& pose) {
     auto t0 = Clock::now();
     const PreparedQuery query = prepare_query(maps[task.query].points, config.dmm);
     prep_ms = ms_since(t0);
@@ -126,7 +133,9 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
     t0 = Clock::now();
     for (std::size_t j = 0; j < which.size(); ++j) {
       const PreparedMap& map = grids[task.database[which[j]]];
-      s[j] = (exhaustive ? match_exhaustive(query, map, config.dmm) : match_dmm(query, map, config.dmm)).inliers;
+      const DmmResult r = exhaustive ? match_exhaustive(query, map, config.dmm) : match_dmm(query, map, config.dmm);
+      s[j] = r.inliers;
+      if (task.database[which[j]] == task.relevant) pose = pose_ok(task, r.T_map_query);
     }
     match_ms = ms_since(t0);
     return s;
@@ -178,12 +187,16 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
       switch (method.scheme) {
         case SchemeKind::kDmm:
         case SchemeKind::kDmmExhaustive:
-          scores = dmm_scores(task, all, method.scheme == SchemeKind::kDmmExhaustive, out.prep_ms, out.match_ms);
+          scores = dmm_scores(task, all, method.scheme == SchemeKind::kDmmExhaustive, out.prep_ms, out.match_ms,
+                              out.pose);
           break;
         case SchemeKind::kDmmRansac: {
           const auto t0 = Clock::now();
-          for (std::size_t m : task.database)
-            scores.push_back(match_dmm_ransac(maps[task.query].points, ransac_maps[m], config.ransac).inliers);
+          for (std::size_t m : task.database) {
+            const DmmResult r = match_dmm_ransac(maps[task.query].points, ransac_maps[m], config.ransac);
+            scores.push_back(r.inliers);
+            if (m == task.relevant) out.pose = pose_ok(task, r.T_map_query);
+          }
           out.match_ms = ms_since(t0);
           break;
         }
@@ -202,7 +215,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
           std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return scores[a] > scores[b]; });
           order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(method.rerank)));
           double dmm_prep = 0, dmm_match = 0;
-          const std::vector<double> direct = dmm_scores(task, order, false, dmm_prep, dmm_match);
+          const std::vector<double> direct = dmm_scores(task, order, false, dmm_prep, dmm_match, out.pose);
           // The top R move above every other map, ordered by dMM; hMM breaks dMM ties.
           const double lift = 1e9;
           for (std::size_t j = 0; j < order.size(); ++j) scores[order[j]] = lift + direct[j] * 1e3 + scores[order[j]];
@@ -216,8 +229,9 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
 
     std::vector<double> ranks;
     std::vector<std::size_t> sizes;
-    double match_ms = 0, prep_ms = 0, pairs = 0;
+    double match_ms = 0, prep_ms = 0, pairs = 0, posed_ok = 0;
     for (std::size_t t = 0; t < tasks.size(); ++t) {
+      if (outcomes[t].pose >= 0) ++result.poses_checked, posed_ok += outcomes[t].pose;
       ranks.push_back(outcomes[t].rank);
       sizes.push_back(tasks[t].database.size());
       result.normalized_ranks.push_back(outcomes[t].rank / static_cast<double>(tasks[t].database.size()));
@@ -226,6 +240,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
       pairs += static_cast<double>(tasks[t].database.size());
     }
     result.summary = summarize_ranks(ranks, sizes);
+    if (result.poses_checked > 0) result.pose_within_tolerance = posed_ok / static_cast<double>(result.poses_checked);
     result.ms_per_pair = match_ms / pairs;
     result.ms_query_prep = prep_ms / static_cast<double>(tasks.size());
     result.ms_per_query = (prep_ms + match_ms) / static_cast<double>(tasks.size());

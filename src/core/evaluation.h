@@ -31,6 +31,8 @@ struct EvalConfig {
   int hmm_query_parts = 100;     ///< parts of an hMM query
   double bits_per_point = 14;    ///< storage of a raw map point (7 + 7 bits at 0.1 m in a 12.8 m crop)
   int num_threads = 1;           ///< OpenMP threads over maps and tasks; results do not depend on it
+  double pose_tolerance_m = 0.5;     ///< relative pose check: translation [m]
+  double pose_tolerance_rad = 0.2;   ///< relative pose check: rotation [rad]
 };
 
 struct MethodResult {
@@ -41,6 +43,10 @@ struct MethodResult {
   double ms_query_prep = 0;   ///< the query's own preparation (its CPD, its rotated point sets) [ms]
   double ms_per_query = 0;    ///< ms_query_prep + matching the whole task database [ms]
   double bits_per_map = 0;    ///< storage per stored map [bits]
+  /// Methods that return a pose (dMM, rerank when the relevant map is reranked): how many relevant pairs were
+  /// posed, and the share whose T_map_query is within pose_tolerance of the truth (from the maps' poses).
+  std::size_t poses_checked = 0;
+  double pose_within_tolerance = 0;
 };
 
 struct EvalReport {

@@ -72,6 +72,9 @@ void write_rank_plot(const std::filesystem::path& path, const std::string& title
     std::vector<double> r = curves[c].normalized_ranks;
     std::sort(r.begin(), r.end());
     set_colour(cr, c);
+    // Past ten curves the palette repeats; dashes keep them apart.
+    const double dash[] = {8.0, 4.0};
+    cairo_set_dash(cr, dash, c >= 10 ? 2 : 0, 0);
     cairo_move_to(cr, X(0), Y(0));
     const double n = static_cast<double>(r.size());
     for (std::size_t i = 0; i < r.size(); ++i) {
