@@ -139,7 +139,7 @@ void BM_Exhaustive(benchmark::State& state) {
   run_cycled(state, p.maps.size(),
              [&](std::size_t k) { return match_exhaustive(p.queries[k], p.maps[k]).inliers; });
 }
-BENCHMARK(BM_Exhaustive)->Iterations(100)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Exhaustive)->Iterations(200)->Unit(benchmark::kMillisecond);
 
 void BM_DmmRansac(benchmark::State& state) {
   DmmRansacConfig config;
