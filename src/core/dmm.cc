@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <queue>
 #include <string>
 
@@ -90,55 +91,97 @@ DmmResult make_result(const PreparedQuery& query, const DmmConfig& config, int i
 struct Candidate {
   int rotation = 0;
   int i = 0, j = 0;
-  int score = 0;
+  int score = 0;   // Eq. 1 at depth 0, an upper bound above
+  int bit = 0;     // child index a + 4 b within its parent
+  int parent = 0;  // for the children of a root: the root's index
 };
 
-bool by_score_descending(const Candidate& a, const Candidate& b) { return a.score > b.score; }
-
 // Depth-first branch-and-bound (Cartographer's FastCorrelativeScanMatcher2D::BranchAndBound), 16-way: a node
-// at level 2 d is a block of 4^d x 4^d translations of one rotation; its sixteen children (level 2 d - 2) are
-// bounded in one pass over the query points (PackedLevel). Level 0 nodes are single translations, scored
-// exactly. The roots (level 2 depth) tile the search range and are not bounded themselves.
+// at depth d is a block of 4^d x 4^d translations of one rotation; its sixteen children (depth d - 1) are
+// bounded in one pass over the node's query cells with the packed pyramid level 2 (d - 1) (dmm_bounds.h).
+// Depth-0 nodes are single translations, scored exactly. The roots (depth = search depth) tile the search
+// range and are not bounded themselves. A node's cells are those of its parent that can score in it.
 class BranchAndBound {
  public:
   BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges, int bar)
-      : query_(query), map_(map), ranges_(ranges), best_(Candidate{-1, 0, 0, bar}) {}
+      : query_(query), map_(map), ranges_(ranges), best_(Candidate{-1, 0, 0, bar, 0, 0}) {}
 
   // Searches with candidates whose score does not exceed the bar pruned; returns the best candidate found
   // above the bar (rotation -1 when none).
   Candidate run() {
     const int depth = static_cast<int>(map_.packed.size());
     const int block = 1 << (2 * depth);
+    const std::size_t n = static_cast<std::size_t>(query_.num_points);
+    buffers_.resize(static_cast<std::size_t>(depth));
+    for (Buffers& b : buffers_) {
+      b.x = std::make_unique_for_overwrite<int[]>(n + 8);
+      b.y = std::make_unique_for_overwrite<int[]>(n + 8);
+      b.values = std::make_unique_for_overwrite<std::uint16_t[]>(n + 8);
+    }
+    std::size_t roots = 0;
+    for (const Range& r : ranges_) {
+      if (!r.empty()) roots += static_cast<std::size_t>(((r.i_hi - r.i_lo) / block + 1) * ((r.j_hi - r.j_lo) / block + 1));
+    }
+    root_values_ = std::make_unique_for_overwrite<std::uint16_t[]>(roots * n + 8);
     std::vector<Candidate> candidates;
+    int root = 0;
     for (std::size_t k = 0; k < ranges_.size(); ++k) {
       const Range& r = ranges_[k];
       if (r.empty()) continue;
       for (int j = r.j_lo; j <= r.j_hi; j += block) {
-        for (int i = r.i_lo; i <= r.i_hi; i += block) expand({static_cast<int>(k), i, j, 0}, depth, candidates);
+        for (int i = r.i_lo; i <= r.i_hi; i += block, ++root) {
+          const Candidate c{static_cast<int>(k), i, j, 0, 0, root};
+          expand(c, depth, full_cells(c.rotation), root_values_.get() + static_cast<std::size_t>(root) * n,
+                 /*bar=*/-1, candidates);
+        }
       }
     }
-    std::stable_sort(candidates.begin(), candidates.end(), by_score_descending);
-    descend(std::span<Candidate>(candidates), depth - 1);
+    // Best bound first (ties: generation order), popped lazily: most are never needed.
+    std::vector<std::pair<Candidate, std::size_t>> heap;
+    heap.reserve(candidates.size());
+    for (std::size_t m = 0; m < candidates.size(); ++m) heap.emplace_back(candidates[m], m);
+    const auto worse = [](const std::pair<Candidate, std::size_t>& a, const std::pair<Candidate, std::size_t>& b) {
+      return a.first.score != b.first.score ? a.first.score < b.first.score : a.second > b.second;
+    };
+    std::make_heap(heap.begin(), heap.end(), worse);
+    while (!heap.empty() && heap.front().first.score > best_.score) {
+      std::pop_heap(heap.begin(), heap.end(), worse);
+      Candidate c = heap.back().first;
+      heap.pop_back();
+      descend(std::span<Candidate>(&c, 1), depth - 1);
+    }
     return best_;
   }
 
   std::int64_t candidates_scored() const { return scored_; }
 
  private:
-  // Appends the children (at depth - 1) of a node at depth d that lie inside the search range.
+  struct Buffers {  // the cells of the node being expanded at one depth, and their looked-up values
+    std::unique_ptr<int[]> x, y;
+    std::unique_ptr<std::uint16_t[]> values;
+  };
+
+  CellList full_cells(int rotation) const {
+    const RotatedQuery& r = query_.rotations[static_cast<std::size_t>(rotation)];
+    return {r.x.data(), r.y.data(), r.x.size()};
+  }
+
+  // Bounds the children (at depth d - 1) of node c at depth d over `cells`, storing the looked-up values
+  // when `values` is not null, and appends those inside the search range. Appends nothing when the pass
+  // proved that no child beats `bar`.
   template <typename Out>
-  void expand(const Candidate& c, int d, Out& out) {
+  void expand(const Candidate& c, int d, const CellList& cells, std::uint16_t* values, int bar, Out& out) {
     const PackedLevel& packed = map_.packed[static_cast<std::size_t>(d - 1)];
     const Range& r = ranges_[static_cast<std::size_t>(c.rotation)];
-    const std::array<int, 16> bounds =
-        child_bounds(packed, query_.rotations[static_cast<std::size_t>(c.rotation)], c.i, c.j);
+    std::array<int, 16> bounds;
+    if (!child_bounds(packed, cells, c.i, c.j, bar, values, bounds)) return;
     for (int b = 0; b < 4; ++b) {
       const int j = c.j + b * packed.step;
       if (j > r.j_hi) break;
       for (int a = 0; a < 4; ++a) {
         const int i = c.i + a * packed.step;
         if (i > r.i_hi) break;
-        out.push_back({c.rotation, i, j, bounds[static_cast<std::size_t>(a + 4 * b)]});
+        out.push_back({c.rotation, i, j, bounds[static_cast<std::size_t>(a + 4 * b)], a + 4 * b, c.parent});
         ++scored_;
       }
     }
@@ -150,18 +193,44 @@ class BranchAndBound {
     void push_back(const Candidate& c) { items[size++] = c; }
   };
 
-  // `candidates` are nodes at depth d (d = 0: single translations), sorted by bound.
+  // `candidates` are nodes at depth d (d = 0: single translations), sorted by bound; their parent (at depth
+  // d + 1) left its cells and values in buffers_[d + 1], or in root_values_ for the roots.
   void descend(std::span<Candidate> candidates, int d) {
+    const auto depth = static_cast<int>(buffers_.size());
     for (const Candidate& c : candidates) {
       if (c.score <= best_.score) break;  // sorted: no later candidate can beat the bar either
       if (d == 0) {
         best_ = c;
         break;  // the rest score no more than c
       }
+      // This node's cells: its parent's cells that can score in it (exactly c.score of them). Filtering
+      // pays only when it drops at least half of them.
+      CellList parent;
+      const std::uint16_t* parent_values = nullptr;
+      if (d + 1 == depth) {
+        parent = full_cells(c.rotation);
+        parent_values = root_values_.get() + static_cast<std::size_t>(c.parent) * parent.size;
+      } else {
+        parent = lists_[static_cast<std::size_t>(d + 1)];
+        parent_values = buffers_[static_cast<std::size_t>(d + 1)].values.get();
+      }
+      Buffers& mine = buffers_[static_cast<std::size_t>(d)];
+      CellList& list = lists_[static_cast<std::size_t>(d)];
+      if (static_cast<std::size_t>(c.score) * 2 < parent.size) {
+        list = {mine.x.get(), mine.y.get(), filter_cells(parent, parent_values, c.bit, mine.x.get(), mine.y.get())};
+      } else {
+        list = parent;
+      }
       Children children;
-      expand(c, d, children);
-      std::stable_sort(children.items.begin(), children.items.begin() + static_cast<std::ptrdiff_t>(children.size),
-                       by_score_descending);
+      // Children at depth 0 are leaves: their values are not needed.
+      expand(c, d, list, d > 1 ? mine.values.get() : nullptr, best_.score, children);
+      // Stable insertion sort of at most 16 children, best bound first.
+      for (std::size_t a = 1; a < children.size; ++a) {
+        const Candidate item = children.items[a];
+        std::size_t b = a;
+        for (; b > 0 && children.items[b - 1].score < item.score; --b) children.items[b] = children.items[b - 1];
+        children.items[b] = item;
+      }
       descend(std::span<Candidate>(children.items.data(), children.size), d - 1);
     }
   }
@@ -171,6 +240,9 @@ class BranchAndBound {
   const std::vector<Range>& ranges_;
   Candidate best_;
   std::int64_t scored_ = 0;
+  std::vector<Buffers> buffers_;              // index: depth
+  std::array<CellList, 16> lists_{};          // cells of the node being expanded at depth d
+  std::unique_ptr<std::uint16_t[]> root_values_;  // per root, the values of its pass over the full cells
 };
 
 std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
@@ -235,16 +307,27 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
     const double c = std::cos(angle), s = std::sin(angle);
     r.x.reserve(points_query.size());
     r.y.reserve(points_query.size());
-    std::vector<std::pair<int, int>> cells;  // (row, column), sorted: the search skips rows off the grid
-    cells.reserve(points_query.size());
+    // Cells sorted by row (a stable counting sort), so that the search skips rows off the grid.
+    std::vector<int> xs, ys;
+    xs.reserve(points_query.size());
+    ys.reserve(points_query.size());
     for (const Vec2& p : points_query) {
-      cells.emplace_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)),
-                         static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
+      xs.push_back(static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
+      ys.push_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)));
     }
-    std::sort(cells.begin(), cells.end());
-    for (const auto& [y, x] : cells) {
-      r.x.push_back(x);
-      r.y.push_back(y);
+    if (!ys.empty()) {
+      const auto [y_lo, y_hi] = std::minmax_element(ys.begin(), ys.end());
+      const int y0 = *y_lo;
+      std::vector<int> start(static_cast<std::size_t>(*y_hi - y0) + 2, 0);
+      for (const int y : ys) ++start[static_cast<std::size_t>(y - y0) + 1];
+      for (std::size_t m = 1; m < start.size(); ++m) start[m] += start[m - 1];
+      r.x.resize(xs.size());
+      r.y.resize(ys.size());
+      for (std::size_t k = 0; k < xs.size(); ++k) {
+        const auto slot = static_cast<std::size_t>(start[static_cast<std::size_t>(ys[k] - y0)]++);
+        r.x[slot] = xs[k];
+        r.y[slot] = ys[k];
+      }
     }
     if (!r.x.empty()) {
       const auto [x_lo, x_hi] = std::minmax_element(r.x.begin(), r.x.end());

@@ -1,10 +1,10 @@
 #include "core/dmm_ransac.h"
 
 #include <cmath>
-#include <random>
 #include <string>
 
 #include "core/error.h"
+#include "core/random.h"
 
 namespace partslam {
 namespace {
@@ -13,14 +13,7 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw InputError("dmm-ransac config: " + message);
 }
 
-// Uniform index in [0, n); rng() % n is the same on every standard library (the bias is negligible here).
-std::size_t draw(std::mt19937_64& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
-
-// Residual of an angle about the nearest multiple of 90 degrees, in [-pi/4, pi/4].
-double quarter_residual(double angle) {
-  const double q = std::numbers::pi / 2;
-  return angle - std::round(angle / q) * q;
-}
+std::size_t draw(Rng& rng, std::size_t n) { return static_cast<std::size_t>(rng.index(n)); }
 
 // Rigid transform mapping the segment x1-x2 onto y1-y2 (least squares for equal lengths: the midpoints match).
 Pose2 hypothesis(const Vec2& x1, const Vec2& x2, const Vec2& y1, const Vec2& y2) {
@@ -81,7 +74,7 @@ DmmResult match_dmm_ransac(const Points2& query, const PreparedRansacMap& map, c
   best.inliers = -1;
   const Points2& ys = map.points;
   if (!query.empty() && !ys.empty()) {
-    std::mt19937_64 rng(config.seed);
+    Rng rng(config.seed);
     for (int it = 0; it < config.iterations && best.inliers < static_cast<int>(query.size()); ++it) {
       for (int d = 0; d < config.max_draws; ++d) {
         const Vec2& x1 = query[draw(rng, query.size())];
@@ -90,14 +83,26 @@ DmmResult match_dmm_ransac(const Points2& query, const PreparedRansacMap& map, c
         if (length < config.min_sample_distance || length == 0.0) continue;
         const Vec2& y1 = ys[draw(rng, ys.size())];
         // Second correspondence: the first map point from a random start that is consistent with (x1, x2, y1).
+        const double lo = std::max(0.0, length - config.length_tolerance), hi = length + config.length_tolerance;
+        const double lo2 = lo * lo, hi2 = hi * hi;
+        const Vec2 dx = x2 - x1;
+        // Canonical: the angle between x2 - x1 and y2 - y1 is within the window of a multiple of 90 degrees,
+        // i.e. min(|sin|, |cos|) <= sin(window) (tested on cross and dot products, no trigonometry).
+        const double sin_window = std::sin(config.angular_window);
         const std::size_t start = draw(rng, ys.size());
         const Pose2* found = nullptr;
         Pose2 T;
         for (std::size_t k = 0; k < ys.size() && !found; ++k) {
-          const Vec2& y2 = ys[(start + k) % ys.size()];
-          if (std::abs((y2 - y1).norm() - length) > config.length_tolerance) continue;
+          const std::size_t m = start + k < ys.size() ? start + k : start + k - ys.size();
+          const Vec2& y2 = ys[m];
+          const double d2 = (y2 - y1).squaredNorm();
+          if (d2 < lo2 || d2 > hi2) continue;
+          if (config.canonical) {
+            const Vec2 dy = y2 - y1;
+            const double cross = std::abs(dx.x() * dy.y() - dx.y() * dy.x()), dot = std::abs(dx.dot(dy));
+            if (std::min(cross, dot) > sin_window * length * std::sqrt(d2)) continue;
+          }
           T = hypothesis(x1, x2, y1, y2);
-          if (config.canonical && std::abs(quarter_residual(T.theta)) > config.angular_window) continue;
           found = &T;
         }
         if (!found) continue;

@@ -77,13 +77,24 @@ GridPyramid build_grid_pyramid(const OccupancyGrid& base, int num_levels) {
     level.height = base.height + w - 1;
     level.cells.assign(static_cast<std::size_t>(level.width) * level.height, 0);
     if (base.width > 0 && base.height > 0) {
-      // max over [x, x + w) = max of the previous level (windows of w / 2) at x and x + w / 2.
+      // max over [x, x + w) = max of the previous level (windows of w / 2) at x and x + w / 2; in index
+      // space level(cx, cy) = max of prev(cx - half .. cx, cy - half .. cy), prev reading 0 outside.
+      // Vertical pass into `tall` (prev's columns, level's rows), then horizontal into the level.
+      std::vector<std::uint8_t> tall(static_cast<std::size_t>(prev.width) * level.height, 0);
       for (int cy = 0; cy < level.height; ++cy) {
-        const int y = level.y0 + cy;
-        std::uint8_t* row = &level.cells[static_cast<std::size_t>(cy) * level.width];
-        for (int cx = 0; cx < level.width; ++cx) {
-          const int x = level.x0 + cx;
-          row[cx] = std::max({prev.at(x, y), prev.at(x + half, y), prev.at(x, y + half), prev.at(x + half, y + half)});
+        std::uint8_t* out = &tall[static_cast<std::size_t>(cy) * prev.width];
+        for (const int py : {cy - half, cy}) {
+          if (py < 0 || py >= prev.height) continue;
+          const std::uint8_t* in = &prev.cells[static_cast<std::size_t>(py) * prev.width];
+          for (int cx = 0; cx < prev.width; ++cx) out[cx] = std::max(out[cx], in[cx]);
+        }
+      }
+      for (int cy = 0; cy < level.height; ++cy) {
+        const std::uint8_t* in = &tall[static_cast<std::size_t>(cy) * prev.width];
+        std::uint8_t* out = &level.cells[static_cast<std::size_t>(cy) * level.width];
+        for (int cx = 0; cx < prev.width; ++cx) {
+          out[cx] = std::max(out[cx], in[cx]);
+          out[cx + half] = std::max(out[cx + half], in[cx]);
         }
       }
     }
@@ -103,17 +114,16 @@ PackedLevel build_packed_level(const OccupancyGrid& level, int step) {
   packed.y0 = level.y0 - 3 * step;
   packed.width = level.width + 3 * step;
   packed.height = level.height + 3 * step;
-  packed.cells.assign((static_cast<std::size_t>(packed.width) + 1) * packed.height, 0);
-  for (int cy = 0; cy < packed.height; ++cy) {
-    std::uint16_t* row = &packed.cells[static_cast<std::size_t>(cy) * (packed.width + 1)];
-    for (int cx = 0; cx < packed.width; ++cx) {
-      unsigned bits = 0;
-      for (int b = 0; b < 4; ++b) {
-        for (int a = 0; a < 4; ++a) {
-          bits |= static_cast<unsigned>(level.at(packed.x0 + cx + a * step, packed.y0 + cy + b * step)) << (a + 4 * b);
-        }
+  packed.cells.assign((static_cast<std::size_t>(packed.width) + 1) * packed.height + 1, 0);
+  // Packed cell (cx, cy) takes bit a + 4 b from level cell (cx + (a - 3) step, cy + (b - 3) step).
+  for (int b = 0; b < 4; ++b) {
+    for (int a = 0; a < 4; ++a) {
+      const int sx = (3 - a) * step, sy = (3 - b) * step;  // packed index = level index + shift
+      for (int ly = 0; ly < level.height; ++ly) {
+        const std::uint8_t* in = &level.cells[static_cast<std::size_t>(ly) * level.width];
+        std::uint16_t* out = &packed.cells[static_cast<std::size_t>(ly + sy) * (packed.width + 1) + sx];
+        for (int lx = 0; lx < level.width; ++lx) out[lx] = static_cast<std::uint16_t>(out[lx] | in[lx] << (a + 4 * b));
       }
-      row[cx] = static_cast<std::uint16_t>(bits);
     }
   }
   return packed;

@@ -72,7 +72,8 @@ struct PackedLevel {
   int y0 = 0;     ///< lattice index of the first row
   int width = 0;  ///< columns
   int height = 0; ///< rows
-  /// Row-major with stride width + 1: every row ends in a 0, which lookups left or right of the grid may read.
+  /// Row-major with stride width + 1: every row ends in a 0, which lookups left or right of the grid may read;
+  /// one more 0 at the end lets SIMD gathers read 32 bits at the last cell.
   std::vector<std::uint16_t> cells;
 
   std::uint16_t at(int x, int y) const {

@@ -1,0 +1,226 @@
+// dMM speed (DESIGN.md "dMM"; paper: 33 ms per map pair; floor <= 1 ms, aim <= 0.2 ms): milliseconds per map
+// pair for dmm (exact branch-and-bound), dmm-ransac (the paper's baseline) and the exhaustive search over the
+// same discretisation, on the same pairs in the same run. Pairs: fr079 submaps (../shared/data), half
+// relevant (loop closures, DESIGN.md "Tasks") and half random; without the data folder, submaps of the
+// built-in simulator. Each benchmark cycles through the pairs and reports, per pair, the median / 90th
+// percentile / mean time (counters median_ms, p90_ms, mean_ms; thread CPU time, so other processes on the
+// machine matter less) besides Google Benchmark's own mean. Also: 1-to-N (one query against 100 maps,
+// every exact score vs top-1 pruning) and CPD's case, a small crop against a whole dictionary map.
+// BM_Dmm/0 and BM_Exhaustive cycle through the same pairs in the same order; BM_Dmm/1 and /2 split them into
+// relevant and irrelevant. Run: build/bench_dmm [--benchmark_filter=...]
+#include <benchmark/benchmark.h>
+#include <time.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <random>
+
+#include "core/dictionary.h"
+#include "core/dmm.h"
+#include "core/dmm_ransac.h"
+#include "core/simulator.h"
+#include "core/tasks.h"
+#include "io/carmen_log.h"
+
+namespace partslam {
+namespace {
+
+std::filesystem::path shared_data() {
+  const char* env = std::getenv("PARTSLAM_SHARED_DATA");
+  return env != nullptr && *env != '\0' ? std::filesystem::path(env) : std::filesystem::path(PARTSLAM_SHARED_DATA);
+}
+
+struct Data {
+  std::string source;
+  Submaps maps;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (query, map)
+  Scans dictionary_scans;                                   // another building, for the crop benchmark
+};
+
+const Data& data() {
+  static const Data d = [] {
+    Data out;
+    const std::filesystem::path fr079 = shared_data() / "fr079" / "fr079-corrected.log.gz";
+    const std::filesystem::path intel = shared_data() / "intel" / "intel-corrected.log.gz";
+    if (std::filesystem::exists(fr079) && std::filesystem::exists(intel)) {
+      out.source = "fr079 (dictionary: intel)";
+      out.maps = build_submaps(io::read_carmen_log(fr079).scans);
+      out.dictionary_scans = io::read_carmen_log(intel).scans;
+    } else {
+      out.source = "simulator (data folder absent)";
+      out.maps = build_submaps(simulate().scans);
+      SimulatorConfig other;
+      other.seed = 2;
+      out.dictionary_scans = simulate(other).scans;
+    }
+    // Alternating relevant / irrelevant pairs, so that any prefix is balanced. Irrelevant: centroids more
+    // than 2R = 4 m apart (what fills a task's database).
+    const std::vector<RelevantPair> relevant = relevant_pairs(out.maps, TaskConfig{});
+    std::mt19937_64 rng(7);
+    for (int k = 0; k < 100 && !relevant.empty(); ++k) {
+      const RelevantPair& p = relevant[rng() % relevant.size()];
+      out.pairs.emplace_back(p.query, p.global);
+      std::size_t q = 0, m = 0;
+      do {
+        q = rng() % out.maps.size();
+        m = rng() % out.maps.size();
+      } while ((out.maps[q].T_world_map.translation() - out.maps[m].T_world_map.translation()).norm() <= 4.0);
+      out.pairs.emplace_back(q, m);
+    }
+    return out;
+  }();
+  return d;
+}
+
+double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+// Times one call per iteration, cycling through `n` cases; reports per-case statistics.
+template <typename F>
+void run_cycled(benchmark::State& state, std::size_t n, F&& call) {
+  std::vector<double> ms;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const double t0 = cpu_ms();
+    benchmark::DoNotOptimize(call(k));
+    ms.push_back(cpu_ms() - t0);
+    k = (k + 1) % n;
+  }
+  std::sort(ms.begin(), ms.end());
+  double sum = 0;
+  for (double t : ms) sum += t;
+  state.counters["median_ms"] = ms[ms.size() / 2];
+  state.counters["p90_ms"] = ms[ms.size() * 9 / 10];
+  state.counters["mean_ms"] = sum / static_cast<double>(ms.size());
+  state.counters["pairs"] = static_cast<double>(std::min(n, ms.size()));
+  state.SetLabel(data().source);
+}
+
+struct Prepared {
+  std::vector<PreparedQuery> queries;
+  std::vector<PreparedMap> maps;
+};
+
+const Prepared& prepared() {
+  static const Prepared p = [] {
+    Prepared out;
+    for (const auto& [q, m] : data().pairs) {
+      out.queries.push_back(prepare_query(data().maps[q].points));
+      out.maps.push_back(prepare_map(data().maps[m].points));
+    }
+    return out;
+  }();
+  return p;
+}
+
+// Arg: 0 every pair, 1 relevant pairs only, 2 irrelevant pairs only (a task's database is 99 % irrelevant).
+void BM_Dmm(benchmark::State& state) {
+  const Prepared& p = prepared();
+  const int kind = static_cast<int>(state.range(0));
+  const std::size_t stride = kind == 0 ? 1 : 2, offset = kind == 2 ? 1 : 0;
+  double inliers = 0, candidates = 0;
+  run_cycled(state, p.maps.size() / stride, [&](std::size_t k) {
+    const std::size_t m = offset + k * stride;
+    const DmmResult r = match_dmm(p.queries[m], p.maps[m]);
+    inliers += r.inlier_fraction;
+    candidates += static_cast<double>(r.candidates_scored);
+    return r.inliers;
+  });
+  state.counters["inlier_frac"] = inliers / static_cast<double>(state.iterations());
+  state.counters["nodes"] = candidates / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_Dmm)->Arg(0)->Arg(1)->Arg(2)->Iterations(1000);
+
+void BM_Exhaustive(benchmark::State& state) {
+  const Prepared& p = prepared();
+  run_cycled(state, p.maps.size(),
+             [&](std::size_t k) { return match_exhaustive(p.queries[k], p.maps[k]).inliers; });
+}
+BENCHMARK(BM_Exhaustive)->Iterations(200)->Unit(benchmark::kMillisecond);
+
+void BM_DmmRansac(benchmark::State& state) {
+  DmmRansacConfig config;
+  config.iterations = static_cast<int>(state.range(0));
+  std::vector<PreparedRansacMap> maps;
+  for (const auto& [q, m] : data().pairs) maps.push_back(prepare_ransac_map(data().maps[m].points, config));
+  double inliers = 0;
+  run_cycled(state, maps.size(), [&](std::size_t k) {
+    const DmmResult r = match_dmm_ransac(data().maps[data().pairs[k].first].points, maps[k], config);
+    inliers += r.inlier_fraction;
+    return r.inliers;
+  });
+  state.counters["inlier_frac"] = inliers / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_DmmRansac)->Arg(1000)->Iterations(200)->Unit(benchmark::kMillisecond);
+
+// One query against 100 database maps: every exact score (ranking) vs top-1 pruning.
+void BM_DmmOneToN(benchmark::State& state) {
+  const Prepared& p = prepared();
+  const std::span<const PreparedMap> maps(p.maps.data(), 100);
+  const int top_k = static_cast<int>(state.range(0));
+  run_cycled(state, 10, [&](std::size_t k) { return match_dmm_many(p.queries[k * 10], maps, {}, top_k).size(); });
+  state.counters["ms_per_pair"] = state.counters["mean_ms"] / 100.0;
+}
+BENCHMARK(BM_DmmOneToN)->Arg(0)->Arg(1)->Iterations(10)->Unit(benchmark::kMillisecond);
+
+std::size_t bytes(const PreparedMap& m);
+
+// CPD (Eq. 2): 2-10 m crops of the submaps against a whole dictionary map (another building), translation
+// window = the whole dictionary (dmm_config_for_dictionary).
+void BM_DmmCropOnDictionary(benchmark::State& state) {
+  const DmmConfig config = dmm_config_for_dictionary();
+  static const Dictionary dictionary = build_dictionary("bench", data().dictionary_scans);
+  static const PreparedMap map = prepare_map(dictionary.points, config);
+  std::vector<PreparedQuery> crops;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> side(2.0, 10.0), corner(-6.4, 6.4);
+  double points = 0;
+  while (crops.size() < 50) {
+    const Submap& m = data().maps[rng() % data().maps.size()];
+    const double w = side(rng), h = side(rng), x = corner(rng), y = corner(rng);
+    Points2 crop;
+    for (const Vec2& p : m.points) {
+      if (p.x() >= x && p.x() < x + w && p.y() >= y && p.y() < y + h) crop.push_back(p);
+    }
+    if (crop.size() < 20) continue;
+    const Vec2 c = centroid(crop);
+    for (Vec2& p : crop) p -= c;
+    points += static_cast<double>(crop.size());
+    crops.push_back(prepare_query(crop, config));
+  }
+  run_cycled(state, crops.size(), [&](std::size_t k) { return match_dmm(crops[k], map, config).inliers; });
+  const Box2 box = bounding_box(dictionary.points);
+  state.counters["dict_m2"] = box.area();
+  state.counters["dict_MB"] = static_cast<double>(bytes(map)) / (1024.0 * 1024.0);
+  state.counters["crop_points"] = points / static_cast<double>(crops.size());
+}
+BENCHMARK(BM_DmmCropOnDictionary)->Iterations(100)->Unit(benchmark::kMillisecond);
+
+// Preparation: once per stored map (grid + packed pyramid) and once per query (rotated cell sets).
+std::size_t bytes(const PreparedMap& m) {
+  std::size_t total = m.grid.cells.size();
+  for (const PackedLevel& p : m.packed) total += p.cells.size() * sizeof(std::uint16_t);
+  return total;
+}
+
+void BM_PrepareMap(benchmark::State& state) {
+  run_cycled(state, data().maps.size(), [&](std::size_t k) { return prepare_map(data().maps[k].points).packed.size(); });
+  double total = 0;
+  for (const PreparedMap& m : prepared().maps) total += static_cast<double>(bytes(m));
+  state.counters["kB_per_map"] = total / static_cast<double>(prepared().maps.size()) / 1024.0;
+}
+BENCHMARK(BM_PrepareMap)->Iterations(400);
+
+void BM_PrepareQuery(benchmark::State& state) {
+  run_cycled(state, data().maps.size(),
+             [&](std::size_t k) { return prepare_query(data().maps[k].points).rotations.size(); });
+}
+BENCHMARK(BM_PrepareQuery)->Iterations(400);
+
+}  // namespace
+}  // namespace partslam
+
+BENCHMARK_MAIN();
