@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/tasks.h"
+#include "apps/cli_testing.h"
 #include "io/map_database.h"
 
 namespace partslam {
@@ -23,24 +24,9 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-CliRun run_partslam(const std::string& args) {
-  const std::string command = std::string("'") + PARTSLAM_BINARY + "' " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) run.output += buffer.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
-
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+using testing::CliRun;
+using testing::quoted;
+using testing::run_partslam;
 
 // The fields of the ranking row of the given rank ("    1     72 ...").
 std::vector<std::string> ranking_row(const std::string& output, int rank) {

@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "core/error.h"
-#include "io/atomic_file.h"
+#include "io/png_file.h"
 
 namespace partslam::io {
 namespace {
@@ -94,15 +94,7 @@ void write_rank_plot(const std::filesystem::path& path, const std::string& title
   }
   cairo_destroy(cr);
 
-  const std::filesystem::path tmp = temporary_sibling(path);
-  const cairo_status_t status = cairo_surface_write_to_png(surface, tmp.c_str());
-  cairo_surface_destroy(surface);
-  if (status != CAIRO_STATUS_SUCCESS) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path.string() + ": cannot write PNG: " + cairo_status_to_string(status));
-  }
-  commit_temporary(tmp, path);
+  write_png_atomically(path, surface);
 }
 
 }  // namespace partslam::io
