@@ -58,12 +58,16 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--cpd-partitions", o.config.cpd.partitions, "CPD: random partitions per map")
       ->capture_default_str();
   cmd.add_option("--cpd-tsize", o.config.cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
+  cmd.add_option("--dmm-dilation", o.config.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
+  cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
+      ->capture_default_str();
   cmd.add_flag("--quiet", o.quiet, "no progress bar");
 }
 
 EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   EvalRun run;
   run.options = o;
+  run.options.config.dmm.angular_window = o.dmm_angular_window_deg * std::numbers::pi / 180.0;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
   validate(o.config.tasks);
@@ -79,7 +83,7 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
         << dictionary.points.size() << " points\n";
   }
   ProgressBar bar(tty);
-  run.report = evaluate(maps, dictionary.points, methods, o.config,
+  run.report = evaluate(maps, dictionary.points, methods, run.options.config,
                         [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;
