@@ -32,7 +32,6 @@ struct DescribeOptions {
   std::vector<int> ks = {1, 2, 3, 4, 5};
   int threads = 1;
   bool verbose = false;
-  std::string maximality = "point";
   CpdConfig cpd;
 };
 
@@ -68,7 +67,6 @@ void run_describe(DescribeOptions o) {
   }
   ks.insert(o.parts);  // the hMM query list
   o.cpd.max_parts = o.parts;
-  o.cpd.maximality = parse_maximality(o.maximality);
   validate(o.cpd);
 
   using Clock = std::chrono::steady_clock;
@@ -197,14 +195,7 @@ void register_describe(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--dataset", o->dataset, "describe only this dataset (default: every submaps dataset)");
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
-  cmd->add_option("--partitions", o->cpd.partitions, "CPD: random partitions per map")->capture_default_str();
-  cmd->add_option("--tsize", o->cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
-  cmd->add_option(
-         "--mc", o->maximality,
-         "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "
-         "points that fit the dictionary)")
-      ->capture_default_str();
-  cmd->add_option("--seed", o->cpd.seed, "CPD: base seed (mixed with each map id)")->capture_default_str();
+  add_cpd_options(*cmd, o->cpd, "");
   cmd->add_flag("--verbose", o->verbose, "print one line per map");
   cmd->callback([o] { run_describe(*o); });
 }

@@ -44,6 +44,7 @@ struct MatchOptions {
   double min_gap = 0;
   int query_parts = 0;
   int threads = 1;
+  double gate = kDefaultOriginGate;
   DmmConfig dmm;
   DmmRansacConfig ransac;
 };
@@ -166,7 +167,7 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
   const DescriptorDatabase database(database_maps, config);
   const double build_ms = ms_since(t0);
   t0 = Clock::now();
-  const std::vector<float> scores = database.score_all(*query_descriptor, method.matcher, {o.threads});
+  const std::vector<float> scores = database.score_all(*query_descriptor, method.matcher, {o.threads, o.gate});
   const double score_ms = ms_since(t0);
   char buf[240];
   std::snprintf(buf, sizeof buf,
@@ -319,6 +320,11 @@ void register_match(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--query-parts", o->query_parts,
                   "K of the stored hMM query list (default: the longest one)");
+  cmd->add_option("--gate", o->gate,
+                  "descriptor matcher: origin gate [m], part pairs must put the map frames this close; 0 = off "
+                  "(the paper)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1000.0));
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->callback([o] { run_match(*o); });
 }

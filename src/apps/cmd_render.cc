@@ -25,7 +25,6 @@ struct RenderOptions {
   int parts = 5;
   std::string out;
   bool fresh = false;
-  std::string maximality = "point";
   CpdConfig cpd;
   io::RenderConfig render;
 };
@@ -33,7 +32,6 @@ struct RenderOptions {
 void run_render(RenderOptions o) {
   if (o.parts < 1 || o.parts > 100)
     throw InputError("--parts must be in [1, 100], got " + std::to_string(o.parts));
-  o.cpd.maximality = parse_maximality(o.maximality);
   validate(o.cpd);
   validate(o.render);
   if (std::filesystem::path(o.out).extension() != ".png")
@@ -102,8 +100,7 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--fresh", o->fresh, "run CPD even when descriptors are stored");
   cmd->add_option("--cpd-parts", o->cpd.max_parts, "CPD on the fly: parts searched (as describe --parts)")
       ->capture_default_str();
-  cmd->add_option("--mc", o->maximality, "CPD on the fly: MC reading, point or inlier (as describe --mc)")
-      ->capture_default_str();
+  add_cpd_options(*cmd, o->cpd, "");  // CPD on the fly, as describe
   cmd->add_option("--width", o->render.width, "image width [px]")->capture_default_str();
   cmd->callback([o] { run_render(*o); });
 }

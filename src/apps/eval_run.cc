@@ -1,5 +1,7 @@
 #include "apps/eval_run.h"
 
+#include "apps/stored_parts.h"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -54,10 +56,12 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--gap", o.config.tasks.min_travel_gap, "G: min travel gap of a relevant pair [m]")
       ->capture_default_str();
   cmd.add_option("--threads", o.config.num_threads, "threads (results do not depend on it)")->capture_default_str();
-  cmd.add_option("--hmm-query-parts", o.config.hmm_query_parts, "parts of an hMM query")->capture_default_str();
-  cmd.add_option("--cpd-partitions", o.config.cpd.partitions, "CPD: random partitions per map")
+  cmd.add_option("--gate", o.config.origin_gate,
+                 "descriptor matcher: origin gate [m], part pairs must put the map frames this close; 0 = off "
+                 "(the paper)")
       ->capture_default_str();
-  cmd.add_option("--cpd-tsize", o.config.cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
+  cmd.add_option("--hmm-query-parts", o.config.hmm_query_parts, "parts of an hMM query")->capture_default_str();
+  add_cpd_options(cmd, o.config.cpd, "cpd-");
   cmd.add_option("--dmm-dilation", o.config.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
       ->capture_default_str();

@@ -5,10 +5,40 @@
 
 namespace partslam::apps {
 
-MaximalityMode parse_maximality(const std::string& name) {
-  if (name == "point") return MaximalityMode::kPointShare;
-  if (name == "inlier") return MaximalityMode::kInlierShare;
-  throw InputError("--mc: expected point or inlier, got '" + name + "'");
+void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
+  const auto name = [&prefix](const char* n) { return "--" + prefix + n; };
+  cmd.add_option_function<std::string>(
+         name("candidates"),
+         [&cpd, flag = name("candidates")](const std::string& v) {
+           if (v == "partitions") cpd.candidates = CandidateMode::kPartitions;
+           else if (v == "corners") cpd.candidates = CandidateMode::kCorners;
+           else throw InputError(flag + ": expected partitions or corners, got '" + v + "'");
+         },
+         "CPD: candidate keypoint boxes, partitions (random grids, the paper) or corners (squares on corner "
+         "points)")
+      ->default_str(cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions");
+  cmd.add_option(name("partitions"), cpd.partitions, "CPD: random partitions per map (candidates partitions)")
+      ->capture_default_str();
+  cmd.add_option(name("corners"), cpd.corners, "CPD: corner points per map (candidates corners)")
+      ->capture_default_str();
+  cmd.add_option(name("box-sizes"), cpd.box_sizes, "CPD: square sides on each corner [m], comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd.add_option_function<std::string>(
+         name("mc"),
+         [&cpd, flag = name("mc")](const std::string& v) {
+           if (v == "point") cpd.maximality = MaximalityMode::kPointShare;
+           else if (v == "inlier") cpd.maximality = MaximalityMode::kInlierShare;
+           else throw InputError(flag + ": expected point or inlier, got '" + v + "'");
+         },
+         "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "
+         "points that fit the dictionary)")
+      ->default_str(cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point");
+  cmd.add_option(name("tsize"), cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
+  cmd.add_option(name("gc"), cpd.geometric_consistency,
+                 "CPD: GC, keep only parts whose descriptor boxes pairwise overlap (true/false)")
+      ->capture_default_str();
+  cmd.add_option(name("seed"), cpd.seed, "CPD: base seed (mixed with each map id)")->capture_default_str();
 }
 
 io::Dictionary resolve_dictionary(const io::MapDatabase& db, const std::string& name) {

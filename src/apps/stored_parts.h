@@ -2,6 +2,7 @@
 // the codec that core/descriptor_layout.h derives from the dictionary's points and K.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -13,8 +14,9 @@
 
 namespace partslam::apps {
 
-/// CPD's MC reading from its CLI name: "point" or "inlier"; throws InputError otherwise.
-MaximalityMode parse_maximality(const std::string& name);
+/// The CPD parameters as options of `cmd`, each named --PREFIXNAME (prefix "" for describe and render,
+/// "cpd-" for eval and demo): candidates, partitions, corners, box-sizes, mc, tsize, gc, seed.
+void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix);
 
 /// The dictionary named, or when name is empty the only dictionary of the database; throws InputError naming
 /// what is missing or ambiguous.

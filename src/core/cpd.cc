@@ -54,6 +54,29 @@ std::vector<Box2> candidate_boxes(const Points2& points, const CpdConfig& config
   return out;
 }
 
+// Squares of every configured size centred on each corner, clipped to the codec's crop and snapped outward to
+// the keypoint lattice; duplicates dropped. Strongest corner first, smaller boxes first.
+std::vector<Box2> corner_boxes(const Points2& points, const CpdConfig& config) {
+  const double q = 0.1;
+  const auto snap_lo = [q](double v) { return std::floor(v / q + 1e-9) * q; };
+  const auto snap_hi = [q](double v) { return std::ceil(v / q - 1e-9) * q; };
+  const double e = config.crop_extent;
+  std::set<std::tuple<long, long, long, long>> seen;
+  std::vector<Box2> out;
+  for (const Vec2& c : find_corners(points, config)) {
+    for (double side : config.box_sizes) {
+      const double h = side / 2;
+      Box2 b{snap_lo(std::max(c.x() - h, -e)), snap_hi(std::min(c.x() + h, e)), snap_lo(std::max(c.y() - h, -e)),
+             snap_hi(std::min(c.y() + h, e))};
+      const auto key = std::make_tuple(std::lround(b.x_min / q), std::lround(b.x_max / q), std::lround(b.y_min / q),
+                                       std::lround(b.y_max / q));
+      if (b.area() <= 0 || !seen.insert(key).second) continue;
+      out.push_back(b);
+    }
+  }
+  return out;
+}
+
 Part describe(const Box2& keypoint_box, const Vec2& crop_origin, const DmmResult& fit, int crop_points) {
   Part part;
   part.keypoint_box = keypoint_box;
@@ -73,6 +96,47 @@ Part describe(const Box2& keypoint_box, const Vec2& crop_origin, const DmmResult
 
 }  // namespace
 
+Points2 find_corners(const Points2& map_points, const CpdConfig& config) {
+  const Points2 pts = voxel_downsample(map_points, 0.1);
+  const double r2 = config.corner_radius * config.corner_radius;
+  struct Scored {
+    double response;
+    Vec2 p;
+  };
+  std::vector<Scored> scored;
+  for (const Vec2& p : pts) {
+    // Structure tensor of the neighbourhood: its smaller eigenvalue is large only where walls meet.
+    double sxx = 0, sxy = 0, syy = 0, mx = 0, my = 0;
+    int n = 0;
+    for (const Vec2& o : pts) {
+      const Vec2 d = o - p;
+      if (d.squaredNorm() > r2) continue;
+      mx += d.x(), my += d.y(), sxx += d.x() * d.x(), sxy += d.x() * d.y(), syy += d.y() * d.y(), ++n;
+    }
+    if (n < 8) continue;
+    mx /= n, my /= n;
+    sxx = sxx / n - mx * mx, sxy = sxy / n - mx * my, syy = syy / n - my * my;
+    const double half_trace = (sxx + syy) / 2;
+    const double lambda_min = half_trace - std::sqrt(std::max(0.0, half_trace * half_trace - (sxx * syy - sxy * sxy)));
+    scored.push_back({lambda_min, p});
+  }
+  // Strongest first; ties by position so the order never depends on the input order.
+  std::sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
+    if (a.response != b.response) return a.response > b.response;
+    if (a.p.x() != b.p.x()) return a.p.x() < b.p.x();
+    return a.p.y() < b.p.y();
+  });
+  Points2 corners;
+  const double s2 = config.corner_spacing * config.corner_spacing;
+  for (const Scored& s : scored) {
+    if (static_cast<int>(corners.size()) >= config.corners) break;
+    if (std::any_of(corners.begin(), corners.end(), [&](const Vec2& c) { return (c - s.p).squaredNorm() < s2; }))
+      continue;
+    corners.push_back(s.p);
+  }
+  return corners;
+}
+
 void validate(const CpdConfig& c) {
   if (c.max_parts < 1 || c.max_parts > 10000) throw InputError("cpd: max_parts must be in [1, 10000]");
   if (c.partitions < 1 || c.partitions > 100000) throw InputError("cpd: partitions must be in [1, 100000]");
@@ -81,6 +145,15 @@ void validate(const CpdConfig& c) {
   if (!(c.t_size >= 0 && c.t_size <= 1)) throw InputError("cpd: t_size must be in [0, 1]");
   if (c.min_crop_points < 1) throw InputError("cpd: min_crop_points must be >= 1");
   if (!(c.crop_resolution > 0) || c.crop_resolution > 10) throw InputError("cpd: crop_resolution must be in (0, 10] m");
+  if (c.candidates == CandidateMode::kCorners) {
+    if (c.corners < 1 || c.corners > 10000) throw InputError("cpd: corners must be in [1, 10000]");
+    if (c.box_sizes.empty()) throw InputError("cpd: box_sizes must list at least one size");
+    for (double s : c.box_sizes)
+      if (!(s >= 0.2 && s <= 100)) throw InputError("cpd: every box size must be in [0.2, 100] m");
+    if (!(c.corner_radius >= 0.1 && c.corner_radius <= 10)) throw InputError("cpd: corner_radius must be in [0.1, 10] m");
+    if (!(c.corner_spacing >= 0 && c.corner_spacing <= 100)) throw InputError("cpd: corner_spacing must be in [0, 100] m");
+    if (!(c.crop_extent > 0 && c.crop_extent <= 100)) throw InputError("cpd: crop_extent must be in (0, 100] m");
+  }
   validate(c.dmm);
 }
 
@@ -96,7 +169,8 @@ CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& di
   CpdResult result;
   if (static_cast<int>(map_points.size()) < config.min_crop_points) return result;
   std::mt19937_64 rng(config.seed * 0x9E3779B97F4A7C15ULL ^ (map_key + 0x632BE59BD9B4E019ULL));
-  const std::vector<Box2> boxes = candidate_boxes(map_points, config, rng);
+  const std::vector<Box2> boxes = config.candidates == CandidateMode::kCorners ? corner_boxes(map_points, config)
+                                                                                : candidate_boxes(map_points, config, rng);
   result.stats.candidates = static_cast<int>(boxes.size());
 
   // MC (point share) is known before matching; shuffle so the matched ones are a fair sample of all candidates.

@@ -60,14 +60,24 @@ std::uint32_t morton(std::uint16_t x, std::uint16_t y) {
   return spread(x) | (spread(y) << 1);
 }
 
+// A part's dictionary_origin in half cells (exact for boxes on the grid), offset into 16 bits.
+std::array<std::uint16_t, 2> origin_half_cells(const Part& part, double resolution) {
+  const Vec2 o = dictionary_origin(part);
+  return {clamp16(std::llround(2 * o.x() / resolution) + kGridOffset),
+          clamp16(std::llround(2 * o.y() / resolution) + kGridOffset)};
+}
+
 // Query parts in structure-of-arrays form, only those that can score (positive area and weight).
 struct QueryBoxes {
   std::vector<std::uint16_t> x0, x1, y0, y1;
+  std::vector<std::uint16_t> ox, oy;  // dictionary origin [half cells]
+  std::uint16_t gate = 65535;         // origin gate [half cells]; 65535: off
   std::vector<float> weight;  // 1 / sqrt(area) [cells^-1], times AS for Sum-Max-Weighted
 };
 
-QueryBoxes prepare_query(const MapDescriptor& query, Matcher matcher, double resolution) {
+QueryBoxes prepare_query(const MapDescriptor& query, Matcher matcher, double resolution, double origin_gate) {
   QueryBoxes q;
+  if (origin_gate > 0) q.gate = clamp16(static_cast<long long>(std::floor(2 * origin_gate / resolution + 1e-9)));
   for (std::size_t i = 0; i < query.parts.size(); ++i) {
     const Part& p = query.parts[i];
     if (!finite(p.descriptor_box)) {
@@ -89,6 +99,9 @@ QueryBoxes prepare_query(const MapDescriptor& query, Matcher matcher, double res
     q.x1.push_back(clamp16(c.x1));
     q.y0.push_back(clamp16(c.y0));
     q.y1.push_back(clamp16(c.y1));
+    const auto o = origin_half_cells(p, resolution);
+    q.ox.push_back(o[0]);
+    q.oy.push_back(o[1]);
     q.weight.push_back(static_cast<float>(weight / std::sqrt(static_cast<double>(c.area()))));
   }
   return q;
@@ -107,6 +120,7 @@ using I32x8 = std::int32_t __attribute__((vector_size(32)));
 // Read-only view of the database layout for the kernel.
 struct Layout {
   const std::uint16_t* coords;
+  const std::uint16_t* origins;  // [block][slot][ox, oy][lane], half cells
   const float* inv_sqrt_area;
   const std::uint16_t* bounds;        // per block
   const std::uint16_t* super_bounds;  // per group of kBlocksPerSuper blocks
@@ -149,24 +163,33 @@ void score_range(const Layout& layout, std::size_t begin, std::size_t end, const
         const std::size_t i = active[a];
         const U16x16 qx0 = U16x16{} + q.x0[i], qx1 = U16x16{} + q.x1[i];
         const U16x16 qy0 = U16x16{} + q.y0[i], qy1 = U16x16{} + q.y1[i];
+        const U16x16 qox = U16x16{} + q.ox[i], qoy = U16x16{} + q.oy[i], gate = U16x16{} + q.gate;
         F32x8 best_lo = {}, best_hi = {};
         for (int j = 0; j < layout.num_slots; ++j) {
           const std::size_t slot =
               block * static_cast<std::size_t>(layout.num_slots) + static_cast<std::size_t>(j);
           const std::uint16_t* c = layout.coords + slot * 4 * kLanes;
           const float* g = layout.inv_sqrt_area + slot * kLanes;
-          U16x16 x0, x1, y0, y1;
+          const std::uint16_t* o = layout.origins + slot * 2 * kLanes;
+          U16x16 x0, x1, y0, y1, ox, oy;
           F32x8 g_lo, g_hi;
           std::memcpy(&x0, c, sizeof(x0));
           std::memcpy(&x1, c + kLanes, sizeof(x1));
           std::memcpy(&y0, c + 2 * kLanes, sizeof(y0));
           std::memcpy(&y1, c + 3 * kLanes, sizeof(y1));
+          std::memcpy(&ox, o, sizeof(ox));
+          std::memcpy(&oy, o + kLanes, sizeof(oy));
           std::memcpy(&g_lo, g, sizeof(g_lo));
           std::memcpy(&g_hi, g + 8, sizeof(g_hi));
           const U16x16 lo_x = PARTSLAM_VMAX(qx0, x0), hi_x = PARTSLAM_VMIN(qx1, x1);
           const U16x16 lo_y = PARTSLAM_VMAX(qy0, y0), hi_y = PARTSLAM_VMIN(qy1, y1);
           // Saturating differences: the overlap's sides, 0 when the boxes miss.
-          const U16x16 overlap = (PARTSLAM_VMAX(hi_x, lo_x) - lo_x) * (PARTSLAM_VMAX(hi_y, lo_y) - lo_y);
+          // Origin gate: |dx|, |dy| <= gate, as a lane mask (all ones / zero).
+          const U16x16 dox = PARTSLAM_VMAX(qox, ox) - PARTSLAM_VMIN(qox, ox);
+          const U16x16 doy = PARTSLAM_VMAX(qoy, oy) - PARTSLAM_VMIN(qoy, oy);
+          const U16x16 pass = reinterpret_cast<U16x16>((dox <= gate) & (doy <= gate));
+          const U16x16 overlap =
+              ((PARTSLAM_VMAX(hi_x, lo_x) - lo_x) * (PARTSLAM_VMAX(hi_y, lo_y) - lo_y)) & pass;
           // Zero-extend each half to 32 bits (interleave with zeros, reinterpret), then convert to float.
           const U16x16 z = {};
           const I32x8 overlap_lo = reinterpret_cast<I32x8>(
@@ -277,6 +300,7 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
   const std::size_t block = num_stored_ / kLanes;
   if (lane == 0) {  // open a new block: empty slots, empty bounds, padding lanes
     coords_.resize(coords_.size() + k * 4 * kLanes, 0);
+    origins_.resize(origins_.size() + k * 2 * kLanes, 0);
     inv_sqrt_area_.resize(inv_sqrt_area_.size() + k * kLanes, 0.0f);
     bounds_.insert(bounds_.end(), {65535, 0, 65535, 0});
     if (block % kBlocksPerSuper == 0) super_bounds_.insert(super_bounds_.end(), {65535, 0, 65535, 0});
@@ -292,6 +316,9 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
     base[kLanes] = static_cast<std::uint16_t>(c.x1);
     base[2 * kLanes] = static_cast<std::uint16_t>(c.y0);
     base[3 * kLanes] = static_cast<std::uint16_t>(c.y1);
+    const auto o = origin_half_cells(map.parts[j], config_.resolution);
+    origins_[((block * k + j) * 2) * kLanes + lane] = o[0];
+    origins_[((block * k + j) * 2 + 1) * kLanes + lane] = o[1];
     inv_sqrt_area_[(block * k + j) * kLanes + lane] =
         static_cast<float>(1.0 / std::sqrt(static_cast<double>(c.area())));
     bound[0] = std::min(bound[0], base[0]);
@@ -308,7 +335,7 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
 }
 
 std::size_t DescriptorDatabase::memory_bytes() const {
-  return coords_.size() * sizeof(std::uint16_t) + inv_sqrt_area_.size() * sizeof(float) +
+  return (coords_.size() + origins_.size()) * sizeof(std::uint16_t) + inv_sqrt_area_.size() * sizeof(float) +
          (bounds_.size() + super_bounds_.size()) * sizeof(std::uint16_t) +
          map_index_.size() * sizeof(std::uint32_t);
 }
@@ -316,10 +343,13 @@ std::size_t DescriptorDatabase::memory_bytes() const {
 std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher,
                                                  const ScoreOptions& options) const {
   if (options.num_threads < 0) throw InputError("score_all: num_threads must be >= 0");
-  const QueryBoxes q = prepare_query(query, matcher, config_.resolution);
+  if (!(options.origin_gate >= 0) || !std::isfinite(options.origin_gate))
+    throw InputError("score_all: origin_gate must be >= 0 [m]");
+  const QueryBoxes q = prepare_query(query, matcher, config_.resolution, options.origin_gate);
   std::vector<float> scores(num_maps_, 0.0f);
-  const Layout layout{coords_.data(),    inv_sqrt_area_.data(), bounds_.data(),       super_bounds_.data(),
-                      map_index_.data(), bounds_.size() / 4,    config_.parts_per_map};
+  const Layout layout{coords_.data(),       origins_.data(),    inv_sqrt_area_.data(),
+                      bounds_.data(),       super_bounds_.data(), map_index_.data(),
+                      bounds_.size() / 4,   config_.parts_per_map};
   const std::size_t supers = super_bounds_.size() / 4;
   const bool use_max = matcher == Matcher::kMaxMax;
   const int threads = options.num_threads == 0 ? omp_get_max_threads() : options.num_threads;

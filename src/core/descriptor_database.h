@@ -3,7 +3,8 @@
 //
 // Layout: descriptor boxes are snapped to a grid (0.1 m by default) and stored as unsigned 16-bit cell
 // coordinates in blocks of 16 maps; within a block, slot j (the j-th part of each map) keeps x0[16], x1[16],
-// y0[16], y1[16] and the precomputed 1/sqrt(area)[16], so one AVX2 register holds one field of 16 maps and
+// y0[16], y1[16], the part's dictionary origin ox[16], oy[16] (half cells, for the origin gate) and the
+// precomputed 1/sqrt(area)[16], so one AVX2 register holds one field of 16 maps and
 // nothing is allocated per map. Per block, the union of its boxes is kept: a query part that misses it adds
 // exactly 0 to every map of the block and is skipped (tested per super block of 16 blocks, then per block;
 // maps of a skipped block are never read). Storing maps in Morton order of their descriptor centre
@@ -35,6 +36,8 @@ void validate(const DescriptorDatabaseConfig& config);
 
 struct ScoreOptions {
   int num_threads = 1;  ///< OpenMP threads; 1 = serial, 0 = OpenMP's default. Results do not depend on it.
+  double origin_gate = 0.0;  ///< descriptor_matcher.h's origin gate [m]; 0 = off (the paper). Origins are
+                             ///< compared on the half-cell grid.
 };
 
 class DescriptorDatabase {
@@ -67,6 +70,7 @@ class DescriptorDatabase {
   std::size_t num_maps_ = 0;
   std::size_t num_stored_ = 0;               // lanes filled, including maps in storage order
   std::vector<std::uint16_t> coords_;        // [block][slot][x0, x1, y0, y1][lane]
+  std::vector<std::uint16_t> origins_;       // [block][slot][ox, oy][lane]: dictionary origin [half cells]
   std::vector<float> inv_sqrt_area_;         // [block][slot][lane]; 0 for an empty slot
   std::vector<std::uint16_t> bounds_;        // [block][x0, x1, y0, y1]: union of the block's boxes
   std::vector<std::uint16_t> super_bounds_;  // [super block][x0, x1, y0, y1]: union of its blocks' boxes

@@ -46,13 +46,13 @@ std::vector<MapDescriptor> random_database(std::mt19937& rng, int n, int k) {
 }
 
 void expect_matches_reference(const MapDescriptor& query, const std::vector<MapDescriptor>& maps,
-                              const DescriptorDatabase& db) {
+                              const DescriptorDatabase& db, double origin_gate = 0.0) {
   for (Matcher m : kMatchers) {
-    const std::vector<float> scores = db.score_all(query, m);
+    const std::vector<float> scores = db.score_all(query, m, {.origin_gate = origin_gate});
     ASSERT_EQ(scores.size(), maps.size());
     int nonzero = 0;
     for (std::size_t i = 0; i < maps.size(); ++i) {
-      const double expected = match_score(query, maps[i], m);
+      const double expected = match_score(query, maps[i], m, origin_gate);
       ASSERT_NEAR(scores[i], expected, 2e-6 * std::max(1.0, expected)) << to_string(m) << " map " << i;
       nonzero += scores[i] > 0;
     }
@@ -95,6 +95,42 @@ TEST(DescriptorDatabase, EqualsNaiveFormulaOnRandomDescriptors) {
   MapDescriptor query;
   for (int i = 0; i < 100; ++i) query.parts.push_back(random_map(rng, 1).parts[0]);
   expect_matches_reference(query, maps, DescriptorDatabase(maps));
+}
+
+// Parts with keypoint boxes anywhere in the crop and any quarter turn, so their dictionary origins spread.
+MapDescriptor with_random_keypoints(std::mt19937& rng, MapDescriptor d) {
+  std::uniform_int_distribution<int> cell(-64, 40);
+  for (Part& p : d.parts) {
+    p.rotation = static_cast<int>(rng() % 4);
+    const bool swap = p.rotation & 1;
+    const double w = swap ? p.descriptor_box.height() : p.descriptor_box.width();
+    const double h = swap ? p.descriptor_box.width() : p.descriptor_box.height();
+    const double x0 = 0.1 * cell(rng), y0 = 0.1 * cell(rng);
+    p.keypoint_box = {x0, x0 + w, y0, y0 + h};
+  }
+  return d;
+}
+
+TEST(DescriptorDatabase, OriginGateEqualsReference) {
+  std::mt19937 rng(7);
+  std::vector<MapDescriptor> maps = random_database(rng, 1200, 3);
+  for (MapDescriptor& m : maps) m = with_random_keypoints(rng, m);
+  MapDescriptor query;
+  for (int i = 0; i < 100; ++i) query.parts.push_back(random_map(rng, 1).parts[0]);
+  query = with_random_keypoints(rng, query);
+  const DescriptorDatabase db(maps);
+  // Origins lie on the 0.05 m half-cell grid, so a gate of 6.025 m is 6.0 m for both, away from any tie.
+  expect_matches_reference(query, maps, db, 6.025);
+  // The gate only ever removes part pairs: every gated score is at most the ungated one, some are lower.
+  const std::vector<float> open = db.score_all(query, Matcher::kSumMax);
+  const std::vector<float> gated = db.score_all(query, Matcher::kSumMax, {.origin_gate = 6.025});
+  int lower = 0;
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    EXPECT_LE(gated[i], open[i]);
+    lower += gated[i] < open[i];
+  }
+  EXPECT_GT(lower, 0);
+  EXPECT_THROW(db.score_all(query, Matcher::kSumMax, {.origin_gate = -1.0}), InputError);
 }
 
 TEST(DescriptorDatabase, LayoutAndThreadsDoNotChangeResults) {

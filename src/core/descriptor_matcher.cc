@@ -36,12 +36,20 @@ double region_similarity(const Box2& a, const Box2& b) {
   return overlap.area() / std::sqrt(area_a * area_b);
 }
 
-double match_score(const MapDescriptor& query, const MapDescriptor& stored, Matcher matcher) {
+bool passes_origin_gate(const Part& query, const Part& stored, double origin_gate) {
+  if (origin_gate <= 0) return true;
+  const Vec2 d = dictionary_origin(query) - dictionary_origin(stored);
+  return std::abs(d.x()) <= origin_gate && std::abs(d.y()) <= origin_gate;
+}
+
+double match_score(const MapDescriptor& query, const MapDescriptor& stored, Matcher matcher, double origin_gate) {
+  if (!(origin_gate >= 0) || !std::isfinite(origin_gate)) throw InputError("matcher: origin_gate must be >= 0 [m]");
   double score = 0.0;
   for (const Part& q : query.parts) {
     double best = 0.0;
     for (const Part& s : stored.parts)
-      best = std::max(best, region_similarity(q.descriptor_box, s.descriptor_box));
+      if (passes_origin_gate(q, s, origin_gate))
+        best = std::max(best, region_similarity(q.descriptor_box, s.descriptor_box));
     switch (matcher) {
       case Matcher::kMaxMax:
         score = std::max(score, best);

@@ -58,6 +58,34 @@ TEST(MatchScore, EmptyDescriptorsScoreZero) {
   }
 }
 
+TEST(MatchScore, OriginGateKeepsOnlyPartPairsThatPutTheMapsClose) {
+  // Both query parts overlap the stored part's descriptor box exactly; only the first puts its map's frame
+  // where the stored part puts its own (dictionary origin (10, 20) for both).
+  Part stored;
+  stored.keypoint_box = {-1, 1, -1, 1};
+  stored.descriptor_box = {9, 11, 19, 21};
+  Part near = stored;
+  near.keypoint_box = {-0.5, 1.5, -1, 1};  // frame 0.5 m off
+  near.descriptor_box = {9, 11, 19, 21};
+  Part far = stored;
+  far.keypoint_box = {3, 5, -1, 1};  // frame 4 m off
+  EXPECT_NEAR((dictionary_origin(stored) - Vec2(10, 20)).norm(), 0, 1e-12);
+  EXPECT_NEAR((dictionary_origin(near) - Vec2(9.5, 20)).norm(), 0, 1e-12);
+  // A quarter turn carries the keypoint centre (1, 0) to (0, 1) on the dictionary.
+  Part turned = stored;
+  turned.keypoint_box = {0, 2, -1, 1};
+  turned.rotation = 1;
+  EXPECT_NEAR((dictionary_origin(turned) - Vec2(10, 19)).norm(), 0, 1e-12);
+  const MapDescriptor q{{near, far}}, g{{stored}};
+  EXPECT_DOUBLE_EQ(match_score(q, g, Matcher::kSumMax), 2.0);
+  EXPECT_DOUBLE_EQ(match_score(q, g, Matcher::kSumMax, 2.0), 1.0);
+  EXPECT_DOUBLE_EQ(match_score(q, g, Matcher::kSumMax, 0.4), 0.0);
+  EXPECT_TRUE(passes_origin_gate(far, stored, 0.0));
+  EXPECT_FALSE(passes_origin_gate(far, stored, 3.9));
+  EXPECT_TRUE(passes_origin_gate(far, stored, 4.0));
+  EXPECT_THROW(match_score(q, g, Matcher::kSumMax, -1.0), InputError);
+}
+
 TEST(MatcherNames, RoundTrip) {
   for (Matcher m : {Matcher::kMaxMax, Matcher::kSumMax, Matcher::kSumMaxWeighted}) {
     EXPECT_EQ(matcher_from_string(to_string(m)), m);

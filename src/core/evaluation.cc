@@ -55,6 +55,8 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
   validate(config.tasks);
   validate(config.dmm);
   validate(config.ransac);
+  if (!(config.origin_gate >= 0) || !std::isfinite(config.origin_gate))
+    throw InputError("eval: origin_gate must be a finite number >= 0 [m]");
   if (methods.empty()) throw InputError("eval: no method given");
   if (config.hmm_query_parts < 1) throw InputError("eval: hmm_query_parts must be >= 1");
   if (config.num_threads < 1 || config.num_threads > 1024) throw InputError("eval: threads must be in [1, 1024]");
@@ -164,7 +166,9 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
     auto descriptor_scores = [&](const Task& task) {
       DescriptorScores d;
       const auto t0 = Clock::now();
-      const std::vector<float> all = database.score_all(queries[task.query], method.matcher);
+      ScoreOptions options;
+      options.origin_gate = config.origin_gate;
+      const std::vector<float> all = database.score_all(queries[task.query], method.matcher, options);
       d.ms = ms_since(t0);
       d.database_size = all.size();
       for (std::size_t m : task.database) d.scores.push_back(all[m]);

@@ -29,6 +29,7 @@ struct EvalConfig {
   CpdConfig cpd;                 ///< parts (max_parts is raised to what the methods need)
   CodecConfig codec;             ///< storage of stored descriptors (dictionary_extent is filled in)
   int hmm_query_parts = 100;     ///< parts of an hMM query
+  double origin_gate = kDefaultOriginGate;     ///< descriptor matcher's origin gate [m] (descriptor_matcher.h); 0 = the paper
   double bits_per_point = 14;    ///< storage of a raw map point (7 + 7 bits at 0.1 m in a 12.8 m crop)
   int num_threads = 1;           ///< OpenMP threads over maps and tasks; results do not depend on it
   double pose_tolerance_m = 0.5;     ///< relative pose check: translation [m]

@@ -41,6 +41,17 @@ inline Box2 place_rotated_box(const Box2& keypoint_box, int rotation, const Vec2
   return {origin.x(), origin.x() + w, origin.y(), origin.y() + h};
 }
 
+/// Where the part puts the origin of its map's frame on the dictionary: the descriptor box's centre minus the
+/// keypoint box's centre turned by `rotation` quarter turns (T_dict_map applied to the origin, up to the
+/// residual rotation). Two parts of maps of the same place that fit the same dictionary spot agree on it up to
+/// the offset between the two map frames; the descriptor matcher's origin gate uses that.
+inline Vec2 dictionary_origin(const Part& part) {
+  Vec2 c{(part.keypoint_box.x_min + part.keypoint_box.x_max) / 2, (part.keypoint_box.y_min + part.keypoint_box.y_max) / 2};
+  for (int k = 0; k < (part.rotation & 3); ++k) c = Vec2{-c.y(), c.x()};
+  return Vec2{(part.descriptor_box.x_min + part.descriptor_box.x_max) / 2 - c.x(),
+              (part.descriptor_box.y_min + part.descriptor_box.y_max) / 2 - c.y()};
+}
+
 /// MD selection (paper §"Map Descriptor"): the K parts of highest appearance score, best first; ties keep
 /// their input order, so the result is deterministic. Fewer than K parts are all kept; K < 0 throws
 /// InputError.
