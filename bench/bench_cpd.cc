@@ -1,5 +1,7 @@
 // CPD cost per map (the offline part of PartSLAM): fr101 submaps against the fr079 dictionary (paper data set
-// #1), or the simulator when ../shared/data is absent. Serial and 2 threads in the same run.
+// #1), or the simulator when ../shared/data is absent. Serial and 2 threads in the same run; the default
+// corner candidates (partitions:0) and the paper's random partitions with every box a candidate (partitions:1,
+// MC inlier share >= 0, so all P parts are searched).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -44,6 +46,11 @@ void BM_Cpd(benchmark::State& state) {
   const Fixture& f = fixture();
   CpdConfig config;
   config.max_parts = static_cast<int>(state.range(0));
+  if (state.range(2) == 1) {
+    config.candidates = CandidateMode::kPartitions;
+    config.maximality = MaximalityMode::kInlierShare;
+    config.t_size = 0.0;
+  }
   const PreparedDictionary dict = prepare_dictionary(f.dictionary.points, config);
   std::vector<const Points2*> maps;
   std::vector<std::uint64_t> keys;
@@ -66,7 +73,7 @@ void BM_Cpd(benchmark::State& state) {
   state.counters["matched_per_map"] = matched / n;
   state.counters["candidates_per_map"] = candidates / n;
 }
-BENCHMARK(BM_Cpd)->ArgsProduct({{100}, {1, 2}})->ArgNames({"parts", "threads"})->Unit(benchmark::kMillisecond)
+BENCHMARK(BM_Cpd)->ArgsProduct({{100}, {1, 2}, {0, 1}})->ArgNames({"parts", "threads", "partitions"})->Unit(benchmark::kMillisecond)
     ->UseRealTime()->Iterations(1);
 
 }  // namespace
