@@ -5,18 +5,37 @@
 
 namespace partslam::apps {
 
+namespace {
+
+// An option that takes one of a few names and sets `target` to the value named; anything else is an
+// InputError naming the flag and the choices.
+template <class Enum>
+void add_choice(CLI::App& cmd, const std::string& flag, Enum& target,
+                const std::vector<std::pair<std::string, Enum>>& choices, const std::string& help) {
+  std::string names, current;
+  for (const auto& [name, value] : choices) {
+    names += (names.empty() ? "" : " or ") + name;
+    if (value == target) current = name;
+  }
+  cmd.add_option_function<std::string>(
+         flag,
+         [&target, flag, choices, names](const std::string& v) {
+           for (const auto& [name, value] : choices)
+             if (v == name) return void(target = value);
+           throw InputError(flag + ": expected " + names + ", got '" + v + "'");
+         },
+         help)
+      ->default_str(current);
+}
+
+}  // namespace
+
 void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
   const auto name = [&prefix](const char* n) { return "--" + prefix + n; };
-  cmd.add_option_function<std::string>(
-         name("candidates"),
-         [&cpd, flag = name("candidates")](const std::string& v) {
-           if (v == "partitions") cpd.candidates = CandidateMode::kPartitions;
-           else if (v == "corners") cpd.candidates = CandidateMode::kCorners;
-           else throw InputError(flag + ": expected partitions or corners, got '" + v + "'");
-         },
-         "CPD: candidate keypoint boxes, partitions (random grids, the paper) or corners (squares on corner "
-         "points)")
-      ->default_str(cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions");
+  add_choice(cmd, name("candidates"), cpd.candidates,
+             {{"partitions", CandidateMode::kPartitions}, {"corners", CandidateMode::kCorners}},
+             "CPD: candidate keypoint boxes, partitions (random grids, the paper) or corners (squares on corner "
+             "points)");
   cmd.add_option(name("partitions"), cpd.partitions, "CPD: random partitions per map (candidates partitions)")
       ->capture_default_str();
   cmd.add_option(name("corners"), cpd.corners, "CPD: corner points per map (candidates corners)")
@@ -24,16 +43,10 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
   cmd.add_option(name("box-sizes"), cpd.box_sizes, "CPD: square sides on each corner [m], comma-separated")
       ->delimiter(',')
       ->capture_default_str();
-  cmd.add_option_function<std::string>(
-         name("mc"),
-         [&cpd, flag = name("mc")](const std::string& v) {
-           if (v == "point") cpd.maximality = MaximalityMode::kPointShare;
-           else if (v == "inlier") cpd.maximality = MaximalityMode::kInlierShare;
-           else throw InputError(flag + ": expected point or inlier, got '" + v + "'");
-         },
-         "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "
-         "points that fit the dictionary)")
-      ->default_str(cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point");
+  add_choice(cmd, name("mc"), cpd.maximality,
+             {{"point", MaximalityMode::kPointShare}, {"inlier", MaximalityMode::kInlierShare}},
+             "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "
+             "points that fit the dictionary)");
   cmd.add_option(name("tsize"), cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
   cmd.add_option(name("gc"), cpd.geometric_consistency,
                  "CPD: GC, keep only parts whose descriptor boxes pairwise overlap (true/false)")

@@ -40,6 +40,15 @@ Points2 rooms(std::uint32_t seed, int n, double half) {
   return p;
 }
 
+// Every box of the given kind a candidate, MC on the inlier share.
+CpdConfig every_candidate(CandidateMode mode) {
+  CpdConfig c;
+  c.candidates = mode;
+  c.maximality = MaximalityMode::kInlierShare;
+  c.t_size = 0.0;
+  return c;
+}
+
 TEST(FindCorners, TheCornerOfAnLShapeComesFirst) {
   CpdConfig c;
   const Points2 corners = find_corners(l_shape(), c);
@@ -66,9 +75,7 @@ TEST(Cpd, PartsOfAMapCutFromTheDictionaryPointBackToWhereItWasCut) {
   for (const Vec2& p : map) dictionary.push_back(p + Vec2(7.3, -4.1));
   for (const Vec2& p : scatter(2, 400, 5.0)) dictionary.push_back(p + Vec2(30, 30));
   for (CandidateMode mode : {CandidateMode::kCorners, CandidateMode::kPartitions}) {
-    CpdConfig c;
-    c.candidates = mode;
-    c.maximality = MaximalityMode::kInlierShare;
+    CpdConfig c = every_candidate(mode);
     c.max_parts = 12;
     const PreparedDictionary prepared = prepare_dictionary(dictionary, c);
     const CpdResult r = discover_parts(map, prepared, c, 5);
@@ -91,10 +98,7 @@ TEST(Cpd, DeterministicAndParallelEqualsSerial) {
   std::vector<std::uint64_t> keys;
   for (std::size_t i = 0; i < maps.size(); ++i) ptrs.push_back(&maps[i]), keys.push_back(100 + i);
   for (CandidateMode mode : {CandidateMode::kCorners, CandidateMode::kPartitions}) {
-    CpdConfig c;
-    c.candidates = mode;
-    c.maximality = MaximalityMode::kInlierShare;
-    c.t_size = 0.0;
+    const CpdConfig c = every_candidate(mode);
     const PreparedDictionary prepared = prepare_dictionary(dictionary, c);
     const auto serial = discover_parts_many(ptrs, keys, prepared, c, 1);
     const auto parallel = discover_parts_many(ptrs, keys, prepared, c, 2);
