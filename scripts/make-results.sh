@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates docs/RESULTS.md and its figures: the paper's Table A methods on data sets #1..#5 (issue
+# Regenerates docs/RESULTS.md and its figures (and docs/fig_e_fr101.png): the paper's Table A methods on data sets #1..#5 (issue
 # "Evaluation"), one `partslam eval` per data set, then scripts/results_table.py turns the JSON into Markdown.
 # Usage: scripts/make-results.sh [TASKS=500] [THREADS=2] [RANSAC_TASKS=100]. Needs ../shared/data.
 set -euo pipefail
@@ -26,6 +26,7 @@ run 2 aces/aces-corrected.log.gz fr101/fr101-corrected.log.gz
 run 3 intel/intel-corrected.log.gz fr079/fr079-corrected.log.gz
 run 4 corrected/freiburg-campus-corrected.log.gz intel/intel-corrected.log.gz
 run 5 fr079/fr079-corrected.log.gz fr101/fr101-corrected.log.gz
+bash scripts/make-fig-e.sh
 /usr/bin/python3 scripts/results_table.py "$OUT" README.md > docs/RESULTS.md.tmp
 mv docs/RESULTS.md.tmp docs/RESULTS.md
 echo "wrote docs/RESULTS.md and the results table of README.md"
