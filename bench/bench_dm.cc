@@ -5,6 +5,7 @@
 // DescriptorDatabase::score_all with the naive per-pair match_score() in the same run.
 //   iMM: query of K parts vs database of K parts (Sum-Max).       hMM: query of 100 parts vs K = 3 (SMW).
 // Counters: ns_per_map = time per stored map (= per map pair), ms = time per query, bytes_per_map.
+// score_all runs with the origin gate the CLI uses (kDefaultOriginGate) unless its gate argument is 0.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -93,7 +94,11 @@ void set_counters(benchmark::State& state, std::size_t maps, std::size_t bytes =
   if (bytes) state.counters["bytes_per_map"] = static_cast<double>(bytes) / static_cast<double>(maps);
 }
 
-// args: K, spatial order (1/0), threads, tight scenario (1/0)
+ScoreOptions options(const benchmark::State& state) {
+  return {.num_threads = static_cast<int>(state.range(2)), .origin_gate = state.range(4) ? kDefaultOriginGate : 0.0};
+}
+
+// args: K, spatial order (1/0), threads, tight scenario (1/0), origin gate (1/0)
 void BM_ScoreAll_iMM(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
   const bool tight = state.range(3) != 0;
@@ -103,7 +108,7 @@ void BM_ScoreAll_iMM(benchmark::State& state) {
   const MapDescriptor query = random_map(rng, k, tight ? kTight : kRoomy);
   for (auto _ : state)
     benchmark::DoNotOptimize(
-        db.score_all(query, Matcher::kSumMax, {.num_threads = static_cast<int>(state.range(2))}));
+        db.score_all(query, Matcher::kSumMax, options(state)));
   set_counters(state, kMaps, db.memory_bytes());
 }
 
@@ -130,7 +135,7 @@ void BM_ScoreAll_hMM(benchmark::State& state) {
   const MapDescriptor query = hmm_query(rng, state.range(0) != 0, tight ? kTight : kRoomy);
   for (auto _ : state) {
     benchmark::DoNotOptimize(
-        db.score_all(query, Matcher::kSumMaxWeighted, {.num_threads = static_cast<int>(state.range(2))}));
+        db.score_all(query, Matcher::kSumMaxWeighted, options(state)));
   }
   set_counters(state, kMaps, db.memory_bytes());
 }
@@ -188,24 +193,25 @@ void threaded(benchmark::internal::Benchmark* b) {
   b->UseRealTime()->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 }
 BENCHMARK(BM_Naive_iMM)->Arg(1)->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({1, 0, 1, 0})->Args({1, 1, 1, 0})->Apply(single);
+BENCHMARK(BM_ScoreAll_iMM)->Args({1, 0, 1, 0, 1})->Args({1, 1, 1, 0, 1})->Apply(single);
 BENCHMARK(BM_Naive_iMM)->Arg(2)->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({2, 0, 1, 0})->Args({2, 1, 1, 0})->Apply(single);
+BENCHMARK(BM_ScoreAll_iMM)->Args({2, 0, 1, 0, 1})->Args({2, 1, 1, 0, 1})->Apply(single);
 BENCHMARK(BM_Naive_iMM)->Arg(3)->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({3, 0, 1, 0})->Args({3, 1, 1, 0})->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({3, 1, 2, 0})->Apply(threaded);
+BENCHMARK(BM_ScoreAll_iMM)->Args({3, 0, 1, 0, 1})->Args({3, 1, 1, 0, 1})->Args({3, 1, 1, 0, 0})->Apply(single);
+BENCHMARK(BM_ScoreAll_iMM)->Args({3, 1, 2, 0, 1})->Apply(threaded);
 BENCHMARK(BM_ScoreAll_Matchers)->DenseRange(0, 2)->Apply(single);
 BENCHMARK(BM_Build)->Apply(single);
 BENCHMARK(BM_Naive_hMM)->Arg(1)->Apply(single);
-BENCHMARK(BM_ScoreAll_hMM)->Args({1, 0, 1, 0})->Args({1, 1, 1, 0})->Args({0, 1, 1, 0})->Apply(single);
-BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 2, 0})->Apply(threaded);
-BENCHMARK(BM_ScoreAll_iMM)->Args({3, 1, 1, 1})->Apply(single);
-BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 1, 1})->Args({0, 1, 1, 1})->Apply(single);
-BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 2, 1})->Apply(threaded);
+BENCHMARK(BM_ScoreAll_hMM)->Args({1, 0, 1, 0, 1})->Args({1, 1, 1, 0, 1})->Args({0, 1, 1, 0, 1})->Args({1, 1, 1, 0, 0})
+    ->Apply(single);
+BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 2, 0, 1})->Apply(threaded);
+BENCHMARK(BM_ScoreAll_iMM)->Args({3, 1, 1, 1, 1})->Apply(single);
+BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 1, 1, 1})->Args({0, 1, 1, 1, 1})->Apply(single);
+BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 2, 1, 1})->Apply(threaded);
 BENCHMARK(BM_Naive_iMM)->Arg(4)->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({4, 0, 1, 0})->Args({4, 1, 1, 0})->Apply(single);
+BENCHMARK(BM_ScoreAll_iMM)->Args({4, 0, 1, 0, 1})->Args({4, 1, 1, 0, 1})->Apply(single);
 BENCHMARK(BM_Naive_iMM)->Arg(5)->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({5, 0, 1, 0})->Args({5, 1, 1, 0})->Apply(single);
+BENCHMARK(BM_ScoreAll_iMM)->Args({5, 0, 1, 0, 1})->Args({5, 1, 1, 0, 1})->Apply(single);
 
 }  // namespace
 }  // namespace partslam
