@@ -131,6 +131,22 @@ nlohmann::json to_json(const EvalRun& run) {
                       {"relevant_pairs", r.relevant_pairs},
                       {"cpd_ms_per_map", r.cpd_ms_per_map},
                       {"seconds", run.seconds}};
+  const EvalConfig& c = run.options.config;
+  j["parameters"] = {
+      {"radius", c.tasks.radius},
+      {"min_travel_gap", c.tasks.min_travel_gap},
+      {"origin_gate", c.origin_gate},
+      {"hmm_query_parts", c.hmm_query_parts},
+      {"cpd",
+       {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
+        {"box_sizes", c.cpd.box_sizes},
+        {"corners", c.cpd.corners},
+        {"partitions", c.cpd.partitions},
+        {"mc", c.cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point"},
+        {"t_size", c.cpd.t_size},
+        {"gc", c.cpd.geometric_consistency},
+        {"seed", c.cpd.seed}}},
+      {"dmm", {{"dilation", c.dmm.dilation}, {"angular_window_deg", run.options.dmm_angular_window_deg}}}};
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {
     j["methods"].push_back({{"spec", m.method.spec},

@@ -1,0 +1,112 @@
+// Runs the built partslam binary (PARTSLAM_BINARY): `partslam eval` on the simulator (no data needed), its JSON
+// shape (the contract), the plot, thread independence and its error messages.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "apps/cli_testing.h"
+
+namespace partslam {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::CliRun;
+using testing::quoted;
+using testing::run_partslam;
+
+class CliEvalTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("partslam_cli_eval_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+const std::string kEval = "eval --input sim:1 --dict sim:2 --tasks 12 --db-size 20 --quiet ";
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
+  const fs::path json = dir_ / "out.json", plot = dir_ / "fig_d.png";
+  const CliRun run = run_partslam(kEval + "--methods dmm,imm:2,hmm:3:maxmax,rerank:5:3 --json " + quoted(json) +
+                                  " --plot " + quoted(plot));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("hMM cpd:3"));
+  const nlohmann::json j = read_json(json);
+  EXPECT_TRUE(j["input"].is_string());
+  EXPECT_TRUE(j["dictionary"].is_string());
+  EXPECT_EQ(j["db_size"], 20);
+  EXPECT_EQ(j["tasks"], 12);
+  EXPECT_EQ(j["seed"], 1);
+  EXPECT_GT(j["maps"].get<int>(), 20);
+  EXPECT_GT(j["mean_points"].get<double>(), 0);
+  EXPECT_EQ(j["parameters"]["origin_gate"], 2.0);
+  EXPECT_EQ(j["parameters"]["cpd"]["candidates"], "corners");
+  ASSERT_EQ(j["methods"].size(), 4u);
+  const char* labels[] = {"dMM", "iMM cpd:2", "Max-Max hMM cpd:3", "rerank5 hMM cpd:3"};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const nlohmann::json& m = j["methods"][i];
+    EXPECT_EQ(m["label"], labels[i]);
+    EXPECT_TRUE(m["spec"].is_string());
+    const double anr = m["anr"].get<double>();
+    EXPECT_GE(anr, 100.0 / 20 - 1e-9) << m["label"];  // the best possible ANR is 1/N
+    EXPECT_LE(anr, 100.0);
+    EXPECT_GE(m["recall_at_1"].get<double>(), 0.0);
+    EXPECT_LE(m["recall_at_1"].get<double>(), 1.0);
+    EXPECT_GE(m["ms_per_pair"].get<double>(), 0.0);
+    EXPECT_GE(m["ms_per_query"].get<double>(), m["ms_query_prep"].get<double>());
+    EXPECT_GT(m["bits_per_map"].get<double>(), 0.0);
+    EXPECT_EQ(m["normalized_ranks"].size(), 12u);
+  }
+  EXPECT_EQ(j["methods"][1]["bits_per_map"], 88.0);  // two 44-bit parts
+  // The simulator's building is easy for dMM: far better than random.
+  EXPECT_LT(j["methods"][0]["anr"].get<double>(), 25.0);
+  std::ifstream png(plot, std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+}
+
+TEST_F(CliEvalTest, ThreadsDoNotChangeTheRanks) {
+  const fs::path one = dir_ / "one.json", two = dir_ / "two.json";
+  ASSERT_EQ(run_partslam(kEval + "--methods dmm,hmm:3 --threads 1 --json " + quoted(one)).exit_code, 0);
+  ASSERT_EQ(run_partslam(kEval + "--methods dmm,hmm:3 --threads 2 --json " + quoted(two)).exit_code, 0);
+  const nlohmann::json a = read_json(one), b = read_json(two);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(a["methods"][i]["normalized_ranks"], b["methods"][i]["normalized_ranks"]);
+    EXPECT_EQ(a["methods"][i]["anr"], b["methods"][i]["anr"]);
+  }
+}
+
+TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
+  const fs::path json = dir_ / "never.json";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--methods hmm:x", "hmm:x"},
+      {"--methods dmm --gate -1", "origin_gate"},
+      {"--methods dmm --gate nan", "origin_gate"},
+      {"--methods hmm:3 --cpd-candidates circles", "--cpd-candidates: expected partitions or corners"},
+      {"--methods hmm:3 --cpd-box-sizes 0", "box size"},
+      {"--methods dmm --radius -1", "radius (R) must be > 0"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CliRun run = run_partslam(kEval + args + " --json " + quoted(json));
+    EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
+    EXPECT_THAT(run.output, HasSubstr("partslam: error: ")) << args;
+    EXPECT_THAT(run.output, HasSubstr(message)) << args;
+    EXPECT_FALSE(fs::exists(json)) << args;
+  }
+}
+
+}  // namespace
+}  // namespace partslam
