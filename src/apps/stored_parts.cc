@@ -43,6 +43,10 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
   cmd.add_option(name("box-sizes"), cpd.box_sizes, "CPD: square sides on each corner [m], comma-separated")
       ->delimiter(',')
       ->capture_default_str();
+  cmd.add_option(name("corner-radius"), cpd.corner_radius, "CPD: neighbourhood of the corner response [m]")
+      ->capture_default_str();
+  cmd.add_option(name("corner-spacing"), cpd.corner_spacing, "CPD: kept corners are at least this far apart [m]")
+      ->capture_default_str();
   add_choice(cmd, name("mc"), cpd.maximality,
              {{"point", MaximalityMode::kPointShare}, {"inlier", MaximalityMode::kInlierShare}},
              "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "

@@ -15,7 +15,8 @@
 namespace partslam::apps {
 
 /// The CPD parameters as options of `cmd`, each named --PREFIXNAME (prefix "" for describe and render,
-/// "cpd-" for eval and demo): candidates, partitions, corners, box-sizes, mc, tsize, gc, seed.
+/// "cpd-" for eval and demo): candidates, partitions, corners, box-sizes, corner-radius,
+/// corner-spacing, mc, tsize, gc, seed.
 void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix);
 
 /// The dictionary named, or when name is empty the only dictionary of the database; throws InputError naming

@@ -49,7 +49,7 @@ struct CpdConfig {
   bool geometric_consistency = false;  ///< GC: selected descriptor boxes must pairwise overlap
   int corners = 24;              ///< kCorners: corner points kept per map (strongest first)
   std::vector<double> box_sizes = {2.0, 4.0};  ///< kCorners: sides of the squares centred on a corner [m]
-  double corner_radius = 0.5;    ///< kCorners: neighbourhood of the corner response [m]
+  double corner_radius = 0.8;    ///< kCorners: neighbourhood of the corner response [m]
   double corner_spacing = 1.0;   ///< kCorners: kept corners are at least this far apart [m]
   double crop_extent = 6.4;      ///< kCorners: boxes are clipped to |x|, |y| <= this (the codec's crop) [m]
   double crop_resolution = 0.1;  ///< crops are downsampled to this cell before matching [m] (speed)
