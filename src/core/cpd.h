@@ -11,8 +11,9 @@
 //   MC (maximality): literal reading — the crop holds at least t_size of the map's points (few, large parts);
 //       inlier-share reading (default) — at least t_size of the crop's points are inliers on R.
 //   GC (geometric consistency, off by default): the descriptor boxes of the selected parts pairwise overlap.
-//   AS: among candidates meeting MC and GC, the highest AS first (greedy); ties keep the candidate order.
-// The defaults are what measured best on data set #1 (docs/NOTES.md); the paper's setting is
+//   AS: among candidates meeting MC and GC, the highest AS first (greedy); ties keep the seeded shuffled
+//       candidate order.
+// The defaults are what measured best on the five data sets (docs/NOTES.md); the paper's setting is
 // candidates = kPartitions, maximality = kPointShare, geometric_consistency = true.
 // MD (select_top_parts) then keeps the top K. Everything is seeded and deterministic; parallel over maps gives
 // the same parts as serial.
@@ -84,7 +85,8 @@ struct CpdResult {
 /// smaller structure-tensor eigenvalue, at least corner_spacing apart, at most config.corners of them.
 Points2 find_corners(const Points2& map_points, const CpdConfig& config);
 
-/// Parts of one map (points in its canonical frame). map_key (e.g. the map id) seeds its partitions.
+/// Parts of one map (points in its canonical frame). map_key (e.g. the map id) seeds its partitions and the
+/// shuffle of its candidates.
 CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& dictionary, const CpdConfig& config,
                          std::uint64_t map_key);
 
