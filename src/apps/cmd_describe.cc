@@ -99,17 +99,14 @@ void run_describe(DescribeOptions o) {
   const auto t0 = Clock::now();
   const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
   const bool tty = isatty(STDERR_FILENO);
-  std::size_t done = 0;
-  const long n = static_cast<long>(maps.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
-  for (long i = 0; i < n; ++i) {
-    MapParts& m = maps[static_cast<std::size_t>(i)];
-    const auto t = Clock::now();
-    m.parts = discover_parts(m.submap->points, prepared, o.cpd, static_cast<std::uint64_t>(m.map_id)).parts;
-    m.cpd_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-#pragma omp critical(partslam_describe_progress)
-    if (tty) std::cerr << "\rCPD " << ++done << "/" << maps.size() << std::flush;
-  }
+  std::vector<const Points2*> points;
+  std::vector<std::uint64_t> keys;
+  for (const MapParts& m : maps) points.push_back(&m.submap->points), keys.push_back(static_cast<std::uint64_t>(m.map_id));
+  std::vector<CpdResult> results =
+      discover_parts_many(points, keys, prepared, o.cpd, o.threads, [tty](const std::string&, std::size_t d, std::size_t n) {
+        if (tty) std::cerr << "\rCPD " << d << "/" << n << std::flush;
+      });
+  for (std::size_t i = 0; i < maps.size(); ++i) maps[i].parts = std::move(results[i].parts), maps[i].cpd_ms = results[i].ms;
   if (tty) std::cerr << "\r\033[K" << std::flush;
   const double cpd_s = std::chrono::duration<double>(Clock::now() - t0).count();
 

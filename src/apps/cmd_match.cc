@@ -1,4 +1,4 @@
-// partslam match DB --query ID --method SPEC: the online half of PartSLAM (DESIGN.md, "Schemes"). Ranks every
+// partslam match DB --query ID --method SPEC: the online half of PartSLAM (docs/DESIGN.md, "Schemes"). Ranks every
 // other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map:
 //   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
 //   imm:K[:matcher]                  stored K-part descriptors on both sides (Eqs. 3-6)
@@ -18,10 +18,8 @@
 
 #include "apps/commands.h"
 #include "apps/stored_parts.h"
-#include "core/descriptor_database.h"
+#include "core/ranking.h"
 #include "core/descriptor_layout.h"
-#include "core/dmm.h"
-#include "core/dmm_ransac.h"
 #include "core/error.h"
 #include "core/method_spec.h"
 #include "io/map_database.h"
@@ -61,51 +59,6 @@ struct Row {
   std::optional<DmmResult> dmm;
 };
 
-// dMM of the query against some candidates; timings go to `timing`.
-std::vector<DmmResult> direct_scores(const Submap& query, const std::vector<Candidate>& candidates,
-                                     const std::vector<std::size_t>& which, const MatchOptions& o,
-                                     SchemeKind scheme, int top_k, std::string& timing) {
-  const long n = static_cast<long>(which.size());
-  std::vector<DmmResult> results(which.size());
-  char buf[200];
-  if (scheme == SchemeKind::kDmmRansac) {
-    auto t0 = Clock::now();
-    std::vector<PreparedRansacMap> maps(which.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
-    for (long i = 0; i < n; ++i) maps[i] = prepare_ransac_map(candidates[which[i]].map->points, o.ransac);
-    const double prep = ms_since(t0);
-    t0 = Clock::now();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
-    for (long i = 0; i < n; ++i) results[i] = match_dmm_ransac(query.points, maps[i], o.ransac);
-    const double match = ms_since(t0);
-    std::snprintf(buf, sizeof buf, "inlier grids %.1f ms (offline), RANSAC %.1f ms (%.3f ms per map)", prep,
-                  match, match / std::max<double>(1.0, n));
-    timing += buf;
-    return results;
-  }
-  auto t0 = Clock::now();
-  std::vector<PreparedMap> maps(which.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
-  for (long i = 0; i < n; ++i) maps[i] = prepare_map(candidates[which[i]].map->points, o.dmm);
-  const double grids = ms_since(t0);
-  t0 = Clock::now();
-  const PreparedQuery prepared = prepare_query(query.points, o.dmm);
-  const double prep = ms_since(t0);
-  t0 = Clock::now();
-  if (scheme == SchemeKind::kDmmExhaustive) {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads)
-    for (long i = 0; i < n; ++i) results[i] = match_exhaustive(prepared, maps[i], o.dmm);
-  } else {
-    results = match_dmm_many(prepared, maps, o.dmm, o.threads == 1 ? top_k : 0, o.threads);
-  }
-  const double match = ms_since(t0);
-  std::snprintf(buf, sizeof buf, "grids %.1f ms (offline), query %.2f ms, dMM %.1f ms (%.3f ms per map%s)",
-                grids, prep, match, match / std::max<double>(1.0, n),
-                o.threads == 1 && top_k > 0 && scheme == SchemeKind::kDmm ? ", top-k pruning" : "");
-  timing += buf;
-  return results;
-}
-
 std::string resolve_descriptor_dictionary(const io::MapDatabase& db, const std::string& name) {
   if (!name.empty()) return name;
   std::set<std::string> names;
@@ -119,22 +72,24 @@ std::string resolve_descriptor_dictionary(const io::MapDatabase& db, const std::
   return *names.begin();
 }
 
-// iMM / hMM scores of every candidate, from the stored descriptors.
-std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& query,
-                                      const std::vector<Candidate>& candidates, const MethodSpec& method,
-                                      const MatchOptions& o, std::string& timing) {
+// The stored parts the method reads: every candidate's K-part descriptor, and the query's (its K-part
+// descriptor for iMM, its stored P-part list for hMM). `query_parts` gets the query's parts.
+std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Submap& query,
+                                            const std::vector<Candidate>& candidates, const MethodSpec& method,
+                                            const MatchOptions& o, std::vector<Part>& query_parts,
+                                            std::string& timing) {
   const io::Dictionary dictionary = db.load_dictionary(resolve_descriptor_dictionary(db, o.dictionary));
   const int k = method.parts;
-  auto t0 = Clock::now();
+  const auto t0 = Clock::now();
   std::map<std::int64_t, MapDescriptor> stored = load_descriptor_set(db, dictionary, k);
-  std::vector<MapDescriptor> database_maps;
+  std::vector<std::vector<Part>> parts;
   std::size_t missing = 0;
   for (const Candidate& c : candidates) {
     auto it = stored.find(c.map->id);
     if (it == stored.end()) {
       ++missing;
     } else {
-      database_maps.push_back(std::move(it->second));
+      parts.push_back(std::move(it->second.parts));
     }
   }
   if (missing > 0) {
@@ -142,7 +97,8 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
                      " maps have no K=" + std::to_string(k) + " descriptor for dictionary '" +
                      dictionary.name + "': " + describe_hint(db, dictionary.name, k));
   }
-  const bool imm = method.scheme == SchemeKind::kImm;
+  const MethodSpec& parts_method = method.stages.empty() ? method : method.stages.front();
+  const bool imm = parts_method.name == "imm";
   const int query_k = imm                 ? k
                       : o.query_parts > 0 ? o.query_parts
                                           : query_list_parts(db, dictionary.name, query.id);
@@ -154,32 +110,22 @@ std::vector<double> descriptor_scores(const io::MapDatabase& db, const Submap& q
                      "' first (it stores the P-part list as K = P when P > " +
                      std::to_string(kMaxUnscoredParts) + "), or name a stored list with --query-parts");
   }
-  const std::optional<MapDescriptor> query_descriptor = load_descriptor(db, dictionary, query_k, query.id);
+  std::optional<MapDescriptor> query_descriptor = load_descriptor(db, dictionary, query_k, query.id);
   if (!query_descriptor) {
     throw InputError("the query map " + std::to_string(query.id) + " has no K=" + std::to_string(query_k) +
                      " descriptor for dictionary '" + dictionary.name +
                      "': " + describe_hint(db, dictionary.name, query_k));
   }
-  const double load_ms = ms_since(t0);
-  t0 = Clock::now();
-  DescriptorDatabaseConfig config;
-  config.parts_per_map = k;
-  const DescriptorDatabase database(database_maps, config);
-  const double build_ms = ms_since(t0);
-  t0 = Clock::now();
-  const std::vector<float> scores = database.score_all(*query_descriptor, method.matcher, {o.threads, o.gate});
-  const double score_ms = ms_since(t0);
-  char buf[240];
-  std::snprintf(buf, sizeof buf,
-                "dictionary '%s', query %zu parts (K=%d), load %.1f ms, layout %.2f ms (offline), %s %.3f ms "
-                "(%.1f ns per map)",
-                dictionary.name.c_str(), query_descriptor->parts.size(), query_k, load_ms, build_ms,
-                to_string(method.matcher), score_ms, score_ms * 1e6 / std::max<double>(1.0, scores.size()));
+  query_parts = std::move(query_descriptor->parts);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "dictionary '%s', query %zu parts (K=%d), descriptors %.1f ms; ",
+                dictionary.name.c_str(), query_parts.size(), query_k, ms_since(t0));
   timing += buf;
-  if (query_descriptor->parts.empty()) {
-    timing += "\nnote: CPD found no part of the query map, so every score is 0 (try 'describe --mc inlier')";
+  if (query_parts.empty()) {
+    timing += "note: CPD found no part of the query map, so every descriptor score is 0 (try 'describe --mc "
+              "inlier'); ";
   }
-  return {scores.begin(), scores.end()};
+  return parts;
 }
 
 void print_row(std::size_t rank, const Row& row, const Candidate& c, const Submap& query,
@@ -248,31 +194,41 @@ void run_match(const MatchOptions& o) {
   const double load_ms = ms_since(t_start);
   if (candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
 
-  std::vector<Row> rows(candidates.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) rows[i].candidate = i;
+  std::string timing;
+  std::vector<Part> query_parts;
+  std::vector<std::vector<Part>> parts;
+  if (method.needs_parts) parts = stored_parts(db, query, candidates, method, o, query_parts, timing);
+  std::vector<MapView> views(candidates.size());
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    views[i].points = &candidates[i].map->points;
+    if (method.needs_parts) views[i].parts = &parts[i];
+  }
+  RankingConfig config;
+  config.dmm = o.dmm;
+  config.ransac = o.ransac;
+  config.origin_gate = o.gate;
+  config.hmm_query_parts = std::max<int>(1, static_cast<int>(query_parts.size()));
+  auto t0 = Clock::now();
+  const std::unique_ptr<Ranker> ranker = make_ranker(method, config);
+  ranker->prepare(views, o.threads);
+  const double prepare_ms = ms_since(t0);
   std::vector<std::size_t> everyone(candidates.size());
   for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
-  std::string timing;
-  if (!method.uses_descriptors()) {
-    const std::vector<DmmResult> r =
-        direct_scores(query, candidates, everyone, o, method.scheme, o.top, timing);
-    for (std::size_t i = 0; i < rows.size(); ++i) rows[i].dmm = r[i], rows[i].score = r[i].inliers;
-  } else {
-    const std::vector<double> s = descriptor_scores(db, query, candidates, method, o, timing);
-    for (std::size_t i = 0; i < rows.size(); ++i) rows[i].descriptor_score = rows[i].score = s[i];
-    if (method.scheme == SchemeKind::kRerank) {
-      std::vector<std::size_t> order = everyone;
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return s[a] > s[b]; });
-      order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(method.rerank)));
-      timing += "; rerank: ";
-      const std::vector<DmmResult> r =
-          direct_scores(query, candidates, order, o, SchemeKind::kDmm, 0, timing);
-      // The top R move above every other map, ordered by dMM; hMM breaks dMM ties.
-      for (std::size_t j = 0; j < order.size(); ++j) {
-        Row& row = rows[order[j]];
-        row.dmm = r[j];
-        row.score = 1e9 + r[j].inliers * 1e3 + s[order[j]];
-      }
+  const Ranking ranking = ranker->rank({&query.points, &query_parts}, everyone, {o.threads, o.top});
+  char buf[240];
+  std::snprintf(buf, sizeof buf, "prepare %.1f ms (offline), query %.2f ms, ranking %.2f ms (%.3f ms per map)",
+                prepare_ms, ranking.prep_ms, ranking.match_ms,
+                ranking.match_ms / static_cast<double>(candidates.size()));
+  timing += buf;
+  std::vector<Row> rows(candidates.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    rows[i].candidate = i;
+    rows[i].score = ranking.scores[i];
+    if (!ranking.direct.empty()) rows[i].dmm = ranking.direct[i];
+    if (!ranking.shortlist_scores.empty()) {
+      rows[i].descriptor_score = ranking.shortlist_scores[i];
+    } else if (ranking.direct.empty()) {
+      rows[i].descriptor_score = ranking.scores[i];
     }
   }
   std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
@@ -282,10 +238,18 @@ void run_match(const MatchOptions& o) {
             << " maps" << (o.all ? " of every dataset" : " of its dataset");
   if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
   std::cout << "\n";
-  const bool pose = !method.uses_descriptors() || method.scheme == SchemeKind::kRerank;
+  const bool pose = method.needs_points;
   std::string header = " rank     map";
   if (o.all) header += "      dataset";
-  if (method.uses_descriptors()) header += method.scheme == SchemeKind::kImm ? "  iMM score" : "  hMM score";
+  if (!method.needs_points || !method.stages.empty()) {
+    const MethodSpec& first = method.stages.empty() ? method : method.stages.front();
+    char score[32];
+    std::snprintf(score, sizeof score, " %10s", (first.name == "imm"   ? std::string("iMM score")
+                                                 : first.name == "hmm" ? std::string("hMM score")
+                                                                       : first.name + " score")
+                                                    .c_str());
+    header += score;
+  }
   char columns[160];
   std::snprintf(columns, sizeof columns, " %7s %5s  %7s %7s %8s  %7s %7s %8s", "inliers", "inl%", "x [m]",
                 "y [m]", "th [deg]", "dx [m]", "dy [m]", "dth[deg]");
@@ -307,8 +271,7 @@ void register_match(CLI::App& app) {
   cmd->add_option("db", o->db, "map database file")->required();
   cmd->add_option("--query", o->query, "global map id of the query (see 'partslam info')")->required();
   cmd->add_option(
-         "--method", o->method,
-         "dmm, dmm-ransac, dmm-exhaustive, imm:K[:maxmax|summax|smw], hmm:K[:maxmax|summax|smw], rerank:R:K")
+         "--method", o->method, method_syntax_list())
       ->capture_default_str();
   cmd->add_option("--top", o->top, "rows of the ranking to print")->capture_default_str();
   cmd->add_option("--dict", o->dictionary,

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "core/dictionary.h"
+#include "core/ranking.h"
 #include "core/submap.h"
 #include "io/scan_source.h"
 
@@ -45,9 +46,7 @@ class ProgressBar {
 void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--input", o.input, "input CARMEN log (corrected), or sim[:SEED]")->required();
   cmd.add_option("--dict", o.dictionary, "dictionary CARMEN log (another building), or sim[:SEED]")->required();
-  cmd.add_option("--methods", o.methods,
-                 "comma-separated: dmm, dmm-ransac, dmm-exhaustive, imm:K[:maxmax|summax|smw], "
-                 "hmm:K[:maxmax|summax|smw], rerank:R:K")
+  cmd.add_option("--methods", o.methods, "comma-separated: " + method_syntax_list())
       ->capture_default_str();
   cmd.add_option("--db-size", o.config.tasks.db_size, "N: maps per task database")->capture_default_str();
   cmd.add_option("--tasks", o.config.tasks.num_tasks, "tasks to sample")->capture_default_str();
@@ -56,13 +55,13 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--gap", o.config.tasks.min_travel_gap, "G: min travel gap of a relevant pair [m]")
       ->capture_default_str();
   cmd.add_option("--threads", o.config.num_threads, "threads (results do not depend on it)")->capture_default_str();
-  cmd.add_option("--gate", o.config.origin_gate,
+  cmd.add_option("--gate", o.config.ranking.origin_gate,
                  "descriptor matcher: origin gate [m], part pairs must put the map frames this close; 0 = off "
                  "(the paper)")
       ->capture_default_str();
-  cmd.add_option("--hmm-query-parts", o.config.hmm_query_parts, "parts of an hMM query")->capture_default_str();
+  cmd.add_option("--hmm-query-parts", o.config.ranking.hmm_query_parts, "parts of an hMM query")->capture_default_str();
   add_cpd_options(cmd, o.config.cpd, "cpd-");
-  cmd.add_option("--dmm-dilation", o.config.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
+  cmd.add_option("--dmm-dilation", o.config.ranking.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
       ->capture_default_str();
   cmd.add_flag("--quiet", o.quiet, "no progress bar");
@@ -71,7 +70,7 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
 EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   EvalRun run;
   run.options = o;
-  run.options.config.dmm.angular_window = o.dmm_angular_window_deg * std::numbers::pi / 180.0;
+  run.options.config.ranking.dmm.angular_window = o.dmm_angular_window_deg * std::numbers::pi / 180.0;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
   validate(o.config.tasks);
@@ -100,12 +99,13 @@ void print_table(const EvalRun& run, std::ostream& out) {
       << " relevant pairs, " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
       << run.options.config.tasks.seed << "\n";
   out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1"
-      << std::setw(8) << "R@1%" << std::setw(12) << "us/pair" << std::setw(12) << "ms/query" << std::setw(10)
-      << "bits/map" << "\n";
+      << std::setw(8) << "R@1%" << std::setw(8) << "R@5%" << std::setw(8) << "R@10%" << std::setw(12) << "us/pair"
+      << std::setw(12) << "ms/query" << std::setw(10) << "bits/map" << "\n";
   for (const MethodResult& m : r.methods) {
     out << std::left << std::setw(22) << m.method.label() << std::right << std::setprecision(1) << std::setw(8)
         << m.summary.anr_percent << std::setprecision(3) << std::setw(8) << m.summary.recall_at_1 << std::setw(8)
-        << m.summary.recall_at_1pct << std::setprecision(3) << std::setw(12) << m.ms_per_pair * 1e3
+        << m.summary.recall_at_1pct << std::setw(8) << m.summary.recall_at_5pct << std::setw(8)
+        << m.summary.recall_at_10pct << std::setw(12) << m.ms_per_pair * 1e3
         << std::setprecision(2)
         << std::setw(12) << m.ms_per_query << std::setprecision(0) << std::setw(10) << m.bits_per_map << "\n";
   }
@@ -135,8 +135,8 @@ nlohmann::json to_json(const EvalRun& run) {
   j["parameters"] = {
       {"radius", c.tasks.radius},
       {"min_travel_gap", c.tasks.min_travel_gap},
-      {"origin_gate", c.origin_gate},
-      {"hmm_query_parts", c.hmm_query_parts},
+      {"origin_gate", c.ranking.origin_gate},
+      {"hmm_query_parts", c.ranking.hmm_query_parts},
       {"cpd",
        {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
         {"box_sizes", c.cpd.box_sizes},
@@ -146,7 +146,7 @@ nlohmann::json to_json(const EvalRun& run) {
         {"t_size", c.cpd.t_size},
         {"gc", c.cpd.geometric_consistency},
         {"seed", c.cpd.seed}}},
-      {"dmm", {{"dilation", c.dmm.dilation}, {"angular_window_deg", run.options.dmm_angular_window_deg}}}};
+      {"dmm", {{"dilation", c.ranking.dmm.dilation}, {"angular_window_deg", run.options.dmm_angular_window_deg}}}};
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {
     j["methods"].push_back({{"spec", m.method.spec},
@@ -154,6 +154,8 @@ nlohmann::json to_json(const EvalRun& run) {
                             {"anr", m.summary.anr_percent},
                             {"recall_at_1", m.summary.recall_at_1},
                             {"recall_at_1pct", m.summary.recall_at_1pct},
+                            {"recall_at_5pct", m.summary.recall_at_5pct},
+                            {"recall_at_10pct", m.summary.recall_at_10pct},
                             {"ms_per_pair", m.ms_per_pair},
                             {"ms_per_query", m.ms_per_query},
                             {"ms_query_prep", m.ms_query_prep},

@@ -20,7 +20,7 @@ struct EvalOptions {
   std::string json;
   std::string plot;
   bool quiet = false;
-  double dmm_angular_window_deg = EvalConfig{}.dmm.angular_window * 180.0 / std::numbers::pi;
+  double dmm_angular_window_deg = EvalConfig{}.ranking.dmm.angular_window * 180.0 / std::numbers::pi;
 };
 
 /// Adds --input, --dict, --methods, --db-size, --tasks, --seed, --threads and the method parameters.

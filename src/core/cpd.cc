@@ -1,6 +1,7 @@
 #include "core/cpd.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <random>
 #include <map>
@@ -241,13 +242,18 @@ CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& di
 std::vector<CpdResult> discover_parts_many(const std::vector<const Points2*>& maps,
                                            const std::vector<std::uint64_t>& map_keys,
                                            const PreparedDictionary& dictionary, const CpdConfig& config,
-                                           int num_threads) {
+                                           int num_threads, const Progress& progress) {
   if (maps.size() != map_keys.size()) throw InputError("cpd: one key per map is required");
   validate(config);
   std::vector<CpdResult> results(maps.size());
-  const long n = static_cast<long>(maps.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, num_threads))
-  for (long i = 0; i < n; ++i) results[i] = discover_parts(*maps[i], dictionary, config, map_keys[i]);
+  parallel_for(
+      maps.size(), num_threads,
+      [&](std::size_t i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        results[i] = discover_parts(*maps[i], dictionary, config, map_keys[i]);
+        results[i].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      },
+      "parts (CPD)", progress);
   return results;
 }
 

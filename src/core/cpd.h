@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/dmm.h"
+#include "core/parallel.h"
 #include "core/part.h"
 
 namespace partslam {
@@ -79,6 +80,7 @@ struct CpdStats {
 struct CpdResult {
   std::vector<Part> parts;  ///< best AS first, at most max_parts
   CpdStats stats;
+  double ms = 0;            ///< wall time of this map's CPD [ms] (discover_parts_many)
 };
 
 /// kCorners: the map's corner points, strongest first: points whose neighbourhood (corner_radius) has a large
@@ -90,10 +92,12 @@ Points2 find_corners(const Points2& map_points, const CpdConfig& config);
 CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& dictionary, const CpdConfig& config,
                          std::uint64_t map_key);
 
-/// discover_parts over many maps; num_threads > 1 runs maps in parallel (OpenMP) with identical results.
+/// The offline stage of every path (eval, describe, tools): discover_parts over many maps, each seeded by its
+/// key (the map's id: Submap::id), timed per map; num_threads > 1 runs maps in parallel (OpenMP) with identical
+/// results. Progress is reported as stage "parts (CPD)".
 std::vector<CpdResult> discover_parts_many(const std::vector<const Points2*>& maps,
                                            const std::vector<std::uint64_t>& map_keys,
                                            const PreparedDictionary& dictionary, const CpdConfig& config,
-                                           int num_threads = 1);
+                                           int num_threads = 1, const Progress& progress = {});
 
 }  // namespace partslam

@@ -409,6 +409,14 @@ DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map, c
 
 std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps,
                                       const DmmConfig& config, int top_k, int num_threads) {
+  std::vector<const PreparedMap*> pointers;
+  pointers.reserve(maps.size());
+  for (const PreparedMap& m : maps) pointers.push_back(&m);
+  return match_dmm_many(query, pointers, config, top_k, num_threads);
+}
+
+std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
+                                      const DmmConfig& config, int top_k, int num_threads) {
   validate(config);
   if (num_threads < 1) throw InputError("dmm: num_threads must be >= 1, got " + std::to_string(num_threads));
   std::vector<DmmResult> results(maps.size());
@@ -416,7 +424,7 @@ std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<cons
     const auto n = static_cast<std::ptrdiff_t>(maps.size());
 #pragma omp parallel for schedule(dynamic) num_threads(num_threads) if (num_threads > 1)
     for (std::ptrdiff_t m = 0; m < n; ++m) {
-      results[static_cast<std::size_t>(m)] = match_dmm(query, maps[static_cast<std::size_t>(m)], config);
+      results[static_cast<std::size_t>(m)] = match_dmm(query, *maps[static_cast<std::size_t>(m)], config);
     }
     return results;
   }
@@ -424,7 +432,7 @@ std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<cons
   std::priority_queue<int, std::vector<int>, std::greater<>> best;
   for (std::size_t m = 0; m < maps.size(); ++m) {
     const int bar = static_cast<int>(best.size()) == top_k ? best.top() : -1;
-    results[m] = match_dmm_above(query, maps[m], config, bar);
+    results[m] = match_dmm_above(query, *maps[m], config, bar);
     if (!results[m].exact) continue;
     best.push(results[m].inliers);
     if (static_cast<int>(best.size()) > top_k) best.pop();

@@ -108,5 +108,8 @@ DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map, c
 /// maps with the highest scores (ties: the earlier map) are exact. Top-k mode runs serially.
 std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps,
                                       const DmmConfig& config = {}, int top_k = 0, int num_threads = 1);
+/// The same over maps held elsewhere (e.g. a subset of a prepared database).
+std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
+                                      const DmmConfig& config = {}, int top_k = 0, int num_threads = 1);
 
 }  // namespace partslam

@@ -1,40 +1,68 @@
-// The paper's evaluation (DESIGN.md, "Metrics"; paper §"Experiments"): every method ranks the database of
-// every task; the rank of the relevant map gives ANR, recall@1 and recall@1 %; time per map pair, time per
-// query and bits per stored map are measured on the same tasks.
-//   dMM / dMM-RANSAC / dMM-exhaustive: Eq. 1 between the query and each database map.
-//   iMM:K   query and stored maps both as K parts, stored through the bit-packed codec (what a database holds).
-//   hMM:K   query with up to hmm_query_parts parts at full precision (the local map is at hand), stored K parts.
-//   rerank:R:K  hMM:K ranks; the top R are reordered by their dMM score.
-// Offline work (CPD of every map, grids of stored maps) is timed separately from online work.
+// The paper's evaluation (docs/DESIGN.md, "Metrics"; paper §"Experiments"): every method ranks the database of
+// every task; the rank of the relevant map gives ANR and recall within the top 1 / 1 % / 5 % / 10 % of N; time
+// per map pair, time per query and bits per stored map are measured on the same tasks. In stages:
+//   1. describe_maps   offline: CPD parts of every map against the dictionary (when a method needs parts)
+//   2. run_tasks       one method (a Ranker from core/ranking.h, prepared on every map) over a range of tasks
+//   3. summarize       the method's figures from the task outcomes
+// evaluate() runs the three for every method on the same tasks.
 #pragma once
 
-#include <functional>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "core/cpd.h"
-#include "core/dmm.h"
-#include "core/dmm_ransac.h"
 #include "core/method_spec.h"
 #include "core/metrics.h"
 #include "core/part_codec.h"
+#include "core/ranking.h"
 #include "core/tasks.h"
 
 namespace partslam {
 
 struct EvalConfig {
   TaskConfig tasks;
-  DmmConfig dmm;                 ///< dMM and reranking
-  DmmRansacConfig ransac;        ///< dMM-RANSAC
+  RankingConfig ranking;         ///< method parameters (dMM, RANSAC, hMM query parts, origin gate)
   CpdConfig cpd;                 ///< parts (max_parts is raised to what the methods need)
   CodecConfig codec;             ///< storage of stored descriptors (dictionary_extent is filled in)
-  int hmm_query_parts = 100;     ///< parts of an hMM query
-  double origin_gate = kDefaultOriginGate;     ///< descriptor matcher's origin gate [m] (descriptor_matcher.h); 0 = the paper
-  double bits_per_point = 14;    ///< storage of a raw map point (7 + 7 bits at 0.1 m in a 12.8 m crop)
   int num_threads = 1;           ///< OpenMP threads over maps and tasks; results do not depend on it
   double pose_tolerance_m = 0.5;     ///< relative pose check: translation [m]
   double pose_tolerance_rad = 0.2;   ///< relative pose check: rotation [rad]
 };
+
+/// Throws InputError naming the offending field.
+void validate(const EvalConfig& config);
+
+/// Stage 1 output: what the offline description of every map produced.
+struct DescribedMaps {
+  std::vector<std::vector<Part>> parts;  ///< per map, best AS first; empty when no method needs parts
+  std::vector<double> cpd_ms;            ///< per map [ms]
+  std::optional<CodecConfig> codec;      ///< storage of descriptors against this dictionary
+  double cpd_ms_per_map = 0;
+};
+
+/// CPD of every map against the dictionary, seeded by Submap::id (as `partslam describe` does), keeping up to
+/// max_parts parts. Throws InputError when the dictionary is empty.
+DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
+                            const CodecConfig& codec, int num_threads, const Progress& progress = {});
+
+/// The maps as rankers see them (points, and parts when described).
+std::vector<MapView> map_views(const Submaps& maps, const DescribedMaps& described);
+
+/// What one task contributes to a method's figures.
+struct TaskOutcome {
+  double rank = 0;          ///< tied rank of the relevant map (1 = best)
+  std::size_t db_size = 0;  ///< N of the task
+  int pose = -1;            ///< -1: no pose for the relevant map; 0: wrong; 1: within tolerance
+  double match_ms = 0;      ///< online matching of the whole task database [ms]
+  double prep_ms = 0;       ///< the query's own preparation, its CPD included [ms]
+};
+
+/// Stage 2: a prepared ranker (prepare()d on map_views(maps, described)) over some tasks.
+std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
+                                   const DescribedMaps& described, std::span<const Task> tasks,
+                                   const EvalConfig& config, const Progress& progress = {});
 
 struct MethodResult {
   MethodSpec method;
@@ -50,6 +78,9 @@ struct MethodResult {
   double pose_within_tolerance = 0;
 };
 
+/// Stage 3: the figures of one method from its task outcomes.
+MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> outcomes, double bits_per_map);
+
 struct EvalReport {
   std::size_t maps = 0;            ///< submaps of the input
   double mean_points = 0;          ///< mean points per submap
@@ -60,7 +91,7 @@ struct EvalReport {
 };
 
 /// Progress callback: stage name, items done, items in the stage.
-using EvalProgress = std::function<void(const std::string& stage, std::size_t done, std::size_t total)>;
+using EvalProgress = Progress;
 
 /// Runs every method on the same tasks. Throws InputError when the maps yield no relevant pair or the
 /// dictionary is empty while a method needs parts.

@@ -31,7 +31,7 @@ EvalConfig small_config(int threads) {
   c.tasks.num_tasks = 24;
   c.tasks.db_size = 20;
   c.num_threads = threads;
-  c.hmm_query_parts = 20;
+  c.ranking.hmm_query_parts = 20;
   return c;
 }
 
@@ -70,6 +70,31 @@ TEST(Evaluation, EveryMethodRunsAndThreadsDoNotChangeRanks) {
   EXPECT_GT(serial.cpd_ms_per_map, 0.0);
   // Reranking by dMM moves the relevant map up whenever hMM put it in the top R.
   EXPECT_GE(serial.methods[3].summary.recall_at_1, serial.methods[1].summary.recall_at_1);
+}
+
+TEST(Evaluation, StagesRunASliceOfTasksWithTheSameOutcomes) {
+  const SimData& d = sim_data();
+  const EvalConfig config = small_config(1);
+  const MethodSpec method = parse_method_spec("hmm:3");
+  const EvalReport whole = evaluate(d.maps, d.dictionary.points, {method}, config);
+  CpdConfig cpd = config.cpd;
+  cpd.max_parts = config.ranking.hmm_query_parts;
+  const DescribedMaps described = describe_maps(d.maps, d.dictionary.points, cpd, config.codec, 2);
+  RankingConfig ranking = config.ranking;
+  ranking.codec = described.codec;
+  const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
+  ranker->prepare(map_views(d.maps, described), 1);
+  const std::vector<Task> tasks = make_tasks(d.maps, config.tasks);
+  const std::span<const Task> slice(tasks.begin() + 5, tasks.begin() + 12);
+  const std::vector<TaskOutcome> outcomes = run_tasks(*ranker, method, d.maps, described, slice, config);
+  ASSERT_EQ(outcomes.size(), 7u);
+  for (std::size_t t = 0; t < outcomes.size(); ++t) {
+    EXPECT_EQ(outcomes[t].rank / static_cast<double>(outcomes[t].db_size),
+              whole.methods[0].normalized_ranks[5 + t]);
+  }
+  const MethodResult summary = summarize(method, outcomes, ranker->bits_per_map());
+  EXPECT_EQ(summary.summary.tasks, 7u);
+  EXPECT_EQ(summary.bits_per_map, 132.0);
 }
 
 TEST(Evaluation, NoLoopClosureIsAClearError) {

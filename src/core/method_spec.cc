@@ -5,11 +5,10 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/ranking.h"
 
 namespace partslam {
 namespace {
-
-constexpr int kMaxParts = 100;
 
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> out;
@@ -20,7 +19,9 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
-int parse_count(const std::string& spec, const std::string& field, const std::string& what, int lo, int hi) {
+}  // namespace
+
+int parse_spec_int(const std::string& spec, const std::string& field, const std::string& what, int lo, int hi) {
   int v = 0;
   const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
   if (ec != std::errc() || ptr != field.data() + field.size() || v < lo || v > hi) {
@@ -30,7 +31,7 @@ int parse_count(const std::string& spec, const std::string& field, const std::st
   return v;
 }
 
-Matcher parse_matcher(const std::string& spec, const std::string& name) {
+Matcher parse_spec_matcher(const std::string& spec, const std::string& name) {
   if (name == "maxmax") return Matcher::kMaxMax;
   if (name == "summax") return Matcher::kSumMax;
   if (name == "smw") return Matcher::kSumMaxWeighted;
@@ -46,7 +47,7 @@ const char* matcher_label(Matcher m) {
   return "";
 }
 
-const char* matcher_name(Matcher m) {
+const char* matcher_spec_name(Matcher m) {
   switch (m) {
     case Matcher::kMaxMax: return "maxmax";
     case Matcher::kSumMax: return "summax";
@@ -55,53 +56,19 @@ const char* matcher_name(Matcher m) {
   return "";
 }
 
-}  // namespace
-
-std::string MethodSpec::label() const {
-  const std::string cpd = " cpd:" + std::to_string(parts);
-  switch (scheme) {
-    case SchemeKind::kDmm: return "dMM";
-    case SchemeKind::kDmmRansac: return "dMM-RANSAC";
-    case SchemeKind::kDmmExhaustive: return "dMM-exhaustive";
-    case SchemeKind::kImm:
-      return (matcher == Matcher::kSumMax ? "" : std::string(matcher_label(matcher)) + " ") + "iMM" + cpd;
-    case SchemeKind::kHmm:
-      return (matcher == Matcher::kSumMaxWeighted ? "" : std::string(matcher_label(matcher)) + " ") +
-             "hMM" + cpd;
-    case SchemeKind::kRerank: return "rerank" + std::to_string(rerank) + " hMM" + cpd;
-  }
-  return spec;
-}
-
 MethodSpec parse_method_spec(const std::string& text) {
-  const std::vector<std::string> f = split(text, ':');
-  MethodSpec m;
-  if (f.empty()) throw InputError("method '': empty method spec");
-  const std::string& kind = f[0];
-  if (kind == "dmm" || kind == "dmm-ransac" || kind == "dmm-exhaustive") {
-    if (f.size() != 1) throw InputError("method '" + text + "': " + kind + " takes no arguments");
-    m.scheme = kind == "dmm" ? SchemeKind::kDmm
-               : kind == "dmm-ransac" ? SchemeKind::kDmmRansac : SchemeKind::kDmmExhaustive;
-    m.spec = kind;
-  } else if (kind == "imm" || kind == "hmm") {
-    if (f.size() < 2 || f.size() > 3) throw InputError("method '" + text + "': expected " + kind + ":K[:matcher]");
-    m.scheme = kind == "imm" ? SchemeKind::kImm : SchemeKind::kHmm;
-    m.parts = parse_count(text, f[1], "K (parts per map)", 1, kMaxParts);
-    m.matcher = f.size() == 3 ? parse_matcher(text, f[2])
-                : m.scheme == SchemeKind::kImm ? Matcher::kSumMax
-                                               : Matcher::kSumMaxWeighted;
-    m.spec = kind + ":" + std::to_string(m.parts) + ":" + matcher_name(m.matcher);
-  } else if (kind == "rerank") {
-    if (f.size() != 3) throw InputError("method '" + text + "': expected rerank:R:K");
-    m.scheme = SchemeKind::kRerank;
-    m.rerank = parse_count(text, f[1], "R (maps to rerank)", 1, 1000000);
-    m.parts = parse_count(text, f[2], "K (parts per map)", 1, kMaxParts);
-    m.matcher = Matcher::kSumMaxWeighted;
-    m.spec = "rerank:" + std::to_string(m.rerank) + ":" + std::to_string(m.parts);
-  } else {
-    throw InputError("method '" + text + "': unknown scheme '" + kind +
-                     "' (expected dmm, dmm-ransac, dmm-exhaustive, imm:K, hmm:K or rerank:R:K)");
+  std::vector<std::string> f = split(text, ':');
+  if (f.empty() || f[0].empty()) throw InputError("method '" + text + "': empty method spec");
+  const MethodEntry* entry = find_method(f[0]);
+  if (entry == nullptr) {
+    std::string names;
+    for (const MethodEntry& e : method_registry()) names += (names.empty() ? "" : ", ") + std::string(e.syntax);
+    throw InputError("method '" + text + "': unknown scheme '" + f[0] + "' (expected " + names + ")");
   }
+  MethodSpec m;
+  m.name = f[0];
+  f.erase(f.begin());
+  entry->parse(text, f, m);
   return m;
 }
 
@@ -114,7 +81,7 @@ std::vector<MethodSpec> parse_method_list(const std::string& text) {
 
 int max_parts(const std::vector<MethodSpec>& methods) {
   int k = 0;
-  for (const MethodSpec& m : methods) k = std::max(k, m.parts);
+  for (const MethodSpec& m : methods) k = std::max({k, m.parts, max_parts(m.stages)});
   return k;
 }
 

@@ -34,8 +34,23 @@ TEST(MethodSpec, ListAndMaxParts) {
   EXPECT_EQ(max_parts(methods), 5);
 }
 
+TEST(MethodSpec, RerankTakesAnySuccinctFirstStage) {
+  const MethodSpec paper = parse_method_spec("rerank:20:3");
+  ASSERT_EQ(paper.stages.size(), 1u);
+  EXPECT_EQ(paper.stages[0].spec, "hmm:3:smw");
+  EXPECT_EQ(paper.spec, "rerank:20:3");
+  EXPECT_EQ(paper.label(), "rerank20 hMM cpd:3");
+  EXPECT_TRUE(paper.needs_points);
+  EXPECT_TRUE(paper.needs_parts);
+  const MethodSpec imm = parse_method_spec("rerank:10:imm:2");
+  EXPECT_EQ(imm.stages[0].spec, "imm:2:summax");
+  EXPECT_EQ(imm.label(), "rerank10 iMM cpd:2");
+  EXPECT_EQ(max_parts({imm}), 2);
+  EXPECT_FALSE(parse_method_spec("rerank:10").stages.empty());
+}
+
 TEST(MethodSpec, RejectsBadSpecsWithTheSpecInTheMessage) {
-  for (const char* bad : {"", "foo", "imm", "imm:0", "imm:x", "hmm:3:best", "rerank:10", "dmm:3", "imm:3:", "imm:101"}) {
+  for (const char* bad : {"", "foo", "imm", "imm:0", "imm:x", "hmm:3:best", "rerank:x", "rerank:10:dmm", "rerank:5:rerank:3", "dmm:3", "imm:3:", "imm:101"}) {
     try {
       parse_method_spec(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";

@@ -15,6 +15,8 @@ struct RankSummary {
   double anr_percent = 0;       ///< mean normalised rank [%]
   double recall_at_1 = 0;       ///< share of tasks with rank 1 (no tie) [0..1]
   double recall_at_1pct = 0;    ///< share of tasks whose rank <= max(1, 1 % of N) [0..1]
+  double recall_at_5pct = 0;    ///< share of tasks whose rank <= max(1, 5 % of N) [0..1]
+  double recall_at_10pct = 0;   ///< share of tasks whose rank <= max(1, 10 % of N) [0..1] (what reranking needs)
   std::size_t tasks = 0;
 };
 
