@@ -40,6 +40,8 @@ void register_dictionary(CLI::App& app) {
   cmd->add_option("--db", o->db, "map database file (created when missing)")->required();
   cmd->add_option("--name", o->name, "dictionary name (default: the log's file name)");
   cmd->add_option("--resolution", o->config.resolution, "downsampling cell [m]")->capture_default_str();
+  cmd->add_option("--max-range", o->config.max_range, "usable range: farther beam endpoints are dropped [m]")
+      ->capture_default_str();
   cmd->callback([o] { run_dictionary(*o); });
 }
 

@@ -84,6 +84,8 @@ void register_submaps(CLI::App& app) {
   cmd->add_option("--spacing", o->config.spacing, "travel between submaps [m]")->capture_default_str();
   cmd->add_option("--resolution", o->config.resolution, "downsampling cell [m]")->capture_default_str();
   cmd->add_option("--crop", o->config.crop_size, "side of the square crop [m]")->capture_default_str();
+  cmd->add_option("--max-range", o->config.max_range, "usable range: farther beam endpoints are dropped [m]")
+      ->capture_default_str();
   cmd->add_flag("--no-align", o->no_align, "keep the log's axes (no Manhattan alignment)");
   cmd->add_option("--relations", o->relations, "check relevant pairs against this .relations file");
   cmd->add_option("--raw", o->raw, "raw log the relations refer to (when LOG is a re-timed corrected log)");

@@ -51,6 +51,8 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--db-size", o.config.tasks.db_size, "N: maps per task database")->capture_default_str();
   cmd.add_option("--tasks", o.config.tasks.num_tasks, "tasks to sample")->capture_default_str();
   cmd.add_option("--seed", o.config.tasks.seed, "task sampling seed")->capture_default_str();
+  cmd.add_option("--max-range", o.max_range, "usable range of submaps and dictionary: farther beam endpoints are dropped [m]")
+      ->capture_default_str();
   cmd.add_option("--radius", o.config.tasks.radius, "R: relevant-pair radius [m]")->capture_default_str();
   cmd.add_option("--gap", o.config.tasks.min_travel_gap, "G: min travel gap of a relevant pair [m]")
       ->capture_default_str();
@@ -73,13 +75,18 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   run.options.config.ranking.dmm.angular_window = o.dmm_angular_window_deg * std::numbers::pi / 180.0;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
-  validate(o.config.tasks);
+  validate(o.config);
   const io::ScanSource input = io::load_scan_source(o.input);
   const io::ScanSource dict = io::load_scan_source(o.dictionary);
   run.input_name = input.name;
   run.dictionary_name = dict.name;
-  const Submaps maps = build_submaps(input.scans);
-  const Dictionary dictionary = build_dictionary(dict.name, dict.scans);
+  SubmapConfig submap_config;
+  submap_config.max_range = o.max_range;
+  DictionaryConfig dictionary_config;
+  dictionary_config.max_range = o.max_range;
+  validate(submap_config);
+  const Submaps maps = build_submaps(input.scans, submap_config);
+  const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);
   const bool tty = !o.quiet && isatty(STDERR_FILENO);
   if (!o.quiet) {
     log << run.input_name << ": " << maps.size() << " submaps; dictionary " << run.dictionary_name << ": "
@@ -96,7 +103,8 @@ void print_table(const EvalRun& run, std::ostream& out) {
   const EvalReport& r = run.report;
   out << "input " << run.input_name << ", dictionary " << run.dictionary_name << ": " << r.maps << " maps (mean "
       << std::fixed << std::setprecision(0) << r.mean_points << " points), " << r.relevant_pairs
-      << " relevant pairs, " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
+      << " relevant pairs (" << std::setprecision(1) << 100 * r.low_overlap_share
+      << " % under 30 % true overlap), " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
       << run.options.config.tasks.seed << "\n";
   out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1"
       << std::setw(8) << "R@1%" << std::setw(8) << "R@5%" << std::setw(8) << "R@10%" << std::setw(12) << "us/pair"
@@ -129,11 +137,13 @@ nlohmann::json to_json(const EvalRun& run) {
                       {"maps", r.maps},
                       {"mean_points", r.mean_points},
                       {"relevant_pairs", r.relevant_pairs},
+                      {"low_overlap_share", r.low_overlap_share},
                       {"cpd_ms_per_map", r.cpd_ms_per_map},
                       {"seconds", run.seconds}};
   const EvalConfig& c = run.options.config;
   j["parameters"] = {
       {"radius", c.tasks.radius},
+      {"max_range", run.options.max_range},
       {"min_travel_gap", c.tasks.min_travel_gap},
       {"origin_gate", c.ranking.origin_gate},
       {"hmm_query_parts", c.ranking.hmm_query_parts},

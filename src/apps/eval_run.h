@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/evaluation.h"
+#include "core/scan.h"
 
 namespace partslam::apps {
 
@@ -17,6 +18,7 @@ struct EvalOptions {
   std::string dictionary;  ///< CARMEN log or sim[:SEED] (another building)
   std::string methods = "dmm,imm:3,hmm:3";
   EvalConfig config;
+  double max_range = kDefaultMaxRange;  ///< usable range of the input's submaps and the dictionary [m]
   std::string json;
   std::string plot;
   bool quiet = false;

@@ -8,9 +8,10 @@ namespace partslam {
 
 Dictionary build_dictionary(const std::string& name, const Scans& scans, const DictionaryConfig& config) {
   if (!(config.resolution > 0)) throw InputError("dictionary: resolution must be > 0");
+  if (!(config.max_range > 0)) throw InputError("dictionary: max_range must be > 0 [m]");
   Points2 world;
   for (const Scan& scan : scans) {
-    const Points2 pts = points_world(scan);
+    const Points2 pts = points_world(scan, config.max_range);
     world.insert(world.end(), pts.begin(), pts.end());
   }
   world = voxel_downsample(world, config.resolution);

@@ -13,6 +13,7 @@ struct DictionaryConfig {
   double resolution = 0.1;  ///< downsampling cell [m]
   bool align = true;        ///< rotate into the canonical Manhattan frame
   int min_points = 100;     ///< fewer points than this is an error (not a building)
+  double max_range = kDefaultMaxRange;  ///< beam endpoints farther from the laser are dropped [m]
 };
 
 struct Dictionary {

@@ -107,7 +107,9 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
   report.maps = maps.size();
   for (const Submap& m : maps) report.mean_points += static_cast<double>(m.points.size());
   if (!maps.empty()) report.mean_points /= static_cast<double>(maps.size());
-  report.relevant_pairs = relevant_pairs(maps, config.tasks).size();
+  const std::vector<RelevantPair> pairs = relevant_pairs(maps, config.tasks);
+  report.relevant_pairs = pairs.size();
+  report.low_overlap_share = low_overlap_share(maps, pairs, 0.3, config.num_threads);
   const std::vector<Task> tasks = make_tasks(maps, config.tasks);
   if (tasks.empty()) {
     throw InputError("eval: no relevant pair among " + std::to_string(maps.size()) + " maps (R = " +

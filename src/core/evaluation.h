@@ -85,6 +85,7 @@ struct EvalReport {
   std::size_t maps = 0;            ///< submaps of the input
   double mean_points = 0;          ///< mean points per submap
   std::size_t relevant_pairs = 0;  ///< relevant pairs found (tasks are sampled from them)
+  double low_overlap_share = 0;    ///< share of relevant pairs whose true overlap is below 30 % (the ceiling)
   std::size_t tasks = 0;
   double cpd_ms_per_map = 0;       ///< offline CPD per map [ms] (0 when no method uses parts)
   std::vector<MethodResult> methods;

@@ -68,6 +68,7 @@ MethodSpec parse_method_spec(const std::string& text) {
   MethodSpec m;
   m.name = f[0];
   f.erase(f.begin());
+  m.args = f;
   entry->parse(text, f, m);
   return m;
 }

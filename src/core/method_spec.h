@@ -19,6 +19,7 @@ struct MethodSpec {
   int rerank = 0;          ///< R: maps reordered by dMM (rerank)
   int size = 0;            ///< the method's own size parameter (e.g. grid cells per side), 0 when it has none
   Matcher matcher = Matcher::kSumMax;
+  std::vector<std::string> args;   ///< the fields after the name, as given (a ranker may re-read them)
   std::vector<MethodSpec> stages;  ///< rerank: its first-stage method
   std::string spec;        ///< the text it was parsed from, normalised
   std::string name_label;  ///< the paper's name: "dMM", "iMM cpd:3", "Max-Max hMM cpd:3", "rerank10 hMM cpd:3"

@@ -15,6 +15,7 @@ const MethodEntry& dmm_exhaustive_method();  // direct_ranker.cc
 const MethodEntry& imm_method();             // part_ranker.cc
 const MethodEntry& hmm_method();             // part_ranker.cc
 const MethodEntry& rerank_method();          // rerank_ranker.cc
+const MethodEntry& grid_method();            // grid_descriptor.cc
 
 const std::vector<MethodEntry>& method_registry() {
   static const std::vector<MethodEntry> methods = {

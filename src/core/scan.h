@@ -21,4 +21,17 @@ using Scans = std::vector<Scan>;
 /// Scan endpoints in the world frame.
 inline Points2 points_world(const Scan& scan) { return transform(scan.T_world_laser, scan.points_laser); }
 
+/// Scan endpoints within max_range of the laser [m], in the world frame (the usable-range cap of submaps and
+/// dictionaries: far returns are sparse and drag a map's centroid away from where the robot was).
+inline Points2 points_world(const Scan& scan, double max_range) {
+  Points2 out;
+  out.reserve(scan.points_laser.size());
+  for (const Vec2& p : scan.points_laser)
+    if (p.squaredNorm() <= max_range * max_range) out.push_back(scan.T_world_laser * p);
+  return out;
+}
+
+/// The usable-range cap of submaps and dictionaries unless told otherwise [m] (docs/NOTES.md, "Usable range").
+inline constexpr double kDefaultMaxRange = 30.0;
+
 }  // namespace partslam

@@ -20,6 +20,7 @@ void validate(const SubmapConfig& c) {
   positive(c.spacing, "spacing");
   positive(c.resolution, "resolution");
   positive(c.crop_size, "crop_size");
+  if (!(c.max_range > 0.0)) throw InputError("submap config: max_range must be > 0 [m], got " + std::to_string(c.max_range));
   if (c.crop_size / c.resolution > 100000) throw InputError("submap config: crop_size / resolution is absurdly large");
   if (c.min_points < 1) throw InputError("submap config: min_points must be >= 1");
 }
@@ -74,7 +75,7 @@ Submaps build_submaps(const Scans& scans, const SubmapConfig& config) {
     m.travel = s[i];
     Points2 world;
     for (std::size_t j = i; j < scans.size() && s[j] < s[i] + config.window_length; ++j) {
-      const Points2 pts = points_world(scans[j]);
+      const Points2 pts = points_world(scans[j], config.max_range);
       world.insert(world.end(), pts.begin(), pts.end());
       m.scan_timestamps.push_back(scans[j].timestamp);
     }

@@ -14,6 +14,7 @@ struct SubmapConfig {
   double spacing = 0.5;        ///< travel between consecutive anchors [m]
   double resolution = 0.1;     ///< downsampling cell [m]
   double crop_size = 12.8;     ///< side of the square crop around the centroid [m]
+  double max_range = kDefaultMaxRange;  ///< beam endpoints farther from the laser are dropped [m]
   int min_points = 20;         ///< submaps with fewer points are dropped
   bool align = true;           ///< rotate into the canonical Manhattan frame
 };

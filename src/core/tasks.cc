@@ -6,6 +6,8 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/occupancy_grid.h"
+#include "core/parallel.h"
 
 namespace partslam {
 namespace {
@@ -70,6 +72,33 @@ std::vector<Task> make_tasks(const Submaps& maps, const TaskConfig& config) {
     tasks.push_back(std::move(task));
   }
   return tasks;
+}
+
+namespace {
+
+double overlap_on(const Submap& query, const Submap& map, const OccupancyGrid& grid) {
+  if (query.points.empty()) return 0.0;
+  const Pose2 T_map_query = map.T_world_map.inverse() * query.T_world_map;
+  std::size_t hits = 0;
+  for (const Vec2& p : query.points) hits += grid.at(T_map_query * p);
+  return static_cast<double>(hits) / static_cast<double>(query.points.size());
+}
+
+}  // namespace
+
+double true_overlap(const Submap& query, const Submap& map, double resolution, int dilation) {
+  return overlap_on(query, map, build_occupancy_grid(map.points, resolution, dilation));
+}
+
+double low_overlap_share(const Submaps& maps, const std::vector<RelevantPair>& pairs, double threshold,
+                         int num_threads) {
+  if (pairs.empty()) return 0.0;
+  std::vector<OccupancyGrid> grids(maps.size());
+  parallel_for(maps.size(), num_threads,
+               [&](std::size_t i) { grids[i] = build_occupancy_grid(maps[i].points, 0.1, 1); });
+  std::size_t low = 0;
+  for (const RelevantPair& p : pairs) low += overlap_on(maps[p.query], maps[p.global], grids[p.global]) < threshold;
+  return static_cast<double>(low) / static_cast<double>(pairs.size());
 }
 
 }  // namespace partslam

@@ -39,6 +39,16 @@ std::vector<RelevantPair> relevant_pairs(const Submaps& maps, const TaskConfig& 
 /// Samples the tasks. A query with fewer than N-1 irrelevant maps gets a smaller database.
 std::vector<Task> make_tasks(const Submaps& maps, const TaskConfig& config);
 
+/// True overlap of a pair: the share of the query's points that fall on the map's occupied cells (at
+/// `resolution`, dilated by `dilation` cells, as dMM scores them) when placed by the ground-truth poses,
+/// T_map_query = T_world_map(map)^-1 T_world_map(query). 0 for an empty query.
+double true_overlap(const Submap& query, const Submap& map, double resolution = 0.1, int dilation = 1);
+
+/// The ceiling no matcher can pass: the share of relevant pairs whose true overlap is below `threshold`
+/// (0 when there is no pair). num_threads over maps; the result does not depend on it.
+double low_overlap_share(const Submaps& maps, const std::vector<RelevantPair>& pairs, double threshold = 0.3,
+                         int num_threads = 1);
+
 /// Deterministic Fisher-Yates shuffle driven by std::mt19937_64 (same result on every standard library).
 void seeded_shuffle(std::vector<std::size_t>& v, std::uint64_t seed);
 
