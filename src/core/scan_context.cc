@@ -164,16 +164,17 @@ class ScanContextRanker final : public Ranker {
     const std::size_t keep = config_.shortlist == 0
                                  ? order.size()
                                  : std::min(order.size(), static_cast<std::size_t>(config_.shortlist));
+    std::vector<double> key(candidates.size(), 0.0);
     if (keep < order.size()) {
-      std::vector<double> key(candidates.size());
       for (std::size_t j = 0; j < candidates.size(); ++j)
         key[j] = ring_key_distance(q, maps_.at(candidates[j]));
       std::stable_sort(order.begin(), order.end(),
                        [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
       order.resize(keep);
     }
-    // Step 2: the column-shift distance over the shortlist.
-    r.scores.assign(candidates.size(), kScanContextShortlistOut);
+    // Step 2: the column-shift distance over the shortlist; the rest below it, in ring-key order.
+    r.scores.resize(candidates.size());
+    for (std::size_t j = 0; j < candidates.size(); ++j) r.scores[j] = kScanContextShortlistOut - key[j];
     parallel_for(order.size(), options.num_threads, [&](std::size_t k) {
       const std::size_t j = order[k];
       r.scores[j] = -match_scan_contexts(q, maps_.at(candidates[j])).distance;
