@@ -19,7 +19,7 @@
 
 namespace partslam {
 
-enum class GridSimilarity { kJaccard, kTolerant, kCosine, kOverlap };
+enum class GridSimilarity { kJaccard, kTolerant, kCosine, kOverlap, kCount };
 
 struct GridConfig {
   int cells = 11;            ///< S: cells per side (S^2 <= 128 bits)
@@ -30,6 +30,16 @@ struct GridConfig {
   int max_shift = 1;         ///< query translations up to this many cells each way
   int substeps = 1;          ///< query translation steps per cell (1: whole cells)
   GridSimilarity similarity = GridSimilarity::kJaccard;
+  /// Which points count: 0 every point; 1 only wall points (their 0.5 m neighbourhood is a line along x or y);
+  /// 2 wall points in two channels, walls along x and walls along y (2 S^2 bits; S <= 8).
+  int walls = 0;
+  /// Hubness correction (as CSLS in word-vector retrieval): a stored map that resembles every map is a "hub"
+  /// that outranks true matches. Offline, each stored map m gets mu_m, its mean similarity (as a query) to up
+  /// to hub_sample other stored maps, kept in hub_bits bits; the score is sim(q, m) - hub_weight * mu_m.
+  /// 0 = off.
+  double hub_weight = 0.0;
+  int hub_sample = 256;
+  int hub_bits = 7;
 };
 
 /// Throws InputError naming the offending field.
