@@ -108,7 +108,9 @@ TEST_F(CliPartsTest, DescribeStoresEveryK) {
 TEST_F(CliPartsTest, DmmRanksARevisitFirstWithItsPose) {
   const io::MapDatabase db = io::MapDatabase::open(db_, io::MapDatabase::Mode::kReadOnly);
   const Submaps maps = db.load_submaps(db.datasets().front().id);
-  const std::vector<RelevantPair> pairs = relevant_pairs(maps, {});
+  TaskConfig near;
+  near.radius = 4.0;  // the same place: with the 8 m range cap, centroids of one place spread more than 2 m
+  const std::vector<RelevantPair> pairs = relevant_pairs(maps, near);
   ASSERT_FALSE(pairs.empty());
   const Submap& query = maps[pairs.front().query];
   std::set<std::int64_t> revisits;

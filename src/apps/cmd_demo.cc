@@ -23,8 +23,8 @@ struct DemoOptions {
 };
 
 const char* kTableAMethods =
-    "dmm,imm:1,imm:2,imm:3,imm:4,imm:5,hmm:1,hmm:2,hmm:3,hmm:4,hmm:5,hmm:3:maxmax,hmm:3:summax,rerank:10:3,"
-    "rerank:20:3";
+    "dmm,succinct,rerank:20,grid:11,sc,sc:128,imm:1,imm:2,imm:3,imm:4,imm:5,hmm:1,hmm:2,hmm:3,hmm:4,hmm:5,"
+    "hmm:3:maxmax,hmm:3:summax,rerank:10:3,rerank:20:3";
 
 std::filesystem::path find_data(const std::string& given) {
   if (!given.empty()) return given;

@@ -16,7 +16,7 @@ namespace partslam::apps {
 struct EvalOptions {
   std::string input;       ///< CARMEN log or sim[:SEED]
   std::string dictionary;  ///< CARMEN log or sim[:SEED] (another building)
-  std::string methods = "dmm,imm:3,hmm:3";
+  std::string methods = "dmm,succinct,grid:11,sc:128,imm:3,hmm:3,rerank:20";
   EvalConfig config;
   double max_range = kDefaultMaxRange;  ///< usable range of the input's submaps and the dictionary [m]
   std::string json;

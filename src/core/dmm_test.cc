@@ -302,6 +302,9 @@ class SimulatedPairs : public ::testing::Test {
   static void SetUpTestSuite() {
     SubmapConfig config;
     config.spacing = 2.0;  // fewer submaps: faster, and enough loop closures
+    // The full 30 m range: these tests measure dMM on the simulated building's geometry; with the 8 m default
+    // cap its submaps hold fewer walls and more places alias (29 of 40 poses within a cell instead of 35).
+    config.max_range = 30.0;
     maps_ = new Submaps(build_submaps(simulate().scans, config));
     pairs_ = new std::vector<RelevantPair>(relevant_pairs(*maps_, TaskConfig{}));
   }

@@ -17,12 +17,12 @@ const MethodEntry& hmm_method();             // part_ranker.cc
 const MethodEntry& rerank_method();          // rerank_ranker.cc
 const MethodEntry& grid_method();            // grid_descriptor.cc
 const MethodEntry& scan_context_method();    // scan_context.cc
-const MethodEntry& corners_method();         // corner_descriptor.cc
+const MethodEntry& succinct_method();        // grid_descriptor.cc
 
 const std::vector<MethodEntry>& method_registry() {
   static const std::vector<MethodEntry> methods = {
       dmm_method(), dmm_ransac_method(), dmm_exhaustive_method(), imm_method(), hmm_method(), rerank_method(),
-      grid_method(), scan_context_method(), corners_method(),
+      grid_method(), scan_context_method(), succinct_method(),
   };
   return methods;
 }

@@ -51,7 +51,7 @@ class RerankRanker final : public Ranker {
 void parse_rerank(const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
   if (args.empty()) throw InputError("method '" + text + "': expected rerank:R[:K|:SPEC]");
   m.rerank = parse_spec_int(text, args[0], "R (maps to rerank)", 1, 1000000);
-  std::string stage = "hmm:3";
+  std::string stage = "succinct";
   if (args.size() == 2 && !args[1].empty() && std::all_of(args[1].begin(), args[1].end(), ::isdigit)) {
     stage = "hmm:" + args[1];
   } else if (args.size() >= 2) {

@@ -32,6 +32,6 @@ inline Points2 points_world(const Scan& scan, double max_range) {
 }
 
 /// The usable-range cap of submaps and dictionaries unless told otherwise [m] (docs/NOTES.md, "Usable range").
-inline constexpr double kDefaultMaxRange = 30.0;
+inline constexpr double kDefaultMaxRange = 8.0;
 
 }  // namespace partslam

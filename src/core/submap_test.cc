@@ -55,6 +55,28 @@ TEST(BuildSubmaps, RejectsBadConfig) {
   SubmapConfig config;
   config.spacing = 0.0;
   EXPECT_THROW(build_submaps({}, config), InputError);
+  config = {};
+  config.max_range = 0.0;
+  EXPECT_THROW(build_submaps({}, config), InputError);
+}
+
+// The usable-range cap: endpoints farther than max_range from the laser are dropped before the submap is
+// built, so they cannot drag its centroid.
+TEST(BuildSubmaps, DropsEndpointsBeyondTheUsableRange) {
+  Scans scans = straight_drive(31, 0.1);
+  for (Scan& s : scans) s.points_laser.emplace_back(25.0, 0.0);  // one far return per scan
+  SubmapConfig near, far;
+  near.max_range = 8.0;
+  far.max_range = 30.0;
+  far.crop_size = 100.0;
+  const Submaps capped = build_submaps(scans, near), full = build_submaps(scans, far);
+  ASSERT_FALSE(capped.empty());
+  ASSERT_FALSE(full.empty());
+  // The wall is 2 m to the left of the path: with the cap, the centroid sits on it.
+  EXPECT_NEAR(capped[0].T_world_map.y, 2.0, 1e-6);
+  EXPECT_GT((full[0].T_world_map.translation() - capped[0].T_world_map.translation()).norm(), 1.0);
+  EXPECT_EQ(points_world(scans[0], 8.0).size(), 30u);
+  EXPECT_EQ(points_world(scans[0], 30.0).size(), 31u);
 }
 
 class SimulatedSubmaps : public ::testing::Test {
@@ -116,7 +138,7 @@ TEST_F(SimulatedSubmaps, PoseIsTheCentroidOfTheWindowPoints) {
     std::map<std::pair<std::int64_t, std::int64_t>, std::pair<Vec2, int>> cells;
     std::size_t window = 0;
     for (std::size_t j = m.anchor_scan; j < log_->scans.size() && s[j] < m.travel + 2.0; ++j, ++window) {
-      for (const Vec2& p : points_world(log_->scans[j])) {
+      for (const Vec2& p : points_world(log_->scans[j], SubmapConfig{}.max_range)) {
         auto& cell = cells
                          .try_emplace({static_cast<std::int64_t>(std::floor(p.x() / 0.1)),
                                        static_cast<std::int64_t>(std::floor(p.y() / 0.1))},

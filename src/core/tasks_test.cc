@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numbers>
 #include <set>
 
 #include "core/error.h"
@@ -76,6 +77,23 @@ TEST(Tasks, DeterministicGivenSeedAndDifferentAcrossSeeds) {
   bool differs = false;
   for (std::size_t i = 0; i < a.size(); ++i) differs |= a[i].database != c[i].database;
   EXPECT_TRUE(differs);
+}
+
+TEST(Tasks, TrueOverlapPlacesTheQueryByTheGroundTruthPoses) {
+  Submap a, b;
+  for (double x = -3; x < 3; x += 0.1) a.points.push_back({x, 1.0});
+  a.T_world_map = Pose2{5.0, 5.0, 0.3};
+  // b holds the same wall seen from a frame 1 m along x and turned by 90 deg.
+  b.T_world_map = Pose2{6.0, 5.0, 0.3 + std::numbers::pi / 2};
+  for (const Vec2& p : a.points) b.points.push_back(b.T_world_map.inverse() * (a.T_world_map * p));
+  EXPECT_NEAR(true_overlap(a, b), 1.0, 1e-12);
+  b.T_world_map.x += 3.0;  // wrong pose: the wall misses most of b's cells
+  EXPECT_LT(true_overlap(a, b), 0.3);
+  Submap empty;
+  EXPECT_EQ(true_overlap(empty, a), 0.0);
+  const Submaps maps = {a, b};
+  EXPECT_DOUBLE_EQ(low_overlap_share(maps, {{0, 1}, {1, 0}}, 0.3, 2), 1.0);
+  EXPECT_DOUBLE_EQ(low_overlap_share(maps, {}, 0.3), 0.0);
 }
 
 TEST(Tasks, RejectsAbsurdParameters) {
