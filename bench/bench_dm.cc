@@ -1,4 +1,4 @@
-// Descriptor matcher speed (paper §"Time Efficiency"; DESIGN.md "DM": target <= 5 ns per map pair).
+// Descriptor matcher speed (paper §"Time Efficiency"; docs/DESIGN.md "DM": target <= 5 ns per map pair).
 // One query against 1,000,000 stored descriptors of K parts on a 60 m x 40 m dictionary, seeded and
 // plausible: a map's parts have sides of 2-10 m and overlap one another (the GC criterion); a "tight"
 // scenario (bigger parts on a smaller dictionary) shows the kernel without much block pruning. Compares

@@ -1,7 +1,7 @@
-// dMM speed (DESIGN.md "dMM"; paper: 33 ms per map pair; floor <= 1 ms, aim <= 0.2 ms): milliseconds per map
+// dMM speed (docs/DESIGN.md "dMM"; paper: 33 ms per map pair; floor <= 1 ms, aim <= 0.2 ms): milliseconds per map
 // pair for dmm (exact branch-and-bound), dmm-ransac (the paper's baseline) and the exhaustive search over the
 // same discretisation, on the same pairs in the same run. Pairs: fr079 submaps (../shared/data), half
-// relevant (loop closures, DESIGN.md "Tasks") and half random; without the data folder, submaps of the
+// relevant (loop closures, docs/DESIGN.md "Tasks") and half random; without the data folder, submaps of the
 // built-in simulator. Each benchmark cycles through the pairs and reports, per pair, the median / 90th
 // percentile / mean time (counters median_ms, p90_ms, mean_ms; thread CPU time, so other processes on the
 // machine matter less) besides Google Benchmark's own mean. Also: 1-to-N (one query against 100 maps,
@@ -161,7 +161,7 @@ void BM_DmmOneToN(benchmark::State& state) {
   const Prepared& p = prepared();
   const std::span<const PreparedMap> maps(p.maps.data(), 100);
   const int top_k = static_cast<int>(state.range(0));
-  run_cycled(state, 10, [&](std::size_t k) { return match_dmm_many(p.queries[k * 10], maps, {}, top_k).size(); });
+  run_cycled(state, 10, [&](std::size_t k) { return match_dmm_many(p.queries[k * 10], maps, top_k).size(); });
   state.counters["ms_per_pair"] = state.counters["mean_ms"] / 100.0;
 }
 BENCHMARK(BM_DmmOneToN)->Arg(0)->Arg(1)->Iterations(10)->Unit(benchmark::kMillisecond);
@@ -191,7 +191,7 @@ void BM_DmmCropOnDictionary(benchmark::State& state) {
     points += static_cast<double>(crop.size());
     crops.push_back(prepare_query(crop, config));
   }
-  run_cycled(state, crops.size(), [&](std::size_t k) { return match_dmm(crops[k], map, config).inliers; });
+  run_cycled(state, crops.size(), [&](std::size_t k) { return match_dmm(crops[k], map).inliers; });
   const Box2 box = bounding_box(dictionary.points);
   state.counters["dict_m2"] = box.area();
   state.counters["dict_MB"] = static_cast<double>(bytes(map)) / (1024.0 * 1024.0);

@@ -131,6 +131,23 @@ TEST_F(CliPartsTest, DmmRanksARevisitFirstWithItsPose) {
   EXPECT_LT(std::abs(std::stod(first[9])), 3.0) << run.output;
 }
 
+TEST_F(CliPartsTest, SuccinctAndItsRerankNeedNoDescribe) {
+  const CliRun succinct = run_partslam("match " + quoted(db_) + " --query 40 --method succinct --top 3");
+  ASSERT_EQ(succinct.exit_code, 0) << succinct.output;
+  EXPECT_THAT(succinct.output, HasSubstr("succinct over"));
+  EXPECT_THAT(succinct.output, HasSubstr("succinct score"));
+  EXPECT_THAT(succinct.output, Not(HasSubstr("inliers")));
+  EXPECT_EQ(ranking_row(succinct.output, 3).size(), 4u) << succinct.output;  // rank map score dist
+  const CliRun rerank = run_partslam("match " + quoted(db_) + " --query 40 --method rerank:5 --top 6");
+  ASSERT_EQ(rerank.exit_code, 0) << rerank.output;
+  EXPECT_THAT(rerank.output, HasSubstr("rerank5 succinct over"));
+  // The top 5 carry a dMM pose (rank map score inliers inl% x y th dx dy dth dist), the sixth does not.
+  ASSERT_EQ(ranking_row(rerank.output, 5).size(), 12u) << rerank.output;
+  ASSERT_EQ(ranking_row(rerank.output, 6).size(), 12u) << rerank.output;
+  EXPECT_NE(ranking_row(rerank.output, 5).at(3), "-") << rerank.output;
+  EXPECT_EQ(ranking_row(rerank.output, 6).at(3), "-") << rerank.output;
+}
+
 TEST_F(CliPartsTest, HmmNeedsDescribeFirst) {
   const std::string match = "match " + quoted(db_) + " --query 40 --method hmm:3 --top 5";
   const CliRun before = run_partslam(match);

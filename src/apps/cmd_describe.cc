@@ -1,4 +1,4 @@
-// partslam describe DB --dict NAME: the offline half of PartSLAM (DESIGN.md data flow, "CPD" and "MD"). Runs
+// partslam describe DB --dict NAME: the offline half of PartSLAM (docs/DESIGN.md data flow, "CPD" and "MD"). Runs
 // common pattern discovery of every stored submap (of one dataset, or all) against a stored dictionary, keeps
 // up to P parts per map, and stores in one transaction the packed descriptor of the top K parts for each K of
 // --k, plus the whole P-part list under K = P (with appearance scores when P > 16: the hMM query list). The

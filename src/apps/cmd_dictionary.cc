@@ -1,5 +1,5 @@
 // partslam dictionary LOG --db FILE --name NAME: builds a whole-building dictionary map from a corrected log
-// (or "sim[:SEED]"), one point per 0.1 m cell, Manhattan-aligned (DESIGN.md, "Dictionary map"), and stores it.
+// (or "sim[:SEED]"), one point per 0.1 m cell, Manhattan-aligned (docs/DESIGN.md, "Dictionary map"), and stores it.
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <memory>

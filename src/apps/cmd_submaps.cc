@@ -1,4 +1,4 @@
-// partslam submaps LOG --db FILE: reads a CARMEN log (or "sim[:SEED]"), builds its submaps (DESIGN.md,
+// partslam submaps LOG --db FILE: reads a CARMEN log (or "sim[:SEED]"), builds its submaps (docs/DESIGN.md,
 // "Submap") and stores them as one dataset, atomically. Optionally checks the ground truth against a
 // Freiburg .relations file (--relations, with --raw LOG when the submaps come from a re-timed corrected log).
 #include <CLI/CLI.hpp>

@@ -31,7 +31,7 @@ bool inside_closed(const Box2& b, const Vec2& p) {
 // keypoint lattice (0.1 m) so equal boxes dedupe and encode exactly.
 std::vector<Box2> candidate_boxes(const Points2& points, const CpdConfig& config, std::mt19937_64& rng) {
   const Box2 bb = bounding_box(points);
-  const double q = 0.1;
+  const double q = kMapResolution;
   const auto snap_lo = [q](double v) { return std::floor(v / q + 1e-9) * q; };
   const auto snap_hi = [q](double v) { return std::ceil(v / q - 1e-9) * q; };
   std::set<std::tuple<long, long, long, long>> seen;
@@ -59,7 +59,7 @@ std::vector<Box2> candidate_boxes(const Points2& points, const CpdConfig& config
 // Squares of every configured size centred on each corner, clipped to the codec's crop and snapped outward to
 // the keypoint lattice; duplicates dropped. Strongest corner first, sizes in the configured order.
 std::vector<Box2> corner_boxes(const Points2& points, const CpdConfig& config) {
-  const double q = 0.1;
+  const double q = kMapResolution;
   const auto snap_lo = [q](double v) { return std::floor(v / q + 1e-9) * q; };
   const auto snap_hi = [q](double v) { return std::ceil(v / q - 1e-9) * q; };
   const double e = config.crop_extent;
@@ -99,7 +99,7 @@ Part describe(const Box2& keypoint_box, const Vec2& crop_origin, const DmmResult
 }  // namespace
 
 Points2 find_corners(const Points2& map_points, const CpdConfig& config) {
-  const Points2 pts = voxel_downsample(map_points, 0.1);
+  const Points2 pts = voxel_downsample(map_points, kMapResolution);
   const double r = config.corner_radius, r2 = r * r;
   // Points bucketed by cells of side r: a neighbourhood lies in the 3 x 3 cells around its centre.
   const auto cell_of = [r](const Vec2& p) {
@@ -216,7 +216,7 @@ CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& di
     const Vec2 origin = centroid(c.crop);
     for (Vec2& p : c.crop) p -= origin;
     const Points2 crop = voxel_downsample(c.crop, config.crop_resolution);
-    const DmmResult fit = match_dmm(prepare_query(crop, config.dmm), dictionary.map, config.dmm);
+    const DmmResult fit = match_dmm(prepare_query(crop, config.dmm), dictionary.map);
     ++result.stats.matched;
     Part part = describe(c.box, origin, fit, static_cast<int>(crop.size()));
     if (config.maximality == MaximalityMode::kInlierShare && part.appearance_score < config.t_size) continue;

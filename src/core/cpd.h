@@ -1,4 +1,4 @@
-// Common pattern discovery (DESIGN.md, "CPD"; paper §"Common Pattern Discovery", after Randomized Visual
+// Common pattern discovery (docs/DESIGN.md, "CPD"; paper §"Common Pattern Discovery", after Randomized Visual
 // Phrases, Jiang et al. 2012). Candidate keypoint boxes crop the input map; for each, the descriptor box is
 // where the cropped points fit the dictionary best, AS(B) = max_T sum_{x in crop(B)} P_R(T(x)) (Eq. 2, an exact
 // dMM search of the crop against the whole dictionary grid R).
@@ -54,7 +54,7 @@ struct CpdConfig {
   double corner_radius = 0.8;    ///< kCorners: neighbourhood of the corner response [m]
   double corner_spacing = 1.0;   ///< kCorners: kept corners are at least this far apart [m]
   double crop_extent = 6.4;      ///< kCorners: boxes are clipped to |x|, |y| <= this (the codec's crop) [m]
-  double crop_resolution = 0.1;  ///< crops are downsampled to this cell before matching [m] (speed)
+  double crop_resolution = kMapResolution;  ///< crops are downsampled to this cell before matching [m] (speed)
   std::uint64_t seed = 1;        ///< base seed; each map mixes in its own key
   DmmConfig dmm = dmm_config_for_dictionary();  ///< the crop-vs-dictionary search (Eq. 2)
 };

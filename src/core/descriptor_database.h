@@ -1,4 +1,4 @@
-// Whole-database descriptor matching (paper §"Descriptor Matcher" and §"Time Efficiency"; DESIGN.md "DM"):
+// Whole-database descriptor matching (paper §"Descriptor Matcher" and §"Time Efficiency"; docs/DESIGN.md "DM"):
 // one query descriptor against every stored map, with the definitions of descriptor_matcher.h (Eqs. 3-6).
 //
 // Layout: descriptor boxes are snapped to a grid (0.1 m by default) and stored as unsigned 16-bit cell
@@ -27,7 +27,7 @@ namespace partslam {
 
 struct DescriptorDatabaseConfig {
   int parts_per_map = 3;      ///< K: part slots per stored map; maps with fewer parts leave slots empty
-  double resolution = 0.1;    ///< grid of the stored box coordinates [m]; boxes span at most 255 cells
+  double resolution = kMapResolution;  ///< grid of the stored box coordinates [m]; boxes span at most 255 cells
   bool spatial_order = true;  ///< bulk construction stores maps in Morton order of their descriptor centre
 };
 
@@ -76,11 +76,5 @@ class DescriptorDatabase {
   std::vector<std::uint16_t> super_bounds_;  // [super block][x0, x1, y0, y1]: union of its blocks' boxes
   std::vector<std::uint32_t> map_index_;     // [block * kLanes + lane] -> map index; UINT32_MAX for padding
 };
-
-/// Free-function spelling of DescriptorDatabase::score_all.
-inline std::vector<float> score_all(const MapDescriptor& query, const DescriptorDatabase& database,
-                                    Matcher matcher, const ScoreOptions& options = {}) {
-  return database.score_all(query, matcher, options);
-}
 
 }  // namespace partslam

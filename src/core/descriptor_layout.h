@@ -1,5 +1,5 @@
 // How descriptors described against a dictionary are bit-packed (paper §"Map Descriptor", §"Space
-// Efficiency"; DESIGN.md "MD"). One place fixes the CodecConfig, so that whoever writes a descriptor
+// Efficiency"; docs/DESIGN.md "MD"). One place fixes the CodecConfig, so that whoever writes a descriptor
 // (partslam describe, evaluate) and whoever reads it back (partslam match, render) agree without storing any
 // codec state:
 //  * dictionary_extent is a pure function of the dictionary's points: their bounding box grown by the crop

@@ -1,4 +1,4 @@
-// Descriptor matcher (paper §"Descriptor Matcher", Eqs. 3-6; DESIGN.md "DM"): the likelihood that a local
+// Descriptor matcher (paper §"Descriptor Matcher", Eqs. 3-6; docs/DESIGN.md "DM"): the likelihood that a local
 // (query) map and a global (stored) map show the same place, from their descriptor boxes on the dictionary:
 //   f_RS(Bl, Bg) = area(Bl ∩ Bg) / sqrt(area(Bl) area(Bg))                       (region similarity, Eq. 3)
 //   Max-Max            F_MM  = max_i max_j f_RS(Bl_i, Bg_j)                          (Eq. 4)
@@ -22,7 +22,7 @@ namespace partslam {
 enum class Matcher { kMaxMax, kSumMax, kSumMaxWeighted };
 
 /// The origin gate the CLI and the evaluation use unless told otherwise [m]: the relevant-pair radius R of the
-/// protocol (DESIGN.md). The library functions default to 0 (no gate, the paper's matcher).
+/// protocol (docs/DESIGN.md). The library functions default to 0 (no gate, the paper's matcher).
 inline constexpr double kDefaultOriginGate = 2.0;
 
 /// "max-max", "sum-max" or "sum-max-weighted".

@@ -53,11 +53,11 @@ class DmmRanker final : public Ranker {
     if (exhaustive_) {
       results.resize(candidates.size());
       parallel_for(candidates.size(), options.num_threads,
-                   [&](std::size_t j) { results[j] = match_exhaustive(prepared, maps_.at(candidates[j]), dmm_); });
+                   [&](std::size_t j) { results[j] = match_exhaustive(prepared, maps_.at(candidates[j])); });
     } else {
       std::vector<const PreparedMap*> chosen;
       for (std::size_t c : candidates) chosen.push_back(&maps_.at(c));
-      results = match_dmm_many(prepared, chosen, dmm_, options.num_threads == 1 ? options.top_k : 0,
+      results = match_dmm_many(prepared, chosen, options.num_threads == 1 ? options.top_k : 0,
                                options.num_threads);
     }
     r.match_ms = ms_since(t0);

@@ -67,13 +67,17 @@ Range search_range(const RotatedQuery& r, const OccupancyGrid& grid, const DmmCo
   return range;
 }
 
-void check_compatible(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
-  validate(config);
+// The query and the map were prepared with their own configs (validated then); they must share the lattice
+// and the kind of rotation search. The map's config decides the translation window (its pyramid depth was
+// chosen for it).
+void check_compatible(const PreparedQuery& query, const PreparedMap& map) {
   const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); };
-  if (!same(query.resolution, config.resolution) || !same(map.grid.resolution, config.resolution)) {
-    throw InputError("dmm: query (" + std::to_string(query.resolution) + " m), map (" +
-                     std::to_string(map.grid.resolution) + " m) and config (" + std::to_string(config.resolution) +
-                     " m) resolutions differ");
+  if (!same(query.config.resolution, map.config.resolution)) {
+    throw InputError("dmm: the query was prepared at " + std::to_string(query.config.resolution) +
+                     " m, the map at " + std::to_string(map.config.resolution) + " m: resolutions differ");
+  }
+  if (query.config.canonical != map.config.canonical) {
+    throw InputError("dmm: the query and the map disagree on canonical (Manhattan-frame) matching");
   }
 }
 
@@ -245,17 +249,18 @@ class BranchAndBound {
   std::unique_ptr<std::uint16_t[]> root_values_;  // per root, the values of its pass over the full cells
 };
 
-std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
+std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& map) {
   std::vector<Range> ranges;
   ranges.reserve(query.rotations.size());
-  for (const RotatedQuery& r : query.rotations) ranges.push_back(search_range(r, map.grid, config));
+  for (const RotatedQuery& r : query.rotations) ranges.push_back(search_range(r, map.grid, map.config));
   return ranges;
 }
 
 // match_dmm with a bar: only candidates scoring above `bar` are reported (exact = false otherwise).
-DmmResult match_dmm_above(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config, int bar) {
-  check_compatible(query, map, config);
-  const std::vector<Range> ranges = search_ranges(query, map, config);
+DmmResult match_dmm_above(const PreparedQuery& query, const PreparedMap& map, int bar) {
+  check_compatible(query, map);
+  const DmmConfig& config = map.config;
+  const std::vector<Range> ranges = search_ranges(query, map);
   BranchAndBound search(query, map, ranges, bar);
   const Candidate best = search.run();
   DmmResult result;
@@ -297,6 +302,7 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
     if (!p.allFinite() || p.norm() > 1e6) throw InputError("dmm: query point coordinates must be finite and < 1e6 m");
   }
   PreparedQuery query;
+  query.config = config;
   query.resolution = config.resolution;
   query.num_points = static_cast<int>(points_query.size());
   query.angular_step = config.angular_step > 0.0 ? config.angular_step
@@ -342,6 +348,7 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
 PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
   validate(config);
   PreparedMap map;
+  map.config = config;
   map.num_points = static_cast<int>(points_map.size());
   const OccupancyGrid grid = build_occupancy_grid(points_map, config.resolution, config.dilation);
   int depth = config.search_depth;
@@ -361,12 +368,11 @@ PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
   return map;
 }
 
-DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
-  return match_dmm_above(query, map, config, -1);
-}
+DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return match_dmm_above(query, map, -1); }
 
-DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config) {
-  check_compatible(query, map, config);
+DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map) {
+  check_compatible(query, map);
+  const DmmConfig& config = map.config;
   const OccupancyGrid& grid = map.grid;
   int best_score = -1, best_rotation = -1, best_i = 0, best_j = 0;
   std::int64_t scored = 0;
@@ -407,24 +413,24 @@ DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map, c
   return result;
 }
 
-std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps,
-                                      const DmmConfig& config, int top_k, int num_threads) {
+std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps, int top_k,
+                                      int num_threads) {
   std::vector<const PreparedMap*> pointers;
   pointers.reserve(maps.size());
   for (const PreparedMap& m : maps) pointers.push_back(&m);
-  return match_dmm_many(query, pointers, config, top_k, num_threads);
+  return match_dmm_many(query, pointers, top_k, num_threads);
 }
 
 std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
-                                      const DmmConfig& config, int top_k, int num_threads) {
-  validate(config);
+                                      int top_k, int num_threads) {
+  for (const PreparedMap* m : maps) check_compatible(query, *m);  // once, before any thread starts
   if (num_threads < 1) throw InputError("dmm: num_threads must be >= 1, got " + std::to_string(num_threads));
   std::vector<DmmResult> results(maps.size());
   if (top_k <= 0) {
     const auto n = static_cast<std::ptrdiff_t>(maps.size());
 #pragma omp parallel for schedule(dynamic) num_threads(num_threads) if (num_threads > 1)
     for (std::ptrdiff_t m = 0; m < n; ++m) {
-      results[static_cast<std::size_t>(m)] = match_dmm(query, *maps[static_cast<std::size_t>(m)], config);
+      results[static_cast<std::size_t>(m)] = match_dmm(query, *maps[static_cast<std::size_t>(m)]);
     }
     return results;
   }
@@ -432,7 +438,7 @@ std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<cons
   std::priority_queue<int, std::vector<int>, std::greater<>> best;
   for (std::size_t m = 0; m < maps.size(); ++m) {
     const int bar = static_cast<int>(best.size()) == top_k ? best.top() : -1;
-    results[m] = match_dmm_above(query, *maps[m], config, bar);
+    results[m] = match_dmm_above(query, *maps[m], bar);
     if (!results[m].exact) continue;
     best.push(results[m].inliers);
     if (static_cast<int>(best.size()) > top_k) best.pop();

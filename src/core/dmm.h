@@ -1,4 +1,4 @@
-// Direct map matching (DESIGN.md, "dMM"; the paper's Eq. 1 and, for CPD, Eq. 2):
+// Direct map matching (docs/DESIGN.md, "dMM"; the paper's Eq. 1 and, for CPD, Eq. 2):
 //   v = max_T sum_{x in X} P_Y(T(x)),   P_Y = 1 on an occupied (optionally dilated) cell of Y's grid.
 // match_dmm computes the exact maximum over a discretised window of rigid transforms T_map_query:
 //   rotations  theta_k about the query origin (its centroid for submaps): {0, 90, 180, 270} deg +- a residual
@@ -35,7 +35,7 @@
 namespace partslam {
 
 struct DmmConfig {
-  double resolution = 0.1;     ///< grid cell and translation step [m]
+  double resolution = kMapResolution;  ///< grid cell and translation step [m]
   double linear_window = 6.0;  ///< translations |t_x|, |t_y| <= this [m]; <= 0: every translation at which the
                                ///< query overlaps the target grid (whole target map; CPD's crop vs dictionary)
   double angular_window = 3.0 * std::numbers::pi / 180;  ///< canonical: residual +- this about each multiple of
@@ -65,7 +65,8 @@ struct RotatedQuery {
 
 /// A query prepared once and matched against many maps (1-to-N amortises the rotations).
 struct PreparedQuery {
-  double resolution = 0.1;  ///< lattice the cells live on [m]
+  DmmConfig config;         ///< what it was prepared with (its rotation search); bound here, checked at match
+  double resolution = kMapResolution;  ///< lattice the cells live on [m] (= config.resolution)
   int num_points = 0;       ///< query points (the denominator of inlier_fraction)
   double angular_step = 0;  ///< rotation step actually used [rad]
   std::vector<RotatedQuery> rotations;
@@ -76,6 +77,7 @@ struct PreparedQuery {
 /// Memory: 2 bytes per cell of each packed level (grid + padding of 3 blocks); ~110 KB for an fr079 submap at
 /// 0.1 m with the default window (3 levels), ~2 MB for the intel building as a dictionary (whole-map window).
 struct PreparedMap {
+  DmmConfig config;                 ///< what it was prepared with: its translation window, dilation and depth
   OccupancyGrid grid;               ///< the (dilated) occupancy grid
   std::vector<PackedLevel> packed;  ///< packed[d]: pyramid level 2 d packed with step 4^d, d < search depth
   int num_points = 0;               ///< points the grid was built from
@@ -95,21 +97,23 @@ struct DmmResult {
 };
 
 /// Exact maximum of Eq. 1 over the discretised window, by branch-and-bound. Ties keep the candidate found first.
-/// Throws InputError when query, map and config disagree on the resolution.
-DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config = {});
+/// The settings are those the two were prepared with (Cartographer binds a matcher's options at construction):
+/// the query's rotations, the map's translation window. Throws InputError when the query and the map were
+/// prepared on different lattices or rotation searches.
+DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map);
 
 /// The same maximum by scoring every (rotation, translation) of the discretisation; first maximum in the order
 /// rotation, y, x. The reference for tests and the speed baseline.
-DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map, const DmmConfig& config = {});
+DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map);
 
 /// 1-to-N. top_k <= 0: every map's exact score (the default, what ranking needs); maps are independent, so
 /// num_threads > 1 (OpenMP) gives the same results as 1. top_k > 0: maps are searched in order with the k-th
 /// best exact score so far as the bar, so a map that cannot beat it is dropped early (exact = false); the k
 /// maps with the highest scores (ties: the earlier map) are exact. Top-k mode runs serially.
-std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps,
-                                      const DmmConfig& config = {}, int top_k = 0, int num_threads = 1);
+std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps, int top_k = 0,
+                                      int num_threads = 1);
 /// The same over maps held elsewhere (e.g. a subset of a prepared database).
 std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
-                                      const DmmConfig& config = {}, int top_k = 0, int num_threads = 1);
+                                      int top_k = 0, int num_threads = 1);
 
 }  // namespace partslam

@@ -19,7 +19,7 @@ struct DmmRansacConfig {
   int iterations = 1000;              ///< hypotheses scored
   double inlier_distance = 0.1;       ///< a query point is an inlier within this distance of a map point [m],
                                       ///< tested on a grid: cells within round(d / resolution) cells of a point
-  double resolution = 0.1;            ///< cell of the inlier grid [m]
+  double resolution = kMapResolution;  ///< cell of the inlier grid [m]
   double min_sample_distance = 1.0;   ///< the two query points of a sample are at least this far apart [m]
   double length_tolerance = 0.1;      ///< |x1 - x2| and |y1 - y2| agree within this [m]
   bool canonical = true;              ///< only rotations within angular_window of a multiple of 90 deg

@@ -79,21 +79,25 @@ TEST(MatchDmm, EmptyInputsScoreZero) {
   const PreparedMap empty_map = prepare_map({}, config);
   const PreparedQuery query = prepare_query({{0.0, 0.0}}, config);
   const PreparedQuery empty_query = prepare_query({}, config);
-  EXPECT_EQ(match_dmm(empty_query, map, config).inliers, 0);
-  EXPECT_EQ(match_dmm(query, empty_map, config).inliers, 0);
-  EXPECT_EQ(match_exhaustive(empty_query, map, config).inliers, 0);
-  EXPECT_EQ(match_exhaustive(query, empty_map, config).inliers, 0);
-  EXPECT_EQ(match_dmm(query, map, config).inliers, 1);
-  EXPECT_DOUBLE_EQ(match_dmm(query, map, config).inlier_fraction, 1.0);
+  EXPECT_EQ(match_dmm(empty_query, map).inliers, 0);
+  EXPECT_EQ(match_dmm(query, empty_map).inliers, 0);
+  EXPECT_EQ(match_exhaustive(empty_query, map).inliers, 0);
+  EXPECT_EQ(match_exhaustive(query, empty_map).inliers, 0);
+  EXPECT_EQ(match_dmm(query, map).inliers, 1);
+  EXPECT_DOUBLE_EQ(match_dmm(query, map).inlier_fraction, 1.0);
 }
 
 TEST(MatchDmm, ResolutionMismatchThrows) {
   DmmConfig config = small_config();
   const PreparedMap map = prepare_map({{0.0, 0.0}}, config);
-  const PreparedQuery query = prepare_query({{0.0, 0.0}}, config);
   config.resolution = 0.05;
-  EXPECT_THROW(match_dmm(query, map, config), InputError);
-  EXPECT_THROW(match_exhaustive(query, map, config), InputError);
+  const PreparedQuery query = prepare_query({{0.0, 0.0}}, config);
+  EXPECT_THROW(match_dmm(query, map), InputError);
+  EXPECT_THROW(match_exhaustive(query, map), InputError);
+  EXPECT_THROW(match_dmm_many(query, std::span<const PreparedMap>(&map, 1)), InputError);
+  config = small_config();
+  config.canonical = false;
+  EXPECT_THROW(match_dmm(prepare_query({{0.0, 0.0}}, config), map), InputError);
   EXPECT_THROW(prepare_query({{std::nan(""), 0.0}}, config), InputError);
 }
 
@@ -107,7 +111,7 @@ TEST(MatchDmm, RecoversAnExactCellShift) {
   DmmConfig config = small_config();
   config.dilation = 0;
   config.angular_step = 1.0 * kDeg;
-  const DmmResult r = match_dmm(prepare_query(query_points, config), prepare_map(map_points, config), config);
+  const DmmResult r = match_dmm(prepare_query(query_points, config), prepare_map(map_points, config));
   EXPECT_GE(r.inlier_fraction, 0.97);  // cell-boundary rounding may lose a few points
   EXPECT_NEAR(r.T_map_query.x, 1.2, 0.1 + 1e-9);
   EXPECT_NEAR(r.T_map_query.y, -0.7, 0.1 + 1e-9);
@@ -134,8 +138,8 @@ TEST(MatchDmm, EqualsExhaustiveOnManyPairs) {
       config.search_depth = (p % 2 == 0) ? 0 : 2 + w % 3;
       const PreparedQuery q = prepare_query(pair.query, config);
       const PreparedMap m = prepare_map(pair.map, config);
-      const DmmResult bnb = match_dmm(q, m, config);
-      const DmmResult ref = match_exhaustive(q, m, config);
+      const DmmResult bnb = match_dmm(q, m);
+      const DmmResult ref = match_exhaustive(q, m);
       ASSERT_EQ(bnb.inliers, ref.inliers) << "world " << w << " pair " << p;
       EXPECT_LT(bnb.candidates_scored, ref.candidates_scored);
       // The reported pose really scores what is claimed (up to cell-boundary rounding of t + R x).
@@ -159,8 +163,8 @@ TEST(MatchDmm, EqualsExhaustiveFullCircle) {
     config.linear_window = 1.0;
     const PreparedQuery q = prepare_query(query_points, config);
     const PreparedMap m = prepare_map(map_points, config);
-    const DmmResult bnb = match_dmm(q, m, config);
-    EXPECT_EQ(bnb.inliers, match_exhaustive(q, m, config).inliers);
+    const DmmResult bnb = match_dmm(q, m);
+    EXPECT_EQ(bnb.inliers, match_exhaustive(q, m).inliers);
     EXPECT_GT(bnb.inlier_fraction, 0.8);
     EXPECT_LE(angle_error(bnb.T_map_query.theta, T_map_query.theta), q.angular_step + 1e-9);
     EXPECT_LE(std::abs(bnb.T_map_query.x - T_map_query.x), config.resolution + 1e-9);
@@ -180,7 +184,7 @@ TEST(MatchDmm, PoseWithinOneCellAndOneStepOfTruth) {
     const testing::SyntheticPair pair =
         testing::make_pair(world, rng, {offset(rng), offset(rng)}, {offset(rng), offset(rng)}, theta);
     const PreparedQuery q = prepare_query(pair.query, config);
-    const DmmResult r = match_dmm(q, prepare_map(pair.map, config), config);
+    const DmmResult r = match_dmm(q, prepare_map(pair.map, config));
     EXPECT_GT(r.inlier_fraction, 0.5) << "pair " << p;
     EXPECT_LE(angle_error(r.T_map_query.theta, pair.T_map_query.theta), q.angular_step + 1e-9) << "pair " << p;
     EXPECT_LE(std::abs(r.T_map_query.x - pair.T_map_query.x), config.resolution + 1e-9) << "pair " << p;
@@ -208,8 +212,8 @@ TEST(MatchDmm, SmallCropOnLargeDictionary) {
     const Pose2 T_dict_crop{c.x(), c.y(), std::numbers::pi};  // crop frame: centred, upside down
     const Points2 crop = transform(T_dict_crop.inverse(), crop_world);
     const PreparedQuery q = prepare_query(crop, config);
-    const DmmResult bnb = match_dmm(q, m, config);
-    const DmmResult ref = match_exhaustive(q, m, config);
+    const DmmResult bnb = match_dmm(q, m);
+    const DmmResult ref = match_exhaustive(q, m);
     EXPECT_EQ(bnb.inliers, ref.inliers);
     EXPECT_GT(bnb.inlier_fraction, 0.9);
     EXPECT_LE(std::abs(bnb.T_map_query.x - T_dict_crop.x), 0.1 + 1e-9);
@@ -237,7 +241,7 @@ class MatchDmmMany : public ::testing::Test {
 TEST_F(MatchDmmMany, ExactScoresParallelEqualsSerial) {
   const PreparedQuery q = prepare_query(query);
   const std::vector<DmmResult> serial = match_dmm_many(q, maps);
-  const std::vector<DmmResult> parallel = match_dmm_many(q, maps, {}, 0, 2);
+  const std::vector<DmmResult> parallel = match_dmm_many(q, maps, 0, 2);
   ASSERT_EQ(serial.size(), maps.size());
   for (std::size_t m = 0; m < maps.size(); ++m) {
     EXPECT_TRUE(serial[m].exact);
@@ -251,7 +255,7 @@ TEST_F(MatchDmmMany, TopKKeepsTheKBestExactAndPrunesOnlyLosers) {
   const PreparedQuery q = prepare_query(query);
   const std::vector<DmmResult> all = match_dmm_many(q, maps);
   for (const int k : {1, 3}) {
-    const std::vector<DmmResult> top = match_dmm_many(q, maps, {}, k);
+    const std::vector<DmmResult> top = match_dmm_many(q, maps, k);
     std::vector<int> scores;
     for (const DmmResult& r : all) scores.push_back(r.inliers);
     std::sort(scores.rbegin(), scores.rend());
@@ -331,8 +335,8 @@ TEST_F(SimulatedPairs, BranchAndBoundEqualsExhaustiveAndBeatsTheTruth) {
                                     : RelevantPair{rng() % maps_->size(), rng() % maps_->size()};
     const PreparedQuery q = prepare_query((*maps_)[p.query].points, config);
     const PreparedMap m = prepare_map((*maps_)[p.global].points, config);
-    const DmmResult bnb = match_dmm(q, m, config);
-    ASSERT_EQ(bnb.inliers, match_exhaustive(q, m, config).inliers) << "pair " << p.query << " " << p.global;
+    const DmmResult bnb = match_dmm(q, m);
+    ASSERT_EQ(bnb.inliers, match_exhaustive(q, m).inliers) << "pair " << p.query << " " << p.global;
     if (relevant) {
       EXPECT_GE(bnb.inliers, score_nearest_candidate(q, m.grid, truth(p)));
     }
@@ -349,7 +353,7 @@ TEST_F(SimulatedPairs, PoseOfRelevantPairsIsWithinACellAndAStep) {
   for (int t = 0; t < n; ++t) {
     const RelevantPair p = (*pairs_)[rng() % pairs_->size()];
     const PreparedQuery q = prepare_query((*maps_)[p.query].points, config);
-    const DmmResult r = match_dmm(q, prepare_map((*maps_)[p.global].points, config), config);
+    const DmmResult r = match_dmm(q, prepare_map((*maps_)[p.global].points, config));
     const Pose2 T = truth(p);
     const double e = std::max(std::abs(r.T_map_query.x - T.x), std::abs(r.T_map_query.y - T.y)) / config.resolution;
     const double a = angle_error(r.T_map_query.theta, T.theta) / q.angular_step;

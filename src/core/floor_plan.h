@@ -1,4 +1,4 @@
-// Procedural Manhattan floor plan for the simulator (DESIGN.md, "Embedded default"). A rectangular building:
+// Procedural Manhattan floor plan for the simulator (docs/DESIGN.md, "Embedded default"). A rectangular building:
 // a band of rooms along the outer walls, a corridor ring inside it, and an inner block of rooms, optionally
 // split by a cross corridor so that the corridors form a figure-eight (two small loops and a large one).
 // Room widths along a corridor are drawn at random, each room has a door (a gap in its corridor wall) at a

@@ -27,7 +27,7 @@ namespace partslam {
 
 struct GridConfig {
   int cells = 11;            ///< S: cells per side (S^2 <= 121 bits)
-  double box_size = 12.8;    ///< side of the square the grid covers, centred on the map frame's origin [m]
+  double box_size = kCropSize;  ///< side of the square the grid covers, centred on the map frame's origin [m]
   int min_points = 1;        ///< points a cell needs to be occupied
   int max_shift = 1;         ///< query translations up to this many cells each way
   int substeps = 1;          ///< query translation steps per cell (1: whole cells)

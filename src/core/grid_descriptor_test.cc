@@ -8,15 +8,11 @@
 #include "core/error.h"
 #include "core/ranking.h"
 #include "core/simulator.h"
+#include "core/testing/simulated_maps.h"
 #include "core/submap.h"
 
 namespace partslam {
 namespace {
-
-const Submaps& sim_maps() {
-  static const Submaps maps = build_submaps(simulate(SimulatorConfig{}).scans);
-  return maps;
-}
 
 TEST(GridDescriptor, BinsPointsIntoRowMajorCells) {
   GridConfig c;
@@ -76,7 +72,7 @@ TEST(GridDescriptor, SpecsAndBits) {
 }
 
 TEST(GridDescriptor, SuccinctRanksTheQueryItselfFirstAndThreadsDoNotChangeScores) {
-  const Submaps& maps = sim_maps();
+  const Submaps& maps = testing::simulated_maps();
   std::vector<MapView> views;
   for (const Submap& m : maps) views.push_back({&m.points, nullptr});
   const std::unique_ptr<Ranker> one = make_ranker(parse_method_spec("succinct"), {});
@@ -93,7 +89,7 @@ TEST(GridDescriptor, SuccinctRanksTheQueryItselfFirstAndThreadsDoNotChangeScores
 }
 
 TEST(GridDescriptor, HubnessSubtractsEachStoredMapsMeanSimilarityToTheOthers) {
-  const Submaps& maps = sim_maps();
+  const Submaps& maps = testing::simulated_maps();
   std::vector<MapView> views;
   for (std::size_t i = 0; i < 12; ++i) views.push_back({&maps[i * 5].points, nullptr});
   const std::unique_ptr<Ranker> plain = make_ranker(parse_method_spec("grid:11:box=80"), {});

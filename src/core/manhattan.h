@@ -1,4 +1,4 @@
-// Manhattan alignment (DESIGN.md, "Canonical frame"; the paper's ref. [18]): the rotation in [0, pi/2) that
+// Manhattan alignment (docs/DESIGN.md, "Canonical frame"; the paper's ref. [18]): the rotation in [0, pi/2) that
 // minimises the summed Shannon entropy of the x and y point histograms. Walls of a Manhattan building then
 // run along the axes, so two maps of one place differ by a multiple of 90 degrees plus a small residual.
 #pragma once
@@ -8,7 +8,7 @@
 namespace partslam {
 
 struct ManhattanConfig {
-  double bin_size = 0.1;                               ///< histogram bin [m]
+  double bin_size = kMapResolution;                            ///< histogram bin [m]
   double coarse_step = 1.0 * std::numbers::pi / 180;   ///< first sweep over [0, pi/2) [rad]
   double fine_step = 0.05 * std::numbers::pi / 180;    ///< refinement step around the best coarse angle [rad]
 };

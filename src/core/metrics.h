@@ -1,4 +1,4 @@
-// Ranking metrics (DESIGN.md, "Metrics"; paper, "Performance Metrics", ref. [17]). The normalised rank of the
+// Ranking metrics (docs/DESIGN.md, "Metrics"; paper, "Performance Metrics", ref. [17]). The normalised rank of the
 // relevant map is rank / N with rank 1 = best and tied scores sharing their mean rank; ANR is its mean over
 // tasks in percent (a random ranking scores about 50 %).
 #pragma once

@@ -1,4 +1,4 @@
-// Binary occupancy grids for direct map matching (DESIGN.md, "dMM"): P_Y of the paper's Eq. 1 is 1 on an
+// Binary occupancy grids for direct map matching (docs/DESIGN.md, "dMM"): P_Y of the paper's Eq. 1 is 1 on an
 // occupied cell of Y's grid, optionally dilated. Every grid lives on the global lattice of its resolution r:
 // lattice cell (x, y) covers [x r, (x + 1) r) x [y r, (y + 1) r) of the map frame, so a point set discretised
 // once (floor(p / r)) can be looked up in any grid of the same resolution without re-discretising.
@@ -22,7 +22,7 @@ inline Eigen::Vector2i lattice_cell(const Vec2& p, double resolution) {
 
 /// A binary grid over the lattice cells [x0, x0 + width) x [y0, y0 + height); cells outside read 0.
 struct OccupancyGrid {
-  double resolution = 0.1;  ///< cell side [m]
+  double resolution = kMapResolution;  ///< cell side [m]
   int x0 = 0;               ///< lattice index of the first column
   int y0 = 0;               ///< lattice index of the first row
   int width = 0;            ///< columns

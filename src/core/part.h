@@ -1,4 +1,4 @@
-// Parts and map descriptors (paper §"Common Pattern Discovery", §"Map Descriptor"; DESIGN.md "MD").
+// Parts and map descriptors (paper §"Common Pattern Discovery", §"Map Descriptor"; docs/DESIGN.md "MD").
 // A part is a pair of bounding boxes found by common pattern discovery: the keypoint box crops the input map,
 // the descriptor box crops the dictionary map where those points fit best (Eq. 2). The descriptor box is the
 // keypoint box moved by T_dict_map, a translation plus `rotation` quarter turns, so both boxes have the same

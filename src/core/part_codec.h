@@ -1,4 +1,4 @@
-// Bit-packed map descriptors (paper §"Map Descriptor" and §"Space Efficiency"; DESIGN.md "MD").
+// Bit-packed map descriptors (paper §"Map Descriptor" and §"Space Efficiency"; docs/DESIGN.md "MD").
 //
 // The paper stores a part in 42 bits: 7 bits for each keypoint coordinate x_begin, x_end, y_begin, y_end at
 // 0.1 m inside the 12.8 m crop, and 14 bits for the descriptor box's origin (x_begin, y_begin) on the
@@ -32,8 +32,8 @@
 namespace partslam {
 
 struct CodecConfig {
-  double crop_size = 12.8;           ///< side of the square crop holding keypoint boxes, centred on 0 [m]
-  double keypoint_resolution = 0.1;  ///< keypoint quantisation step [m]
+  double crop_size = kCropSize;       ///< side of the square crop holding keypoint boxes, centred on 0 [m]
+  double keypoint_resolution = kMapResolution;  ///< keypoint quantisation step [m]
   int keypoint_bits = 7;             ///< bits per keypoint coordinate; 2^bits cells must cover the crop
   Box2 dictionary_extent;  ///< descriptor origins lie in this box of the dictionary frame [m]; required
   int origin_bits_x = 7;   ///< lattice bits of the descriptor origin along x (paper: 14 in total)

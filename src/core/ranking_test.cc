@@ -6,21 +6,11 @@
 
 #include "core/error.h"
 #include "core/simulator.h"
+#include "core/testing/simulated_maps.h"
 #include "core/submap.h"
 
 namespace partslam {
 namespace {
-
-const Submaps& sim_maps() {
-  static const Submaps maps = build_submaps(simulate(SimulatorConfig{}).scans);
-  return maps;
-}
-
-std::vector<MapView> views_of(const Submaps& maps) {
-  std::vector<MapView> v;
-  for (const Submap& m : maps) v.push_back({&m.points, nullptr});
-  return v;
-}
 
 TEST(Ranking, RegistryNamesAreUniqueAndEveryMethodParsesItsSyntax) {
   std::set<std::string_view> names;
@@ -41,9 +31,9 @@ TEST(Ranking, OrderIsStableBestFirst) {
 }
 
 TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
-  const Submaps& maps = sim_maps();
+  const Submaps& maps = testing::simulated_maps();
   ASSERT_GT(maps.size(), 40u);
-  const std::vector<MapView> views = views_of(maps);
+  const std::vector<MapView> views = testing::point_views(maps);
   const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("dmm"), {});
   ranker->prepare(views, 2);
   const std::vector<std::size_t> candidates = {3, 10, 0, 25, 40};
@@ -62,8 +52,8 @@ TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
 }
 
 TEST(Ranking, RerankPutsTheShortlistFirstOrderedByDmm) {
-  const Submaps& maps = sim_maps();
-  const std::vector<MapView> views = views_of(maps);
+  const Submaps& maps = testing::simulated_maps();
+  const std::vector<MapView> views = testing::point_views(maps);
   // A first stage without parts: every stored map scores 0, so the shortlist is the first R candidates.
   MethodSpec spec = parse_method_spec("rerank:3:hmm:3");
   std::vector<std::vector<Part>> parts(maps.size());

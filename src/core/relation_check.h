@@ -1,4 +1,4 @@
-// Independent check of the ground truth (DESIGN.md, "Tasks"): the Freiburg .relations files (Kuemmerle et al.
+// Independent check of the ground truth (docs/DESIGN.md, "Tasks"): the Freiburg .relations files (Kuemmerle et al.
 // 2009) give true relative poses between scans of the raw log. A relevant pair of submaps is *confirmed* when a
 // relation links a scan of one map to a scan of the other and agrees with the relative pose of those scans in
 // the log the submaps were built from (so the centroid offset of the two maps is right too).

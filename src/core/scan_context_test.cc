@@ -8,21 +8,11 @@
 #include "core/error.h"
 #include "core/ranking.h"
 #include "core/simulator.h"
+#include "core/testing/simulated_maps.h"
 #include "core/submap.h"
 
 namespace partslam {
 namespace {
-
-const Submaps& sim_maps() {
-  static const Submaps maps = build_submaps(simulate(SimulatorConfig{}).scans);
-  return maps;
-}
-
-std::vector<MapView> views_of(const Submaps& maps) {
-  std::vector<MapView> v;
-  for (const Submap& m : maps) v.push_back({&m.points, nullptr});
-  return v;
-}
 
 /// Exact rotation by +90 deg about the origin.
 Points2 rotate90(const Points2& points) {
@@ -80,7 +70,7 @@ TEST(ScanContext, BinsCountPointsByRingAndSectorAndDropFarOnes) {
 }
 
 TEST(ScanContext, ARotationBy90DegIsAQuarterShiftAtDistanceZero) {
-  const Points2& points = sim_maps().at(5).points;
+  const Points2& points = testing::simulated_maps().at(5).points;
   for (const ScanContextConfig& c : {ScanContextConfig{}, scan_context_128_config()}) {
     const ScanContext a = make_scan_context(rotate90(points), c);
     const ScanContext b = make_scan_context(points, c);
@@ -98,8 +88,8 @@ TEST(ScanContext, ARotationBy90DegIsAQuarterShiftAtDistanceZero) {
 
 TEST(ScanContext, BinaryMasksGiveTheCosineOfTheGeneralFormula) {
   const ScanContextConfig c = scan_context_128_config();
-  const ScanContext a = make_scan_context(sim_maps().at(3).points, c);
-  const ScanContext b = make_scan_context(sim_maps().at(9).points, c);
+  const ScanContext a = make_scan_context(testing::simulated_maps().at(3).points, c);
+  const ScanContext b = make_scan_context(testing::simulated_maps().at(9).points, c);
   ScanContext a_plain = a, b_plain = b;
   a_plain.masks.clear(), b_plain.masks.clear();
   for (int s = 0; s < c.sectors; s += 3)
@@ -151,9 +141,9 @@ TEST(ScanContext, BitsPerMap) {
 }
 
 TEST(ScanContext, AMapRanksItselfFirstAndThreadsDoNotChangeScores) {
-  const Submaps& maps = sim_maps();
+  const Submaps& maps = testing::simulated_maps();
   ASSERT_GT(maps.size(), 40u);
-  const std::vector<MapView> views = views_of(maps);
+  const std::vector<MapView> views = testing::point_views(maps);
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < 40; i += 2) candidates.push_back(i);  // 20 candidates, the query 12 among them
   const std::size_t query = 12, at = 6;
@@ -176,8 +166,8 @@ TEST(ScanContext, AMapRanksItselfFirstAndThreadsDoNotChangeScores) {
 }
 
 TEST(ScanContext, ShortlistAllScoresEveryCandidate) {
-  const Submaps& maps = sim_maps();
-  const std::vector<MapView> views = views_of(maps);
+  const Submaps& maps = testing::simulated_maps();
+  const std::vector<MapView> views = testing::point_views(maps);
   ScanContextConfig c;
   c.shortlist = 0;
   const std::unique_ptr<Ranker> ranker = make_scan_context_ranker(c);

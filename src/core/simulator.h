@@ -1,4 +1,4 @@
-// The embedded simulator (DESIGN.md, "Embedded default"): a seeded procedural Manhattan building
+// The embedded simulator (docs/DESIGN.md, "Embedded default"): a seeded procedural Manhattan building
 // (core/floor_plan.h), a robot driving its corridor loop(s) `laps` times and into a few rooms, a 180-degree
 // laser simulated by exact ray casting (core/ray_caster.h) with Gaussian range noise, and odometry
 // integrated from noisy increments. Every scan carries the exact pose (T_world_laser) and the drifting

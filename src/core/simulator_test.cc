@@ -137,7 +137,7 @@ TEST(Simulator, TrajectoryIsContinuousTimedAndNeverCrossesAWall) {
   }
 }
 
-// Loop closures (DESIGN.md, "Tasks"): places seen again after more than 20 m of travel.
+// Loop closures (docs/DESIGN.md, "Tasks"): places seen again after more than 20 m of travel.
 TEST(Simulator, TrajectoryRevisitsPlaces) {
   const SimulatedLog log = simulate();
   const std::vector<double> s = travel_distances(log.scans);

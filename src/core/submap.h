@@ -1,4 +1,4 @@
-// Submaps (DESIGN.md, "Submap"): anchored at scan i, the points of all scans j with travel
+// Submaps (docs/DESIGN.md, "Submap"): anchored at scan i, the points of all scans j with travel
 // s_i <= s_j < s_i + L, downsampled to one point per occupied cell, cropped to a square around their
 // centroid, expressed relative to that centroid and rotated into the canonical (Manhattan) frame.
 #pragma once
@@ -12,8 +12,8 @@ namespace partslam {
 struct SubmapConfig {
   double window_length = 2.0;  ///< L: travel covered by one submap [m]
   double spacing = 0.5;        ///< travel between consecutive anchors [m]
-  double resolution = 0.1;     ///< downsampling cell [m]
-  double crop_size = 12.8;     ///< side of the square crop around the centroid [m]
+  double resolution = kMapResolution;  ///< downsampling cell [m]
+  double crop_size = kCropSize;  ///< side of the square crop around the centroid [m]
   double max_range = kDefaultMaxRange;  ///< beam endpoints farther from the laser are dropped [m]
   int min_points = 20;         ///< submaps with fewer points are dropped
   bool align = true;           ///< rotate into the canonical Manhattan frame
@@ -38,7 +38,7 @@ using Submaps = std::vector<Submap>;
 /// Cumulative travel distance of the laser along the scan stream [m].
 std::vector<double> travel_distances(const Scans& scans);
 
-/// Builds all submaps of a scan stream (DESIGN.md, "Submap").
+/// Builds all submaps of a scan stream (docs/DESIGN.md, "Submap").
 Submaps build_submaps(const Scans& scans, const SubmapConfig& config = {});
 
 /// One point per occupied cell of the given size (the mean of the points that fall in it), in a fixed order.

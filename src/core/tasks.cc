@@ -95,7 +95,7 @@ double low_overlap_share(const Submaps& maps, const std::vector<RelevantPair>& p
   if (pairs.empty()) return 0.0;
   std::vector<OccupancyGrid> grids(maps.size());
   parallel_for(maps.size(), num_threads,
-               [&](std::size_t i) { grids[i] = build_occupancy_grid(maps[i].points, 0.1, 1); });
+               [&](std::size_t i) { grids[i] = build_occupancy_grid(maps[i].points, kMapResolution, 1); });
   std::size_t low = 0;
   for (const RelevantPair& p : pairs) low += overlap_on(maps[p.query], maps[p.global], grids[p.global]) < threshold;
   return static_cast<double>(low) / static_cast<double>(pairs.size());

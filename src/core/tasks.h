@@ -1,4 +1,4 @@
-// Ground-truth map-matching tasks (DESIGN.md, "Tasks"; paper, "Map Matching Tasks"). Query q and global map g
+// Ground-truth map-matching tasks (docs/DESIGN.md, "Tasks"; paper, "Map Matching Tasks"). Query q and global map g
 // are a relevant pair when their poses (centroids) are within R and their travel distances differ by more
 // than G (a loop closure). A task is q with a database of N maps: g plus N-1 random irrelevant maps (pose
 // farther than 2R from q), in random order. Tasks are sampled with a seed and are reproducible.
@@ -42,7 +42,7 @@ std::vector<Task> make_tasks(const Submaps& maps, const TaskConfig& config);
 /// True overlap of a pair: the share of the query's points that fall on the map's occupied cells (at
 /// `resolution`, dilated by `dilation` cells, as dMM scores them) when placed by the ground-truth poses,
 /// T_map_query = T_world_map(map)^-1 T_world_map(query). 0 for an empty query.
-double true_overlap(const Submap& query, const Submap& map, double resolution = 0.1, int dilation = 1);
+double true_overlap(const Submap& query, const Submap& map, double resolution = kMapResolution, int dilation = 1);
 
 /// The ceiling no matcher can pass: the share of relevant pairs whose true overlap is below `threshold`
 /// (0 when there is no pair). num_threads over maps; the result does not depend on it.

@@ -11,6 +11,12 @@
 namespace partslam {
 
 using Vec2 = Eigen::Vector2d;
+
+/// The map lattice every layer shares unless told otherwise: points are downsampled to one per cell of this
+/// side, grids, codecs and matchers quantise on it [m] (docs/DESIGN.md, "Submap").
+inline constexpr double kMapResolution = 0.1;
+/// Side of the square crop of a submap around its centroid [m]; map points lie within +-kCropSize / 2.
+inline constexpr double kCropSize = 12.8;
 /// A 2D point set [m]. std::vector is fine for Vector2d under C++17 aligned new.
 using Points2 = std::vector<Vec2>;
 

@@ -54,8 +54,8 @@ TEST_F(Fr079Submaps, BranchAndBoundEqualsExhaustive) {
                                     : RelevantPair{rng() % maps_->size(), rng() % maps_->size()};
     const PreparedQuery q = prepare_query((*maps_)[p.query].points, config);
     const PreparedMap m = prepare_map((*maps_)[p.global].points, config);
-    const DmmResult bnb = match_dmm(q, m, config);
-    ASSERT_EQ(bnb.inliers, match_exhaustive(q, m, config).inliers) << "pair " << p.query << " " << p.global;
+    const DmmResult bnb = match_dmm(q, m);
+    ASSERT_EQ(bnb.inliers, match_exhaustive(q, m).inliers) << "pair " << p.query << " " << p.global;
     if (!relevant) continue;
     // The maximum is at least the score of the candidate nearest to the true relative pose.
     const Pose2 T = (*maps_)[p.global].T_world_map.inverse() * (*maps_)[p.query].T_world_map;
@@ -82,7 +82,7 @@ TEST_F(Fr079Submaps, RecoversAKnownOffsetOfARealSubmap) {
     const Pose2 T_map_query{1.3, -0.8, -std::numbers::pi / 2 + 1.7 * kDeg};
     const Points2 query_points = transform(T_map_query.inverse(), map_points);
     const PreparedQuery q = prepare_query(query_points, config);
-    const DmmResult r = match_dmm(q, prepare_map(map_points, config), config);
+    const DmmResult r = match_dmm(q, prepare_map(map_points, config));
     EXPECT_GT(r.inlier_fraction, 0.9) << "submap " << m;
     EXPECT_LE(std::abs(r.T_map_query.x - T_map_query.x), config.resolution + 1e-9) << "submap " << m;
     EXPECT_LE(std::abs(r.T_map_query.y - T_map_query.y), config.resolution + 1e-9) << "submap " << m;

@@ -1,5 +1,5 @@
 // The map database: one SQLite file holding datasets of submaps, dictionary maps and packed part
-// descriptors (DESIGN.md, data flow "... ──► packed descriptor ──► map database").
+// descriptors (docs/DESIGN.md, data flow "... ──► packed descriptor ──► map database").
 //
 // Schema (version 1; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 1; STRICT tables):
 //   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig, created)

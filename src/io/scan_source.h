@@ -1,5 +1,5 @@
 // Where scans come from on the command line: a CARMEN log (plain or gzip), or "sim[:SEED]" for the built-in
-// simulated building (DESIGN.md, "Embedded default"), so every command also runs without ../shared/data.
+// simulated building (docs/DESIGN.md, "Embedded default"), so every command also runs without ../shared/data.
 #pragma once
 
 #include <string>

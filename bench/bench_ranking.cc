@@ -1,0 +1,57 @@
+// Online ranking speed of every method through the one entry point (core/ranking.h): one query against the
+// other submaps of fr101 (229 maps, ../shared/data) or, without the data, of the simulator. Counters:
+// us_per_pair = the ranker's matching time per stored map, ms_query_prep = the query's own preparation,
+// bits_per_map = what the method stores. dMM is the baseline of the same run.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "core/ranking.h"
+#include "core/simulator.h"
+#include "core/submap.h"
+#include "io/carmen_log.h"
+
+namespace partslam {
+namespace {
+
+const Submaps& maps() {
+  static const Submaps m = [] {
+    const std::filesystem::path log = std::filesystem::path(PARTSLAM_SHARED_DATA) / "fr101/fr101-corrected.log.gz";
+    return std::filesystem::exists(log) ? build_submaps(io::read_carmen_log(log).scans)
+                                        : build_submaps(simulate().scans);
+  }();
+  return m;
+}
+
+void BM_Rank(benchmark::State& state, const char* spec) {
+  const Submaps& m = maps();
+  std::vector<MapView> views;
+  for (const Submap& s : m) views.push_back({&s.points, nullptr});
+  const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec(spec), {});
+  ranker->prepare(views, 1);
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 1; i < m.size(); ++i) candidates.push_back(i);
+  double match_ms = 0, prep_ms = 0;
+  std::size_t queries = 0;
+  for (auto _ : state) {
+    const Ranking r = ranker->rank(views[queries % m.size()], candidates);
+    benchmark::DoNotOptimize(r.scores.data());
+    match_ms += r.match_ms, prep_ms += r.prep_ms, ++queries;
+  }
+  state.counters["us_per_pair"] = 1e3 * match_ms / static_cast<double>(queries * candidates.size());
+  state.counters["ms_query_prep"] = prep_ms / static_cast<double>(queries);
+  state.counters["bits_per_map"] = ranker->bits_per_map();
+  state.counters["maps"] = static_cast<double>(candidates.size());
+}
+
+BENCHMARK_CAPTURE(BM_Rank, dmm, "dmm")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rank, succinct, "succinct")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rank, rerank20, "rerank:20")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rank, grid11, "grid:11")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rank, sc, "sc")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rank, sc128, "sc:128")->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace partslam
+
+BENCHMARK_MAIN();
