@@ -16,7 +16,7 @@ GridConfig succinct_grid_config() {
   GridConfig c;
   c.cells = 11;
   c.box_size = 8.0;
-  c.max_shift = 3;
+  c.max_shift = 4;
   c.substeps = 2;
   c.hub_weight = 1.0;
   return c;
@@ -112,18 +112,26 @@ class GridRanker final : public Ranker {
         progress);
     hub_.assign(maps.size(), 0.0);
     if (config_.hub_weight <= 0 || maps.size() < 2) return;
-    const std::size_t n = maps.size(), sample = std::min<std::size_t>(n - 1, config_.hub_sample);
+    // mu_m: how well the queries of other stored maps (a spread sample of up to hub_sample of them, as probes)
+    // match m, i.e. how much m looks like everything.
+    const std::size_t n = maps.size(), probes = std::min<std::size_t>(n, config_.hub_sample);
+    std::vector<std::vector<GridBits>> probe_grids(probes);
+    parallel_for(
+        probes, num_threads,
+        [&](std::size_t k) { probe_grids[k] = make_query_grids(*maps[k * n / probes].points, config_); },
+        "grid hubness probes", progress);
     const double levels = std::ldexp(1.0, config_.hub_bits) - 1;
     parallel_for(
         n, num_threads,
         [&](std::size_t i) {
-          const std::vector<GridBits> q = make_query_grids(*maps[i].points, config_);
           double sum = 0;
-          for (std::size_t k = 0; k < sample; ++k) {
-            const std::size_t j = (i + 1 + k * (n - 1) / sample) % n;  // spread over the others, never i
-            sum += grid_similarity(q, stored_[j]);
+          int count = 0;
+          for (std::size_t k = 0; k < probes; ++k) {
+            if (k * n / probes == i) continue;  // never the map itself
+            sum += grid_similarity(probe_grids[k], stored_[i]);
+            ++count;
           }
-          hub_[i] = std::round(sum / static_cast<double>(sample) * levels) / levels;
+          hub_[i] = count > 0 ? std::round(sum / count * levels) / levels : 0.0;
         },
         "grid hubness", progress);
   }

@@ -8,12 +8,12 @@
 // (the local map is at hand), so finer query translations cost no stored bits.
 //
 // Hubness correction (ours, after CSLS in cross-lingual word retrieval): some maps (long corridors, cluttered
-// rooms) resemble every other map and outrank true matches. Offline, each stored map m gets mu_m, its mean
-// similarity as a query to up to hub_sample other stored maps, kept in hub_bits bits; the score becomes
-// sim(q, m) - hub_weight * mu_m.
+// rooms) resemble every other map and outrank true matches. Offline, each stored map m gets mu_m, the mean
+// best-pose similarity of the queries of up to hub_sample other stored maps (probes spread over the database)
+// to m's grid, kept in hub_bits bits; the score becomes sim(q, m) - hub_weight * mu_m.
 //
 //   `grid[:S]`   the baseline: S = 11 (121 bits) over the 12.8 m crop, +-1 cell, whole-cell shifts, no hub.
-//   `succinct`   the product's default <= 128-bit matcher: 11 x 11 over 8 m (0.73 m cells), +-3 cells in
+//   `succinct`   the product's default <= 128-bit matcher: 11 x 11 over 8 m (0.73 m cells), +-4 cells in
 //                half-cell steps, hub weight 1 with 7 bits of mu (121 + 7 = 128 bits).
 #pragma once
 
@@ -32,7 +32,7 @@ struct GridConfig {
   int max_shift = 1;         ///< query translations up to this many cells each way
   int substeps = 1;          ///< query translation steps per cell (1: whole cells)
   double hub_weight = 0.0;   ///< hubness correction weight (0 = off)
-  int hub_sample = 256;      ///< other stored maps mu_m is averaged over (at most)
+  int hub_sample = 256;      ///< probe maps (other stored maps' queries) mu_m is averaged over (at most)
   int hub_bits = 7;          ///< bits of the stored mu_m (levels over [0, 1])
 };
 

@@ -88,7 +88,7 @@ TEST(GridDescriptor, SuccinctRanksTheQueryItselfFirstAndThreadsDoNotChangeScores
   EXPECT_TRUE(r1.direct.empty());
 }
 
-TEST(GridDescriptor, HubnessSubtractsEachStoredMapsMeanSimilarityToTheOthers) {
+TEST(GridDescriptor, HubnessSubtractsTheOtherMapsMeanSimilarityToEachStoredMap) {
   const Submaps& maps = testing::simulated_maps();
   std::vector<MapView> views;
   for (std::size_t i = 0; i < 12; ++i) views.push_back({&maps[i * 5].points, nullptr});
@@ -103,11 +103,11 @@ TEST(GridDescriptor, HubnessSubtractsEachStoredMapsMeanSimilarityToTheOthers) {
   c.box_size = 8.0;
   for (std::size_t j = 0; j < candidates.size(); ++j) {
     const std::size_t m = candidates[j];
-    // mu_m: the mean similarity of map m, as a query, to the 11 other maps, on 7 bits.
-    const std::vector<GridBits> q = make_query_grids(*views[m].points, c);
+    // mu_m: the mean similarity of the 11 other maps' queries to map m's grid, on 7 bits.
+    const GridBits stored = make_grid(*views[m].points, c);
     double sum = 0;
     for (std::size_t o = 0; o < views.size(); ++o)
-      if (o != m) sum += grid_similarity(q, make_grid(*views[o].points, c));
+      if (o != m) sum += grid_similarity(make_query_grids(*views[o].points, c), stored);
     const double mu = std::round(sum / 11.0 * 127) / 127;
     EXPECT_GT(mu, 0.0);
     EXPECT_NEAR(p.scores[j] - h.scores[j], 0.5 * mu, 1e-12) << "map " << m;
