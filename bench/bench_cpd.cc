@@ -8,10 +8,10 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/cpd.h"
-#include "core/dictionary.h"
-#include "core/simulator.h"
-#include "core/submap.h"
+#include "core/parts/cpd.h"
+#include "core/maps/dictionary.h"
+#include "core/sim/simulator.h"
+#include "core/maps/submap.h"
 #include "io/carmen_log.h"
 
 namespace partslam {

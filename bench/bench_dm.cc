@@ -11,8 +11,8 @@
 #include <memory>
 #include <random>
 
-#include "core/descriptor_database.h"
-#include "core/part_codec.h"
+#include "core/parts/descriptor_database.h"
+#include "core/parts/part_codec.h"
 
 namespace partslam {
 namespace {

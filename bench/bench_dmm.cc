@@ -15,11 +15,11 @@
 #include <filesystem>
 #include <random>
 
-#include "core/dictionary.h"
-#include "core/dmm.h"
-#include "core/dmm_ransac.h"
-#include "core/simulator.h"
-#include "core/tasks.h"
+#include "core/maps/dictionary.h"
+#include "core/matching/dmm.h"
+#include "core/matching/dmm_ransac.h"
+#include "core/sim/simulator.h"
+#include "core/evaluation/tasks.h"
 #include "io/carmen_log.h"
 
 namespace partslam {

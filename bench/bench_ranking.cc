@@ -1,4 +1,4 @@
-// Online ranking speed of every method through the one entry point (core/ranking.h): one query against the
+// Online ranking speed of every method through the one entry point (core/matching/ranking.h): one query against the
 // other submaps of fr101 (229 maps, ../shared/data) or, without the data, of the simulator. Counters:
 // us_per_pair = the ranker's matching time per stored map, ms_query_prep = the query's own preparation,
 // bits_per_map = what the method stores. dMM is the baseline of the same run.
@@ -6,9 +6,9 @@
 
 #include <filesystem>
 
-#include "core/ranking.h"
-#include "core/simulator.h"
-#include "core/submap.h"
+#include "core/matching/ranking.h"
+#include "core/sim/simulator.h"
+#include "core/maps/submap.h"
 #include "io/carmen_log.h"
 
 namespace partslam {

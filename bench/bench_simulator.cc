@@ -2,8 +2,8 @@
 // parts. Counters report the size of what is simulated: scans, walls, travel, submaps.
 #include <benchmark/benchmark.h>
 
-#include "core/simulator.h"
-#include "core/submap.h"
+#include "core/sim/simulator.h"
+#include "core/maps/submap.h"
 
 namespace partslam {
 namespace {

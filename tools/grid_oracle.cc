@@ -10,9 +10,9 @@
 #include <cstdlib>
 #include <exception>
 
-#include "core/grid_descriptor.h"
-#include "core/submap.h"
-#include "core/tasks.h"
+#include "core/matching/grid_descriptor.h"
+#include "core/maps/submap.h"
+#include "core/evaluation/tasks.h"
 #include "io/scan_source.h"
 
 using namespace partslam;

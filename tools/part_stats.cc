@@ -10,11 +10,11 @@
 #include <exception>
 #include <vector>
 
-#include "core/cpd.h"
-#include "core/descriptor_matcher.h"
-#include "core/dictionary.h"
-#include "core/submap.h"
-#include "core/tasks.h"
+#include "core/parts/cpd.h"
+#include "core/parts/descriptor_matcher.h"
+#include "core/maps/dictionary.h"
+#include "core/maps/submap.h"
+#include "core/evaluation/tasks.h"
 #include "io/scan_source.h"
 
 using namespace partslam;

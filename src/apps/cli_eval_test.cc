@@ -16,6 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::CliRun;
 using testing::quoted;
 using testing::run_partslam;
@@ -106,6 +107,18 @@ TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
     EXPECT_THAT(run.output, HasSubstr(message)) << args;
     EXPECT_FALSE(fs::exists(json)) << args;
   }
+}
+
+TEST_F(CliEvalTest, UnwritableOutputsFailBeforeAnyWork) {
+  for (const fs::path& out : {dir_ / "no-such-folder" / "r.json", dir_}) {
+    const CliRun run = run_partslam(kEval + "--methods dmm --json " + quoted(out));
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_THAT(run.output, HasSubstr("partslam: error: " + out.string())) << run.output;
+    EXPECT_THAT(run.output, Not(HasSubstr("ANR"))) << run.output;  // failed before evaluating
+  }
+  const CliRun plot = run_partslam(kEval + "--methods dmm --plot " + quoted(dir_ / "nope" / "d.png"));
+  EXPECT_EQ(plot.exit_code, 1) << plot.output;
+  EXPECT_THAT(plot.output, HasSubstr("does not exist"));
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/tasks.h"
+#include "core/evaluation/tasks.h"
 #include "apps/cli_testing.h"
 #include "io/map_database.h"
 

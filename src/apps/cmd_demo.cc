@@ -9,7 +9,7 @@
 #include "apps/commands.h"
 #include "apps/eval_run.h"
 #include "io/atomic_file.h"
-#include "io/rank_plot.h"
+#include "plot/rank_plot.h"
 
 namespace partslam::apps {
 namespace {
@@ -59,9 +59,9 @@ void run_demo(const DemoOptions& d) {
   const std::filesystem::path json = std::filesystem::path(d.out) / "demo.json";
   const std::filesystem::path plot = std::filesystem::path(d.out) / "demo_fig_d.png";
   io::write_atomically(json, [&](std::ostream& out) { out << to_json(run).dump(2) << "\n"; });
-  std::vector<io::RankCurve> curves;
+  std::vector<plot::RankCurve> curves;
   for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label(), m.normalized_ranks});
-  io::write_rank_plot(plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
+  plot::write_rank_plot(plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
   std::cout << "wrote " << json.string() << " and " << plot.string() << "\n";
 }
 

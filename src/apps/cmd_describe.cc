@@ -2,7 +2,7 @@
 // common pattern discovery of every stored submap (of one dataset, or all) against a stored dictionary, keeps
 // up to P parts per map, and stores in one transaction the packed descriptor of the top K parts for each K of
 // --k, plus the whole P-part list under K = P (with appearance scores when P > 16: the hMM query list). The
-// codec is derived from the dictionary's points and K (core/descriptor_layout.h), so `match` decodes without
+// codec is derived from the dictionary's points and K (core/parts/descriptor_layout.h), so `match` decodes without
 // any stored codec state.
 #include <unistd.h>
 
@@ -16,8 +16,8 @@
 
 #include "apps/commands.h"
 #include "apps/stored_parts.h"
-#include "core/cpd.h"
-#include "core/descriptor_layout.h"
+#include "core/parts/cpd.h"
+#include "core/parts/descriptor_layout.h"
 #include "core/error.h"
 #include "io/map_database.h"
 

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "apps/commands.h"
-#include "core/dictionary.h"
+#include "core/maps/dictionary.h"
 #include "io/map_database.h"
 #include "io/scan_source.h"
 

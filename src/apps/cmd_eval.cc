@@ -15,12 +15,15 @@
 #include "apps/eval_run.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
-#include "io/rank_plot.h"
+#include "plot/rank_plot.h"
 
 namespace partslam::apps {
 namespace {
 
 void run_eval(const EvalOptions& o) {
+  // Fail before hours of work, not after: output paths and parameters are checked first.
+  if (!o.json.empty()) io::check_writable(o.json);
+  if (!o.plot.empty()) io::check_writable(o.plot);
   const EvalRun run = run_evaluation(o, std::cerr);
   print_table(run, std::cout);
   if (!o.json.empty()) {
@@ -29,9 +32,9 @@ void run_eval(const EvalOptions& o) {
     std::cout << "wrote " << o.json << "\n";
   }
   if (!o.plot.empty()) {
-    std::vector<io::RankCurve> curves;
+    std::vector<plot::RankCurve> curves;
     for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label(), m.normalized_ranks});
-    io::write_rank_plot(o.plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
+    plot::write_rank_plot(o.plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
     std::cout << "wrote " << o.plot << "\n";
   }
 }

@@ -18,10 +18,10 @@
 
 #include "apps/commands.h"
 #include "apps/stored_parts.h"
-#include "core/ranking.h"
-#include "core/descriptor_layout.h"
+#include "core/matching/ranking.h"
+#include "core/parts/descriptor_layout.h"
 #include "core/error.h"
-#include "core/method_spec.h"
+#include "core/matching/method_spec.h"
 #include "io/map_database.h"
 
 namespace partslam::apps {

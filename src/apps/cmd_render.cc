@@ -10,10 +10,10 @@
 
 #include "apps/commands.h"
 #include "apps/stored_parts.h"
-#include "core/cpd.h"
+#include "core/parts/cpd.h"
 #include "core/error.h"
 #include "io/map_database.h"
-#include "io/render.h"
+#include "plot/render.h"
 
 namespace partslam::apps {
 namespace {
@@ -26,7 +26,7 @@ struct RenderOptions {
   std::string out;
   bool fresh = false;
   CpdConfig cpd;
-  io::RenderConfig render;
+  plot::RenderConfig render;
 };
 
 void run_render(RenderOptions o) {
@@ -40,7 +40,7 @@ void run_render(RenderOptions o) {
   const io::MapLocation where = db.locate(o.map_id);
   const Submap submap = db.load_submap(o.map_id);
 
-  io::PartsFigure figure;
+  plot::PartsFigure figure;
   figure.map_points = submap.points;
   std::optional<io::Dictionary> dictionary;
   if (!o.dictionary.empty() || db.dictionaries().size() == 1)
@@ -79,7 +79,7 @@ void run_render(RenderOptions o) {
         "dictionary '" + dictionary->name + "': descriptor boxes, crops carried onto them";
     figure.dictionary_points = dictionary->points;
   }
-  io::write_parts_figure(o.out, figure, o.render);
+  plot::write_parts_figure(o.out, figure, o.render);
   std::cout << "map " << o.map_id << " (dataset '" << where.dataset_name << "', submap " << where.index
             << "): " << figure.parts.size() << " parts from " << source << "; wrote " << o.out << " ("
             << std::filesystem::file_size(o.out) / 1024 << " KiB)\n";

@@ -9,9 +9,9 @@
 
 #include "apps/commands.h"
 #include "core/error.h"
-#include "core/relation_check.h"
-#include "core/submap.h"
-#include "core/tasks.h"
+#include "core/evaluation/relation_check.h"
+#include "core/maps/submap.h"
+#include "core/evaluation/tasks.h"
 #include "io/map_database.h"
 #include "io/relations.h"
 #include "io/scan_source.h"

@@ -8,9 +8,9 @@
 #include <iomanip>
 #include <iostream>
 
-#include "core/dictionary.h"
-#include "core/ranking.h"
-#include "core/submap.h"
+#include "core/maps/dictionary.h"
+#include "core/matching/ranking.h"
+#include "core/maps/submap.h"
 #include "io/scan_source.h"
 
 namespace partslam::apps {

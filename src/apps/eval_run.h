@@ -8,8 +8,8 @@
 #include <numbers>
 #include <string>
 
-#include "core/evaluation.h"
-#include "core/scan.h"
+#include "core/evaluation/evaluation.h"
+#include "core/maps/scan.h"
 
 namespace partslam::apps {
 

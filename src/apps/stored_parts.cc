@@ -1,6 +1,6 @@
 #include "apps/stored_parts.h"
 
-#include "core/descriptor_layout.h"
+#include "core/parts/descriptor_layout.h"
 #include "core/error.h"
 
 namespace partslam::apps {

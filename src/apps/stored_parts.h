@@ -1,5 +1,5 @@
 // Shared by `partslam describe`, `match` and `render`: the stored descriptors of one dictionary, decoded with
-// the codec that core/descriptor_layout.h derives from the dictionary's points and K.
+// the codec that core/parts/descriptor_layout.h derives from the dictionary's points and K.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "core/cpd.h"
-#include "core/part.h"
+#include "core/parts/cpd.h"
+#include "core/parts/part.h"
 #include "io/map_database.h"
 
 namespace partslam::apps {

@@ -1,5 +1,7 @@
 #include "io/atomic_file.h"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <random>
 #include <system_error>
@@ -20,6 +22,16 @@ void commit_temporary(const std::filesystem::path& tmp, const std::filesystem::p
     std::filesystem::remove(tmp, ec);
     throw InputError(path.string() + ": cannot write: " + ec.message());
   }
+}
+
+void check_writable(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path.string() + ": is a directory, not an output file");
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(folder, ec))
+    throw InputError(path.string() + ": the folder " + folder.string() + " does not exist");
+  if (::access(folder.c_str(), W_OK) != 0) throw InputError(path.string() + ": the folder is not writable");
 }
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {

@@ -13,6 +13,10 @@ namespace partslam::io {
 /// the path when the file cannot be written; the temporary file is removed on any failure.
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
+/// Checks, before any work, that an output file can be written at path: its folder exists and is writable,
+/// and path is not a folder. Throws InputError naming the path and the reason.
+void check_writable(const std::filesystem::path& path);
+
 /// A temporary path beside path, for writers that need a file name (SQLite, cairo); caller renames it.
 std::filesystem::path temporary_sibling(const std::filesystem::path& path);
 

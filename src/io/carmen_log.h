@@ -20,7 +20,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/scan.h"
+#include "core/maps/scan.h"
 #include "core/types.h"
 
 namespace partslam::io {

@@ -5,9 +5,9 @@
 
 #include <random>
 
-#include "core/dmm.h"
-#include "core/dmm_ransac.h"
-#include "core/tasks.h"
+#include "core/matching/dmm.h"
+#include "core/matching/dmm_ransac.h"
+#include "core/evaluation/tasks.h"
 #include "io/carmen_log.h"
 #include "io/test_files.h"
 

@@ -29,9 +29,9 @@
 #include <string>
 #include <vector>
 
-#include "core/dictionary.h"
-#include "core/part_codec.h"
-#include "core/submap.h"
+#include "core/maps/dictionary.h"
+#include "core/parts/part_codec.h"
+#include "core/maps/submap.h"
 #include "io/blob_codec.h"
 
 namespace partslam::io {
@@ -73,7 +73,7 @@ struct MapLocation {
   std::int64_t index = -1;  ///< position within its dataset, from 0
 };
 
-/// Dictionaries are partslam::Dictionary (core/dictionary.h).
+/// Dictionaries are partslam::Dictionary (core/maps/dictionary.h).
 using partslam::Dictionary;
 
 struct DictionaryInfo {
@@ -86,7 +86,7 @@ struct DictionaryInfo {
 };
 
 /// An opaque packed descriptor: `bits` meaningful bits in ceil(bits / 8) bytes.
-/// Descriptors are stored as partslam::PackedDescriptor (core/part_codec.h), an opaque blob of `bits` bits.
+/// Descriptors are stored as partslam::PackedDescriptor (core/parts/part_codec.h), an opaque blob of `bits` bits.
 using partslam::PackedDescriptor;
 
 struct DescriptorRecord {

@@ -10,13 +10,13 @@
 #include <optional>
 #include <vector>
 
-#include "core/relation_check.h"
-#include "core/scan.h"
+#include "core/evaluation/relation_check.h"
+#include "core/maps/scan.h"
 #include "core/types.h"
 
 namespace partslam::io {
 
-/// Relations are partslam::Relation (core/relation_check.h).
+/// Relations are partslam::Relation (core/evaluation/relation_check.h).
 using partslam::Relation;
 using partslam::Relations;
 

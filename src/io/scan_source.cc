@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "core/simulator.h"
+#include "core/sim/simulator.h"
 
 namespace partslam::io {
 

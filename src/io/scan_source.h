@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/scan.h"
+#include "core/maps/scan.h"
 #include "io/carmen_log.h"
 
 namespace partslam::io {

@@ -4,9 +4,9 @@
 
 #include <vector>
 
-#include "core/ranking.h"
-#include "core/simulator.h"
-#include "core/submap.h"
+#include "core/matching/ranking.h"
+#include "core/sim/simulator.h"
+#include "core/maps/submap.h"
 
 namespace partslam::testing {
 

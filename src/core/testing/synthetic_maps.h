@@ -6,7 +6,7 @@
 #include <numbers>
 #include <random>
 
-#include "core/submap.h"
+#include "core/maps/submap.h"
 #include "core/types.h"
 
 namespace partslam::testing {

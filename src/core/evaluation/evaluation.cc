@@ -1,0 +1,146 @@
+#include "core/evaluation/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/parts/descriptor_layout.h"
+#include "core/error.h"
+
+namespace partslam {
+
+void validate(const EvalConfig& config) {
+  validate(config.tasks);
+  validate(config.ranking);
+  if (config.num_threads < 1 || config.num_threads > 1024) throw InputError("eval: threads must be in [1, 1024]");
+  if (!(config.pose_tolerance_m >= 0) || !(config.pose_tolerance_rad >= 0))
+    throw InputError("eval: pose tolerances must be >= 0");
+}
+
+DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
+                            const CodecConfig& codec, int num_threads, const Progress& progress) {
+  if (dictionary_points.empty()) throw InputError("eval: the dictionary map is empty");
+  DescribedMaps d;
+  const PreparedDictionary dictionary = prepare_dictionary(dictionary_points, cpd);
+  d.codec = dictionary_codec_config(dictionary_points, codec);
+  std::vector<const Points2*> points;
+  std::vector<std::uint64_t> keys;
+  for (const Submap& m : maps) points.push_back(&m.points), keys.push_back(static_cast<std::uint64_t>(m.id));
+  std::vector<CpdResult> results = discover_parts_many(points, keys, dictionary, cpd, num_threads, progress);
+  for (CpdResult& r : results) d.parts.push_back(std::move(r.parts)), d.cpd_ms.push_back(r.ms);
+  if (!maps.empty())
+    d.cpd_ms_per_map = std::accumulate(d.cpd_ms.begin(), d.cpd_ms.end(), 0.0) / static_cast<double>(maps.size());
+  return d;
+}
+
+std::vector<MapView> map_views(const Submaps& maps, const DescribedMaps& described) {
+  std::vector<MapView> views(maps.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    views[i].points = &maps[i].points;
+    if (i < described.parts.size()) views[i].parts = &described.parts[i];
+  }
+  return views;
+}
+
+std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
+                                   const DescribedMaps& described, std::span<const Task> tasks,
+                                   const EvalConfig& config, const Progress& progress) {
+  const std::vector<MapView> views = map_views(maps, described);
+  // Is T_map_query of the relevant pair within tolerance of the truth T_map_world * T_world_query?
+  auto pose_ok = [&](const Task& task, const Pose2& T_map_query) {
+    const Pose2 truth = maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
+    return (truth.translation() - T_map_query.translation()).norm() <= config.pose_tolerance_m &&
+           std::abs(wrap_angle(truth.theta - T_map_query.theta)) <= config.pose_tolerance_rad;
+  };
+  std::vector<TaskOutcome> outcomes(tasks.size());
+  parallel_for(
+      tasks.size(), config.num_threads,
+      [&](std::size_t t) {
+        const Task& task = tasks[t];
+        const std::size_t relevant = static_cast<std::size_t>(
+            std::find(task.database.begin(), task.database.end(), task.relevant) - task.database.begin());
+        const Ranking r = ranker.rank(views.at(task.query), task.database);
+        TaskOutcome& out = outcomes[t];
+        out.rank = tied_rank(r.scores, relevant);
+        out.db_size = task.database.size();
+        out.match_ms = r.match_ms;
+        out.prep_ms = r.prep_ms + (method.needs_parts ? described.cpd_ms.at(task.query) : 0.0);
+        if (!r.direct.empty() && r.direct[relevant]) out.pose = pose_ok(task, r.direct[relevant]->T_map_query);
+      },
+      method.label(), progress);
+  return outcomes;
+}
+
+MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> outcomes, double bits_per_map) {
+  MethodResult result;
+  result.method = method;
+  result.bits_per_map = bits_per_map;
+  std::vector<double> ranks;
+  std::vector<std::size_t> sizes;
+  double match_ms = 0, prep_ms = 0, pairs = 0, posed_ok = 0;
+  for (const TaskOutcome& o : outcomes) {
+    if (o.pose >= 0) ++result.poses_checked, posed_ok += o.pose;
+    ranks.push_back(o.rank);
+    sizes.push_back(o.db_size);
+    result.normalized_ranks.push_back(o.rank / static_cast<double>(o.db_size));
+    match_ms += o.match_ms;
+    prep_ms += o.prep_ms;
+    pairs += static_cast<double>(o.db_size);
+  }
+  result.summary = summarize_ranks(ranks, sizes);
+  if (result.poses_checked > 0) result.pose_within_tolerance = posed_ok / static_cast<double>(result.poses_checked);
+  if (!outcomes.empty()) {
+    const double n = static_cast<double>(outcomes.size());
+    result.ms_per_pair = match_ms / pairs;
+    result.ms_query_prep = prep_ms / n;
+    result.ms_per_query = (prep_ms + match_ms) / n;
+  }
+  return result;
+}
+
+EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
+                    const EvalConfig& config, const EvalProgress& progress) {
+  validate(config);
+  if (methods.empty()) throw InputError("eval: no method given");
+
+  EvalReport report;
+  report.maps = maps.size();
+  for (const Submap& m : maps) report.mean_points += static_cast<double>(m.points.size());
+  if (!maps.empty()) report.mean_points /= static_cast<double>(maps.size());
+  const std::vector<RelevantPair> pairs = relevant_pairs(maps, config.tasks);
+  report.relevant_pairs = pairs.size();
+  report.low_overlap_share = low_overlap_share(maps, pairs, 0.3, config.num_threads);
+  const std::vector<Task> tasks = make_tasks(maps, config.tasks);
+  if (tasks.empty()) {
+    throw InputError("eval: no relevant pair among " + std::to_string(maps.size()) + " maps (R = " +
+                     std::to_string(config.tasks.radius) + " m, G = " + std::to_string(config.tasks.min_travel_gap) +
+                     " m): the log has no loop closure");
+  }
+  report.tasks = tasks.size();
+
+  bool need_parts = false, need_hmm_query = false;
+  for (const MethodSpec& m : methods) {
+    need_parts |= m.needs_parts;
+    need_hmm_query |= m.needs_parts && (m.name == "hmm" || m.name == "rerank");
+  }
+  DescribedMaps described;
+  RankingConfig ranking = config.ranking;
+  if (need_parts) {
+    CpdConfig cpd = config.cpd;
+    cpd.max_parts = std::max(max_parts(methods), need_hmm_query ? config.ranking.hmm_query_parts : 0);
+    described = describe_maps(maps, dictionary_points, cpd, config.codec, config.num_threads, progress);
+    report.cpd_ms_per_map = described.cpd_ms_per_map;
+    ranking.codec = described.codec;
+  }
+  const std::vector<MapView> views = map_views(maps, described);
+  for (const MethodSpec& method : methods) {
+    const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
+    ranker->prepare(views, config.num_threads, progress);
+    const std::vector<TaskOutcome> outcomes =
+        run_tasks(*ranker, method, maps, described, tasks, config, progress);
+    report.methods.push_back(summarize(method, outcomes, ranker->bits_per_map()));
+  }
+  return report;
+}
+
+}  // namespace partslam

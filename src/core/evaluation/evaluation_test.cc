@@ -1,0 +1,112 @@
+#include "core/evaluation/evaluation.h"
+
+#include <gtest/gtest.h>
+
+#include "core/maps/dictionary.h"
+#include "core/error.h"
+#include "core/sim/simulator.h"
+
+namespace partslam {
+namespace {
+
+struct SimData {
+  Submaps maps;
+  Dictionary dictionary;
+};
+
+const SimData& sim_data() {
+  static const SimData d = [] {
+    SimData d;
+    SimulatorConfig input, other;
+    other.seed = 2;
+    d.maps = build_submaps(simulate(input).scans);
+    d.dictionary = build_dictionary("sim-2", simulate(other).scans);
+    return d;
+  }();
+  return d;
+}
+
+EvalConfig small_config(int threads) {
+  EvalConfig c;
+  c.tasks.num_tasks = 24;
+  c.tasks.db_size = 20;
+  c.num_threads = threads;
+  c.ranking.hmm_query_parts = 20;
+  return c;
+}
+
+TEST(Evaluation, DirectMatchingRanksTheRevisitFirstOnTheSimulator) {
+  const SimData& d = sim_data();
+  const EvalReport r = evaluate(d.maps, d.dictionary.points, parse_method_list("dmm"), small_config(1));
+  ASSERT_EQ(r.methods.size(), 1u);
+  EXPECT_EQ(r.tasks, 24u);
+  EXPECT_GT(r.relevant_pairs, 100u);
+  const MethodResult& m = r.methods[0];
+  EXPECT_EQ(m.normalized_ranks.size(), 24u);
+  // Exact Eq. 1 on a noise-light simulated building: the relevant map is nearly always first.
+  EXPECT_LT(m.summary.anr_percent, 15.0);
+  EXPECT_GT(m.summary.recall_at_1, 0.6);
+  EXPECT_GT(m.ms_per_pair, 0.0);
+  EXPECT_NEAR(m.bits_per_map, 14.0 * r.mean_points, 1e-9);
+  // Every relevant pair is posed; nearly all poses agree with the simulator's exact map poses.
+  EXPECT_EQ(m.poses_checked, 24u);
+  EXPECT_GT(m.pose_within_tolerance, 0.9);
+}
+
+TEST(Evaluation, EveryMethodRunsAndThreadsDoNotChangeRanks) {
+  const SimData& d = sim_data();
+  const auto methods = parse_method_list("imm:3,hmm:3,hmm:3:maxmax,rerank:5:3");
+  const EvalReport serial = evaluate(d.maps, d.dictionary.points, methods, small_config(1));
+  const EvalReport parallel = evaluate(d.maps, d.dictionary.points, methods, small_config(2));
+  ASSERT_EQ(serial.methods.size(), 4u);
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    EXPECT_EQ(serial.methods[i].normalized_ranks, parallel.methods[i].normalized_ranks) << methods[i].label();
+    for (double r : serial.methods[i].normalized_ranks) {
+      EXPECT_GT(r, 0.0);
+      EXPECT_LE(r, 1.0);
+    }
+  }
+  EXPECT_EQ(serial.methods[0].bits_per_map, 132.0);  // 3 parts x 44 bits
+  EXPECT_GT(serial.cpd_ms_per_map, 0.0);
+  // Reranking by dMM moves the relevant map up whenever hMM put it in the top R.
+  EXPECT_GE(serial.methods[3].summary.recall_at_1, serial.methods[1].summary.recall_at_1);
+}
+
+TEST(Evaluation, StagesRunASliceOfTasksWithTheSameOutcomes) {
+  const SimData& d = sim_data();
+  const EvalConfig config = small_config(1);
+  const MethodSpec method = parse_method_spec("hmm:3");
+  const EvalReport whole = evaluate(d.maps, d.dictionary.points, {method}, config);
+  CpdConfig cpd = config.cpd;
+  cpd.max_parts = config.ranking.hmm_query_parts;
+  const DescribedMaps described = describe_maps(d.maps, d.dictionary.points, cpd, config.codec, 2);
+  RankingConfig ranking = config.ranking;
+  ranking.codec = described.codec;
+  const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
+  ranker->prepare(map_views(d.maps, described), 1);
+  const std::vector<Task> tasks = make_tasks(d.maps, config.tasks);
+  const std::span<const Task> slice(tasks.begin() + 5, tasks.begin() + 12);
+  const std::vector<TaskOutcome> outcomes = run_tasks(*ranker, method, d.maps, described, slice, config);
+  ASSERT_EQ(outcomes.size(), 7u);
+  for (std::size_t t = 0; t < outcomes.size(); ++t) {
+    EXPECT_EQ(outcomes[t].rank / static_cast<double>(outcomes[t].db_size),
+              whole.methods[0].normalized_ranks[5 + t]);
+  }
+  const MethodResult summary = summarize(method, outcomes, ranker->bits_per_map());
+  EXPECT_EQ(summary.summary.tasks, 7u);
+  EXPECT_EQ(summary.bits_per_map, 132.0);
+}
+
+TEST(Evaluation, NoLoopClosureIsAClearError) {
+  const SimData& d = sim_data();
+  Submaps few(d.maps.begin(), d.maps.begin() + 10);  // 5 m of travel: no revisit
+  try {
+    evaluate(few, d.dictionary.points, parse_method_list("dmm"), small_config(1));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no relevant pair"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace partslam

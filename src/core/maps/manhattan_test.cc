@@ -1,0 +1,63 @@
+#include "core/maps/manhattan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/sim/simulator.h"
+#include "core/maps/submap.h"
+
+namespace partslam {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// Signed difference to the nearest multiple of 90 degrees [rad], in [-45, 45) degrees.
+double residual_mod_quarter(double a) {
+  const double q = std::numbers::pi / 2;
+  return a - q * std::floor(a / q + 0.5);
+}
+
+TEST(ManhattanAngle, AxisAlignedRectangleNeedsNoRotation) {
+  Points2 points;
+  for (int i = 0; i < 50; ++i) {
+    // Walls off the bin edges: points exactly on an edge would split between two bins by rounding.
+    points.emplace_back(0.1 * i, 0.05);
+    points.emplace_back(0.1 * i, 3.05);
+    points.emplace_back(0.05, 0.06 * i);
+    points.emplace_back(5.05, 0.06 * i);
+  }
+  EXPECT_NEAR(residual_mod_quarter(manhattan_angle(points)), 0.0, 0.1 * kDeg);
+  const double a = manhattan_angle(transform(Pose2{0.0, 0.0, 25.0 * kDeg}, points));
+  EXPECT_NEAR(residual_mod_quarter(a + 25.0 * kDeg), 0.0, 0.1 * kDeg);
+  EXPECT_GE(a, 0.0);
+  EXPECT_LT(a, std::numbers::pi / 2);
+}
+
+// Simulated submaps (walls along the world axes) turned by known angles: the alignment must undo the
+// turn up to a multiple of 90 degrees.
+TEST(ManhattanAngle, RecoversKnownRotationsOfSimulatedSubmaps) {
+  SubmapConfig config;
+  config.align = false;
+  const Submaps maps = build_submaps(simulate().scans, config);
+  ASSERT_GT(maps.size(), 100u);
+  int checked = 0;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < maps.size(); k += 11) {
+    for (const double degrees : {0.4, 3.0, 17.0, 45.0, 62.5, 89.7, -20.0, 135.0}) {
+      const double turn = degrees * kDeg;
+      const double a = manhattan_angle(transform(Pose2{0.0, 0.0, turn}, maps[k].points));
+      ASSERT_GE(a, 0.0);
+      ASSERT_LT(a, std::numbers::pi / 2);
+      const double r = std::abs(residual_mod_quarter(a + turn));
+      worst = std::max(worst, r);
+      EXPECT_LT(r, 1.0 * kDeg) << "submap " << k << " turned by " << degrees << " deg";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);
+  RecordProperty("worst_residual_deg", std::to_string(worst / kDeg));
+}
+
+}  // namespace
+}  // namespace partslam

@@ -1,0 +1,47 @@
+// Submaps (docs/DESIGN.md, "Submap"): anchored at scan i, the points of all scans j with travel
+// s_i <= s_j < s_i + L, downsampled to one point per occupied cell, cropped to a square around their
+// centroid, expressed relative to that centroid and rotated into the canonical (Manhattan) frame.
+#pragma once
+
+#include <cstdint>
+
+#include "core/maps/scan.h"
+
+namespace partslam {
+
+struct SubmapConfig {
+  double window_length = 2.0;  ///< L: travel covered by one submap [m]
+  double spacing = 0.5;        ///< travel between consecutive anchors [m]
+  double resolution = kMapResolution;  ///< downsampling cell [m]
+  double crop_size = kCropSize;  ///< side of the square crop around the centroid [m]
+  double max_range = kDefaultMaxRange;  ///< beam endpoints farther from the laser are dropped [m]
+  int min_points = 20;         ///< submaps with fewer points are dropped
+  bool align = true;           ///< rotate into the canonical Manhattan frame
+};
+
+/// Throws InputError naming the offending field when a value is out of range.
+void validate(const SubmapConfig& config);
+
+struct Submap {
+  std::int64_t id = -1;          ///< index within its dataset (database id once stored)
+  std::int64_t anchor_scan = 0;  ///< index of the anchor scan in the scan stream
+  double anchor_timestamp = 0;   ///< timestamp of the anchor scan [s]
+  double travel = 0;             ///< s_i, distance travelled up to the anchor scan [m]
+  double alignment_angle = 0;    ///< rotation applied to enter the canonical frame [rad], in [0, pi/2)
+  Pose2 T_world_map;             ///< map frame (centroid, canonical axes) in the log's world frame
+  Points2 points;                ///< points in the map frame [m]
+  std::vector<double> scan_timestamps;  ///< timestamps of the scans that built it (relations check)
+};
+
+using Submaps = std::vector<Submap>;
+
+/// Cumulative travel distance of the laser along the scan stream [m].
+std::vector<double> travel_distances(const Scans& scans);
+
+/// Builds all submaps of a scan stream (docs/DESIGN.md, "Submap").
+Submaps build_submaps(const Scans& scans, const SubmapConfig& config = {});
+
+/// One point per occupied cell of the given size (the mean of the points that fall in it), in a fixed order.
+Points2 voxel_downsample(const Points2& points, double resolution);
+
+}  // namespace partslam

@@ -1,0 +1,147 @@
+// Direct matching as rankers (docs/DESIGN.md, "dMM"): `dmm` (exact branch-and-bound), `dmm-exhaustive` (the
+// reference) and `dmm-ransac` (the paper's baseline). They store the map's points (bits_per_point each) and
+// return the relative pose T_map_query of every candidate.
+#include <chrono>
+
+#include "core/error.h"
+#include "core/matching/ranking.h"
+
+namespace partslam {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double mean_points(std::span<const MapView> maps) {
+  double sum = 0;
+  for (const MapView& m : maps) sum += static_cast<double>(m.points->size());
+  return maps.empty() ? 0.0 : sum / static_cast<double>(maps.size());
+}
+
+void require_points(std::span<const MapView> maps) {
+  for (const MapView& m : maps)
+    if (m.points == nullptr) throw InputError("direct matching needs every map's points");
+}
+
+class DmmRanker final : public Ranker {
+ public:
+  DmmRanker(const RankingConfig& config, bool exhaustive)
+      : dmm_(config.dmm), bits_per_point_(config.bits_per_point), exhaustive_(exhaustive) {
+    validate(dmm_);
+  }
+
+  void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
+    require_points(maps);
+    maps_.assign(maps.size(), {});
+    parallel_for(
+        maps.size(), num_threads, [&](std::size_t i) { maps_[i] = prepare_map(*maps[i].points, dmm_); }, "grids",
+        progress);
+    mean_points_ = mean_points(maps);
+  }
+
+  double bits_per_map() const override { return bits_per_point_ * mean_points_; }
+
+  Ranking rank(const MapView& query, std::span<const std::size_t> candidates,
+               const RankOptions& options) const override {
+    if (query.points == nullptr) throw InputError("dmm: the query has no points");
+    Ranking r;
+    auto t0 = Clock::now();
+    const PreparedQuery prepared = prepare_query(*query.points, dmm_);
+    r.prep_ms = ms_since(t0);
+    t0 = Clock::now();
+    std::vector<DmmResult> results;
+    if (exhaustive_) {
+      results.resize(candidates.size());
+      parallel_for(candidates.size(), options.num_threads,
+                   [&](std::size_t j) { results[j] = match_exhaustive(prepared, maps_.at(candidates[j])); });
+    } else {
+      std::vector<const PreparedMap*> chosen;
+      for (std::size_t c : candidates) chosen.push_back(&maps_.at(c));
+      results = match_dmm_many(prepared, chosen, options.num_threads == 1 ? options.top_k : 0,
+                               options.num_threads);
+    }
+    r.match_ms = ms_since(t0);
+    for (const DmmResult& d : results) r.scores.push_back(d.inliers), r.direct.emplace_back(d);
+    return r;
+  }
+
+ private:
+  DmmConfig dmm_;
+  double bits_per_point_;
+  bool exhaustive_;
+  std::vector<PreparedMap> maps_;
+  double mean_points_ = 0;
+};
+
+class RansacRanker final : public Ranker {
+ public:
+  explicit RansacRanker(const RankingConfig& config)
+      : ransac_(config.ransac), bits_per_point_(config.bits_per_point) {
+    validate(ransac_);
+  }
+
+  void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
+    require_points(maps);
+    maps_.assign(maps.size(), {});
+    parallel_for(
+        maps.size(), num_threads, [&](std::size_t i) { maps_[i] = prepare_ransac_map(*maps[i].points, ransac_); },
+        "ransac grids", progress);
+    mean_points_ = mean_points(maps);
+  }
+
+  double bits_per_map() const override { return bits_per_point_ * mean_points_; }
+
+  Ranking rank(const MapView& query, std::span<const std::size_t> candidates,
+               const RankOptions& options) const override {
+    if (query.points == nullptr) throw InputError("dmm-ransac: the query has no points");
+    Ranking r;
+    const auto t0 = Clock::now();
+    std::vector<DmmResult> results(candidates.size());
+    parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
+      results[j] = match_dmm_ransac(*query.points, maps_.at(candidates[j]), ransac_);
+    });
+    r.match_ms = ms_since(t0);
+    for (const DmmResult& d : results) r.scores.push_back(d.inliers), r.direct.emplace_back(d);
+    return r;
+  }
+
+ private:
+  DmmRansacConfig ransac_;
+  double bits_per_point_;
+  std::vector<PreparedRansacMap> maps_;
+  double mean_points_ = 0;
+};
+
+void parse_direct(const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+  if (!args.empty()) throw InputError("method '" + text + "': " + m.name + " takes no arguments");
+  m.spec = m.name;
+  m.name_label = m.name == "dmm" ? "dMM" : m.name == "dmm-ransac" ? "dMM-RANSAC" : "dMM-exhaustive";
+  m.needs_points = true;
+}
+
+}  // namespace
+
+const MethodEntry& dmm_method() {
+  static const MethodEntry entry{"dmm", "dmm", parse_direct, [](const MethodSpec&, const RankingConfig& c) {
+                                   return std::unique_ptr<Ranker>(new DmmRanker(c, false));
+                                 }};
+  return entry;
+}
+
+const MethodEntry& dmm_exhaustive_method() {
+  static const MethodEntry entry{"dmm-exhaustive", "dmm-exhaustive", parse_direct,
+                                 [](const MethodSpec&, const RankingConfig& c) {
+                                   return std::unique_ptr<Ranker>(new DmmRanker(c, true));
+                                 }};
+  return entry;
+}
+
+const MethodEntry& dmm_ransac_method() {
+  static const MethodEntry entry{"dmm-ransac", "dmm-ransac", parse_direct,
+                                 [](const MethodSpec&, const RankingConfig& c) {
+                                   return std::unique_ptr<Ranker>(new RansacRanker(c));
+                                 }};
+  return entry;
+}
+
+}  // namespace partslam

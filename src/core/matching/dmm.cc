@@ -1,0 +1,449 @@
+#include "core/matching/dmm.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <queue>
+#include <string>
+
+#include "core/matching/dmm_bounds.h"
+#include "core/error.h"
+
+namespace partslam {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError("dmm config: " + message);
+}
+
+// Auto step (Cartographer's FastCorrelativeScanMatcher2D): the farthest point moves by at most one cell.
+double auto_angular_step(const Points2& points, double resolution) {
+  double d_max = 0.0;
+  for (const Vec2& p : points) d_max = std::max(d_max, p.norm());
+  if (d_max <= resolution) return kPi / 4;
+  return std::acos(std::clamp(1.0 - resolution * resolution / (2.0 * d_max * d_max), -1.0, 1.0));
+}
+
+std::vector<double> search_angles(const DmmConfig& config, double step) {
+  std::vector<double> angles;
+  if (config.canonical) {
+    const int n = static_cast<int>(std::floor(config.angular_window / step + 1e-9));
+    for (int base = 0; base < 4; ++base) {
+      for (int m = -n; m <= n; ++m) angles.push_back(base * kPi / 2 + m * step);
+    }
+  } else {
+    const int n = std::max(1, static_cast<int>(std::ceil(2 * kPi / step - 1e-9)));
+    for (int m = 0; m < n; ++m) angles.push_back(m * (2 * kPi / n));
+  }
+  return angles;
+}
+
+// Translation range (in cells) searched for one rotation: the window intersected with the translations at
+// which at least one rotated query cell lands on the target grid (all others score 0).
+struct Range {
+  int i_lo = 0, i_hi = -1, j_lo = 0, j_hi = -1;
+  bool empty() const { return i_hi < i_lo || j_hi < j_lo; }
+};
+
+Range search_range(const RotatedQuery& r, const OccupancyGrid& grid, const DmmConfig& config) {
+  Range range;
+  if (r.x_max < r.x_min || grid.width == 0 || grid.height == 0) return range;
+  range.i_lo = grid.x0 - r.x_max;
+  range.i_hi = grid.x0 + grid.width - 1 - r.x_min;
+  range.j_lo = grid.y0 - r.y_max;
+  range.j_hi = grid.y0 + grid.height - 1 - r.y_min;
+  if (config.linear_window > 0.0) {
+    const int w = static_cast<int>(std::floor(config.linear_window / config.resolution + 1e-9));
+    range.i_lo = std::max(range.i_lo, -w);
+    range.i_hi = std::min(range.i_hi, w);
+    range.j_lo = std::max(range.j_lo, -w);
+    range.j_hi = std::min(range.j_hi, w);
+  }
+  return range;
+}
+
+// The query and the map were prepared with their own configs (validated then); they must share the lattice
+// and the kind of rotation search. The map's config decides the translation window (its pyramid depth was
+// chosen for it).
+void check_compatible(const PreparedQuery& query, const PreparedMap& map) {
+  const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); };
+  if (!same(query.config.resolution, map.config.resolution)) {
+    throw InputError("dmm: the query was prepared at " + std::to_string(query.config.resolution) +
+                     " m, the map at " + std::to_string(map.config.resolution) + " m: resolutions differ");
+  }
+  if (query.config.canonical != map.config.canonical) {
+    throw InputError("dmm: the query and the map disagree on canonical (Manhattan-frame) matching");
+  }
+}
+
+DmmResult make_result(const PreparedQuery& query, const DmmConfig& config, int inliers, int rotation, int i, int j) {
+  DmmResult result;
+  result.inliers = inliers;
+  result.inlier_fraction = query.num_points > 0 ? static_cast<double>(inliers) / query.num_points : 0.0;
+  if (rotation >= 0) {
+    result.T_map_query = {i * config.resolution, j * config.resolution,
+                          wrap_angle(query.rotations[static_cast<std::size_t>(rotation)].angle)};
+  }
+  return result;
+}
+
+struct Candidate {
+  int rotation = 0;
+  int i = 0, j = 0;
+  int score = 0;   // Eq. 1 at depth 0, an upper bound above
+  int bit = 0;     // child index a + 4 b within its parent
+  int parent = 0;  // for the children of a root: the root's index
+};
+
+// Depth-first branch-and-bound (Cartographer's FastCorrelativeScanMatcher2D::BranchAndBound), 16-way: a node
+// at depth d is a block of 4^d x 4^d translations of one rotation; its sixteen children (depth d - 1) are
+// bounded in one pass over the node's query cells with the packed pyramid level 2 (d - 1) (dmm_bounds.h).
+// Depth-0 nodes are single translations, scored exactly. The roots (depth = search depth) tile the search
+// range and are not bounded themselves. A node's cells are those of its parent that can score in it.
+class BranchAndBound {
+ public:
+  BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges, int bar)
+      : query_(query), map_(map), ranges_(ranges), best_(Candidate{-1, 0, 0, bar, 0, 0}) {}
+
+  // Searches with candidates whose score does not exceed the bar pruned; returns the best candidate found
+  // above the bar (rotation -1 when none).
+  Candidate run() {
+    const int depth = static_cast<int>(map_.packed.size());
+    const int block = 1 << (2 * depth);
+    const std::size_t n = static_cast<std::size_t>(query_.num_points);
+    buffers_.resize(static_cast<std::size_t>(depth));
+    for (Buffers& b : buffers_) {
+      b.x = std::make_unique_for_overwrite<int[]>(n + 8);
+      b.y = std::make_unique_for_overwrite<int[]>(n + 8);
+      b.values = std::make_unique_for_overwrite<std::uint16_t[]>(n + 8);
+    }
+    std::size_t roots = 0;
+    for (const Range& r : ranges_) {
+      if (!r.empty()) roots += static_cast<std::size_t>(((r.i_hi - r.i_lo) / block + 1) * ((r.j_hi - r.j_lo) / block + 1));
+    }
+    root_values_ = std::make_unique_for_overwrite<std::uint16_t[]>(roots * n + 8);
+    std::vector<Candidate> candidates;
+    int root = 0;
+    for (std::size_t k = 0; k < ranges_.size(); ++k) {
+      const Range& r = ranges_[k];
+      if (r.empty()) continue;
+      for (int j = r.j_lo; j <= r.j_hi; j += block) {
+        for (int i = r.i_lo; i <= r.i_hi; i += block, ++root) {
+          const Candidate c{static_cast<int>(k), i, j, 0, 0, root};
+          expand(c, depth, full_cells(c.rotation), root_values_.get() + static_cast<std::size_t>(root) * n,
+                 /*bar=*/-1, candidates);
+        }
+      }
+    }
+    // Best bound first (ties: generation order), popped lazily: most are never needed.
+    std::vector<std::pair<Candidate, std::size_t>> heap;
+    heap.reserve(candidates.size());
+    for (std::size_t m = 0; m < candidates.size(); ++m) heap.emplace_back(candidates[m], m);
+    const auto worse = [](const std::pair<Candidate, std::size_t>& a, const std::pair<Candidate, std::size_t>& b) {
+      return a.first.score != b.first.score ? a.first.score < b.first.score : a.second > b.second;
+    };
+    std::make_heap(heap.begin(), heap.end(), worse);
+    while (!heap.empty() && heap.front().first.score > best_.score) {
+      std::pop_heap(heap.begin(), heap.end(), worse);
+      Candidate c = heap.back().first;
+      heap.pop_back();
+      descend(std::span<Candidate>(&c, 1), depth - 1);
+    }
+    return best_;
+  }
+
+  std::int64_t candidates_scored() const { return scored_; }
+
+ private:
+  struct Buffers {  // the cells of the node being expanded at one depth, and their looked-up values
+    std::unique_ptr<int[]> x, y;
+    std::unique_ptr<std::uint16_t[]> values;
+  };
+
+  CellList full_cells(int rotation) const {
+    const RotatedQuery& r = query_.rotations[static_cast<std::size_t>(rotation)];
+    return {r.x.data(), r.y.data(), r.x.size()};
+  }
+
+  // Bounds the children (at depth d - 1) of node c at depth d over `cells`, storing the looked-up values
+  // when `values` is not null, and appends those inside the search range. Appends nothing when the pass
+  // proved that no child beats `bar`.
+  template <typename Out>
+  void expand(const Candidate& c, int d, const CellList& cells, std::uint16_t* values, int bar, Out& out) {
+    const PackedLevel& packed = map_.packed[static_cast<std::size_t>(d - 1)];
+    const Range& r = ranges_[static_cast<std::size_t>(c.rotation)];
+    std::array<int, 16> bounds;
+    if (!child_bounds(packed, cells, c.i, c.j, bar, values, bounds)) return;
+    for (int b = 0; b < 4; ++b) {
+      const int j = c.j + b * packed.step;
+      if (j > r.j_hi) break;
+      for (int a = 0; a < 4; ++a) {
+        const int i = c.i + a * packed.step;
+        if (i > r.i_hi) break;
+        out.push_back({c.rotation, i, j, bounds[static_cast<std::size_t>(a + 4 * b)], a + 4 * b, c.parent});
+        ++scored_;
+      }
+    }
+  }
+
+  struct Children {
+    std::array<Candidate, 16> items;
+    std::size_t size = 0;
+    void push_back(const Candidate& c) { items[size++] = c; }
+  };
+
+  // `candidates` are nodes at depth d (d = 0: single translations), sorted by bound; their parent (at depth
+  // d + 1) left its cells and values in buffers_[d + 1], or in root_values_ for the roots.
+  void descend(std::span<Candidate> candidates, int d) {
+    const auto depth = static_cast<int>(buffers_.size());
+    for (const Candidate& c : candidates) {
+      if (c.score <= best_.score) break;  // sorted: no later candidate can beat the bar either
+      if (d == 0) {
+        best_ = c;
+        break;  // the rest score no more than c
+      }
+      // This node's cells: its parent's cells that can score in it (exactly c.score of them). Filtering
+      // pays only when it drops at least half of them.
+      CellList parent;
+      const std::uint16_t* parent_values = nullptr;
+      if (d + 1 == depth) {
+        parent = full_cells(c.rotation);
+        parent_values = root_values_.get() + static_cast<std::size_t>(c.parent) * parent.size;
+      } else {
+        parent = lists_[static_cast<std::size_t>(d + 1)];
+        parent_values = buffers_[static_cast<std::size_t>(d + 1)].values.get();
+      }
+      Buffers& mine = buffers_[static_cast<std::size_t>(d)];
+      CellList& list = lists_[static_cast<std::size_t>(d)];
+      if (static_cast<std::size_t>(c.score) * 2 < parent.size) {
+        list = {mine.x.get(), mine.y.get(), filter_cells(parent, parent_values, c.bit, mine.x.get(), mine.y.get())};
+      } else {
+        list = parent;
+      }
+      Children children;
+      // Children at depth 0 are leaves: their values are not needed.
+      expand(c, d, list, d > 1 ? mine.values.get() : nullptr, best_.score, children);
+      // Stable insertion sort of at most 16 children, best bound first.
+      for (std::size_t a = 1; a < children.size; ++a) {
+        const Candidate item = children.items[a];
+        std::size_t b = a;
+        for (; b > 0 && children.items[b - 1].score < item.score; --b) children.items[b] = children.items[b - 1];
+        children.items[b] = item;
+      }
+      descend(std::span<Candidate>(children.items.data(), children.size), d - 1);
+    }
+  }
+
+  const PreparedQuery& query_;
+  const PreparedMap& map_;
+  const std::vector<Range>& ranges_;
+  Candidate best_;
+  std::int64_t scored_ = 0;
+  std::vector<Buffers> buffers_;              // index: depth
+  std::array<CellList, 16> lists_{};          // cells of the node being expanded at depth d
+  std::unique_ptr<std::uint16_t[]> root_values_;  // per root, the values of its pass over the full cells
+};
+
+std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& map) {
+  std::vector<Range> ranges;
+  ranges.reserve(query.rotations.size());
+  for (const RotatedQuery& r : query.rotations) ranges.push_back(search_range(r, map.grid, map.config));
+  return ranges;
+}
+
+// match_dmm with a bar: only candidates scoring above `bar` are reported (exact = false otherwise).
+DmmResult match_dmm_above(const PreparedQuery& query, const PreparedMap& map, int bar) {
+  check_compatible(query, map);
+  const DmmConfig& config = map.config;
+  const std::vector<Range> ranges = search_ranges(query, map);
+  BranchAndBound search(query, map, ranges, bar);
+  const Candidate best = search.run();
+  DmmResult result;
+  if (best.rotation >= 0) {
+    result = make_result(query, config, best.score, best.rotation, best.i, best.j);
+  } else if (bar >= 0) {
+    result.exact = false;
+  }
+  result.candidates_scored = search.candidates_scored();
+  return result;
+}
+
+}  // namespace
+
+void validate(const DmmConfig& c) {
+  require(c.resolution > 0.0 && std::isfinite(c.resolution),
+          "resolution must be a positive finite number, got " + std::to_string(c.resolution));
+  require(std::isfinite(c.linear_window), "linear_window must be finite (<= 0 means the whole target map)");
+  require(c.linear_window / c.resolution <= 1e6, "linear_window / resolution is absurdly large");
+  require(c.angular_window >= 0.0 && c.angular_window <= kPi / 4,
+          "angular_window must be in [0, pi/4] rad, got " + std::to_string(c.angular_window));
+  require(c.angular_step >= 0.0 && c.angular_step <= kPi / 2 && std::isfinite(c.angular_step),
+          "angular_step must be in [0, pi/2] rad (0: automatic), got " + std::to_string(c.angular_step));
+  require(c.angular_step == 0.0 || c.angular_step >= 1e-5, "angular_step must be 0 (automatic) or >= 1e-5 rad");
+  require(c.dilation >= 0 && c.dilation <= 100, "dilation must be in [0, 100] cells, got " + std::to_string(c.dilation));
+  require(c.search_depth >= 0 && c.search_depth <= 8,
+          "search_depth must be in [0, 8] (0: automatic), got " + std::to_string(c.search_depth));
+}
+
+DmmConfig dmm_config_for_dictionary() {
+  DmmConfig config;
+  config.linear_window = 0.0;
+  return config;
+}
+
+PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config) {
+  validate(config);
+  for (const Vec2& p : points_query) {
+    if (!p.allFinite() || p.norm() > 1e6) throw InputError("dmm: query point coordinates must be finite and < 1e6 m");
+  }
+  PreparedQuery query;
+  query.config = config;
+  query.resolution = config.resolution;
+  query.num_points = static_cast<int>(points_query.size());
+  query.angular_step = config.angular_step > 0.0 ? config.angular_step
+                                                   : auto_angular_step(points_query, config.resolution);
+  for (const double angle : search_angles(config, query.angular_step)) {
+    RotatedQuery r;
+    r.angle = angle;
+    const double c = std::cos(angle), s = std::sin(angle);
+    r.x.reserve(points_query.size());
+    r.y.reserve(points_query.size());
+    // Cells sorted by row (a stable counting sort), so that the search skips rows off the grid.
+    std::vector<int> xs, ys;
+    xs.reserve(points_query.size());
+    ys.reserve(points_query.size());
+    for (const Vec2& p : points_query) {
+      xs.push_back(static_cast<int>(std::floor((c * p.x() - s * p.y()) / config.resolution)));
+      ys.push_back(static_cast<int>(std::floor((s * p.x() + c * p.y()) / config.resolution)));
+    }
+    if (!ys.empty()) {
+      const auto [y_lo, y_hi] = std::minmax_element(ys.begin(), ys.end());
+      const int y0 = *y_lo;
+      std::vector<int> start(static_cast<std::size_t>(*y_hi - y0) + 2, 0);
+      for (const int y : ys) ++start[static_cast<std::size_t>(y - y0) + 1];
+      for (std::size_t m = 1; m < start.size(); ++m) start[m] += start[m - 1];
+      r.x.resize(xs.size());
+      r.y.resize(ys.size());
+      for (std::size_t k = 0; k < xs.size(); ++k) {
+        const auto slot = static_cast<std::size_t>(start[static_cast<std::size_t>(ys[k] - y0)]++);
+        r.x[slot] = xs[k];
+        r.y[slot] = ys[k];
+      }
+    }
+    if (!r.x.empty()) {
+      const auto [x_lo, x_hi] = std::minmax_element(r.x.begin(), r.x.end());
+      const auto [y_lo, y_hi] = std::minmax_element(r.y.begin(), r.y.end());
+      r.x_min = *x_lo, r.x_max = *x_hi, r.y_min = *y_lo, r.y_max = *y_hi;
+    }
+    query.rotations.push_back(std::move(r));
+  }
+  return query;
+}
+
+PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
+  validate(config);
+  PreparedMap map;
+  map.config = config;
+  map.num_points = static_cast<int>(points_map.size());
+  const OccupancyGrid grid = build_occupancy_grid(points_map, config.resolution, config.dilation);
+  int depth = config.search_depth;
+  if (depth == 0) {
+    // Root blocks of 4^depth cells: about 2 x 2 of them across the translation window (or the whole target).
+    const int cells = config.linear_window > 0.0
+                          ? 2 * static_cast<int>(std::floor(config.linear_window / config.resolution + 1e-9)) + 1
+                          : std::max(grid.width, grid.height);
+    depth = 1;
+    while (depth < 8 && (1 << (2 * depth)) * 2 < cells) ++depth;
+  }
+  const GridPyramid pyramid = build_grid_pyramid(grid, 2 * depth - 1);
+  for (int d = 0; d < depth; ++d) {
+    map.packed.push_back(build_packed_level(pyramid.levels[static_cast<std::size_t>(2 * d)], 1 << (2 * d)));
+  }
+  map.grid = grid;
+  return map;
+}
+
+DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return match_dmm_above(query, map, -1); }
+
+DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map) {
+  check_compatible(query, map);
+  const DmmConfig& config = map.config;
+  const OccupancyGrid& grid = map.grid;
+  int best_score = -1, best_rotation = -1, best_i = 0, best_j = 0;
+  std::int64_t scored = 0;
+  std::vector<int> acc;
+  for (std::size_t k = 0; k < query.rotations.size(); ++k) {
+    const RotatedQuery& r = query.rotations[k];
+    const Range range = search_range(r, grid, config);
+    if (range.empty()) continue;
+    const int ni = range.i_hi - range.i_lo + 1, nj = range.j_hi - range.j_lo + 1;
+    acc.assign(static_cast<std::size_t>(ni) * nj, 0);
+    // Correlation, one query point at a time: contiguous rows of the grid are added to rows of the
+    // accumulator, which the compiler vectorises.
+    for (std::size_t p = 0; p < r.x.size(); ++p) {
+      const int px = r.x[p], py = r.y[p];
+      const int i_lo = std::max(range.i_lo, grid.x0 - px), i_hi = std::min(range.i_hi, grid.x0 + grid.width - 1 - px);
+      const int j_lo = std::max(range.j_lo, grid.y0 - py), j_hi = std::min(range.j_hi, grid.y0 + grid.height - 1 - py);
+      if (i_hi < i_lo) continue;
+      for (int j = j_lo; j <= j_hi; ++j) {
+        const std::uint8_t* row =
+            &grid.cells[static_cast<std::size_t>(py + j - grid.y0) * grid.width + (px + i_lo - grid.x0)];
+        int* out = &acc[static_cast<std::size_t>(j - range.j_lo) * ni + (i_lo - range.i_lo)];
+        const int n = i_hi - i_lo + 1;
+        for (int i = 0; i < n; ++i) out[i] += row[i];
+      }
+    }
+    scored += static_cast<std::int64_t>(ni) * nj;
+    for (int j = 0; j < nj; ++j) {
+      for (int i = 0; i < ni; ++i) {
+        const int s = acc[static_cast<std::size_t>(j) * ni + i];
+        if (s > best_score) {
+          best_score = s, best_rotation = static_cast<int>(k), best_i = range.i_lo + i, best_j = range.j_lo + j;
+        }
+      }
+    }
+  }
+  DmmResult result = make_result(query, config, std::max(best_score, 0), best_rotation, best_i, best_j);
+  result.candidates_scored = scored;
+  return result;
+}
+
+std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap> maps, int top_k,
+                                      int num_threads) {
+  std::vector<const PreparedMap*> pointers;
+  pointers.reserve(maps.size());
+  for (const PreparedMap& m : maps) pointers.push_back(&m);
+  return match_dmm_many(query, pointers, top_k, num_threads);
+}
+
+std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
+                                      int top_k, int num_threads) {
+  for (const PreparedMap* m : maps) check_compatible(query, *m);  // once, before any thread starts
+  if (num_threads < 1) throw InputError("dmm: num_threads must be >= 1, got " + std::to_string(num_threads));
+  std::vector<DmmResult> results(maps.size());
+  if (top_k <= 0) {
+    const auto n = static_cast<std::ptrdiff_t>(maps.size());
+#pragma omp parallel for schedule(dynamic) num_threads(num_threads) if (num_threads > 1)
+    for (std::ptrdiff_t m = 0; m < n; ++m) {
+      results[static_cast<std::size_t>(m)] = match_dmm(query, *maps[static_cast<std::size_t>(m)]);
+    }
+    return results;
+  }
+  // Min-heap of the k best exact scores so far; its top is the bar a new map must beat.
+  std::priority_queue<int, std::vector<int>, std::greater<>> best;
+  for (std::size_t m = 0; m < maps.size(); ++m) {
+    const int bar = static_cast<int>(best.size()) == top_k ? best.top() : -1;
+    results[m] = match_dmm_above(query, *maps[m], bar);
+    if (!results[m].exact) continue;
+    best.push(results[m].inliers);
+    if (static_cast<int>(best.size()) > top_k) best.pop();
+  }
+  return results;
+}
+
+}  // namespace partslam

@@ -1,0 +1,224 @@
+#include "core/matching/grid_descriptor.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/matching/ranking.h"
+
+namespace partslam {
+
+int GridBits::count() const { return std::popcount(words[0]) + std::popcount(words[1]); }
+
+GridConfig succinct_grid_config() {
+  GridConfig c;
+  c.cells = 11;
+  c.box_size = 8.0;
+  c.max_shift = 4;
+  c.substeps = 2;
+  c.hub_weight = 1.0;
+  return c;
+}
+
+void validate(const GridConfig& c) {
+  if (c.cells < 1 || c.cells > 11)
+    throw InputError("grid: cells must be in [1, 11] (S^2 <= 121 bits), got " + std::to_string(c.cells));
+  if (!(c.box_size > 0) || !std::isfinite(c.box_size) || c.box_size > 1000)
+    throw InputError("grid: box_size must be in (0, 1000] m");
+  if (c.min_points < 1 || c.min_points > 10000) throw InputError("grid: min_points must be in [1, 10000]");
+  if (c.max_shift < 0 || c.max_shift > c.cells) throw InputError("grid: max_shift must be in [0, cells]");
+  if (c.substeps < 1 || c.substeps > 8) throw InputError("grid: substeps must be in [1, 8]");
+  if (!(c.hub_weight >= 0) || !std::isfinite(c.hub_weight) || c.hub_weight > 10)
+    throw InputError("grid: hub_weight must be in [0, 10]");
+  if (c.hub_sample < 1) throw InputError("grid: hub_sample must be >= 1");
+  if (c.hub_bits < 1 || c.hub_bits > 16) throw InputError("grid: hub_bits must be in [1, 16]");
+}
+
+int grid_bits_per_map(const GridConfig& config) {
+  return config.cells * config.cells + (config.hub_weight > 0 ? config.hub_bits : 0);
+}
+
+namespace {
+
+void set_bit(GridBits& g, int i) { g.words[static_cast<std::size_t>(i >> 6)] |= std::uint64_t{1} << (i & 63); }
+
+int common(const GridBits& a, const GridBits& b) {
+  return std::popcount(a.words[0] & b.words[0]) + std::popcount(a.words[1] & b.words[1]);
+}
+
+// Occupancy of the points turned by quarter_turns and moved by offset on the S x S grid.
+GridBits bin(const Points2& points, const GridConfig& c, int quarter_turns, const Vec2& offset) {
+  const double cell = c.box_size / c.cells, half = c.box_size / 2;
+  std::vector<int> counts(static_cast<std::size_t>(c.cells * c.cells), 0);
+  for (const Vec2& p0 : points) {
+    Vec2 p = p0;
+    for (int k = 0; k < quarter_turns; ++k) p = Vec2{-p.y(), p.x()};
+    p += offset;
+    const double fx = std::floor((p.x() + half) / cell), fy = std::floor((p.y() + half) / cell);
+    if (!(fx >= 0 && fy >= 0 && fx < c.cells && fy < c.cells)) continue;  // also drops NaN
+    ++counts[static_cast<std::size_t>(static_cast<int>(fx) + c.cells * static_cast<int>(fy))];
+  }
+  GridBits g;
+  for (int i = 0; i < c.cells * c.cells; ++i)
+    if (counts[static_cast<std::size_t>(i)] >= c.min_points) set_bit(g, i);
+  return g;
+}
+
+}  // namespace
+
+GridBits make_grid(const Points2& points, const GridConfig& config) {
+  validate(config);
+  return bin(points, config, 0, Vec2::Zero());
+}
+
+std::vector<GridBits> make_query_grids(const Points2& points, const GridConfig& config) {
+  validate(config);
+  const double step = config.box_size / config.cells / config.substeps;
+  const int reach = config.max_shift * config.substeps;
+  std::vector<GridBits> out;
+  for (int k = 0; k < 4; ++k)
+    for (int j = -reach; j <= reach; ++j)
+      for (int i = -reach; i <= reach; ++i) out.push_back(bin(points, config, k, Vec2{i * step, j * step}));
+  return out;
+}
+
+double jaccard(const GridBits& a, const GridBits& b) {
+  const int both = common(a, b), either = a.count() + b.count() - both;
+  return either > 0 ? static_cast<double>(both) / either : 0.0;
+}
+
+double grid_similarity(const std::vector<GridBits>& query, const GridBits& stored) {
+  double best = 0;
+  for (const GridBits& a : query) best = std::max(best, jaccard(a, stored));
+  return best;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class GridRanker final : public Ranker {
+ public:
+  explicit GridRanker(const GridConfig& config) : config_(config) { validate(config_); }
+
+  void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
+    for (const MapView& m : maps)
+      if (m.points == nullptr) throw InputError("grid: every map needs its points to build its grid");
+    stored_.assign(maps.size(), {});
+    parallel_for(
+        maps.size(), num_threads, [&](std::size_t i) { stored_[i] = make_grid(*maps[i].points, config_); }, "grids",
+        progress);
+    hub_.assign(maps.size(), 0.0);
+    if (config_.hub_weight <= 0 || maps.size() < 2) return;
+    // mu_m: how well the queries of other stored maps (a spread sample of up to hub_sample of them, as probes)
+    // match m, i.e. how much m looks like everything.
+    const std::size_t n = maps.size(), probes = std::min<std::size_t>(n, config_.hub_sample);
+    std::vector<std::vector<GridBits>> probe_grids(probes);
+    parallel_for(
+        probes, num_threads,
+        [&](std::size_t k) { probe_grids[k] = make_query_grids(*maps[k * n / probes].points, config_); },
+        "grid hubness probes", progress);
+    const double levels = std::ldexp(1.0, config_.hub_bits) - 1;
+    parallel_for(
+        n, num_threads,
+        [&](std::size_t i) {
+          double sum = 0;
+          int count = 0;
+          for (std::size_t k = 0; k < probes; ++k) {
+            if (k * n / probes == i) continue;  // never the map itself
+            sum += grid_similarity(probe_grids[k], stored_[i]);
+            ++count;
+          }
+          hub_[i] = count > 0 ? std::round(sum / count * levels) / levels : 0.0;
+        },
+        "grid hubness", progress);
+  }
+
+  double bits_per_map() const override { return grid_bits_per_map(config_); }
+
+  Ranking rank(const MapView& query, std::span<const std::size_t> candidates,
+               const RankOptions& options) const override {
+    if (query.points == nullptr) throw InputError("grid: the query has no points");
+    Ranking r;
+    auto t0 = Clock::now();
+    const std::vector<GridBits> q = make_query_grids(*query.points, config_);
+    r.prep_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    t0 = Clock::now();
+    r.scores.resize(candidates.size());
+    parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
+      const std::size_t c = candidates[j];
+      r.scores[j] = grid_similarity(q, stored_.at(c)) - config_.hub_weight * hub_.at(c);
+    });
+    r.match_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return r;
+  }
+
+ private:
+  GridConfig config_;
+  std::vector<GridBits> stored_;
+  std::vector<double> hub_;  // mu_m, quantised to hub_bits
+};
+
+// grid[:S[:key=value...]]: keys box (dm), shift (cells), sub (steps per cell), min (points), hub (percent).
+GridConfig parse_grid_args(const std::string& text, const std::vector<std::string>& args) {
+  GridConfig c;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const std::size_t eq = a.find('=');
+    if (i == 0 && eq == std::string::npos) {
+      c.cells = parse_spec_int(text, a, "S (cells per side)", 1, 11);
+      continue;
+    }
+    if (eq == std::string::npos) throw InputError("method '" + text + "': expected key=value, got '" + a + "'");
+    const std::string key = a.substr(0, eq), value = a.substr(eq + 1);
+    if (key == "shift") c.max_shift = parse_spec_int(text, value, "shift (cells)", 0, 11);
+    else if (key == "sub") c.substeps = parse_spec_int(text, value, "sub (steps per cell)", 1, 8);
+    else if (key == "min") c.min_points = parse_spec_int(text, value, "min (points)", 1, 10000);
+    else if (key == "box") c.box_size = parse_spec_int(text, value, "box (dm)", 10, 1000) / 10.0;
+    else if (key == "hub") c.hub_weight = parse_spec_int(text, value, "hub (percent)", 0, 1000) / 100.0;
+    else throw InputError("method '" + text + "': unknown grid option '" + a + "' (box, shift, sub, min, hub)");
+  }
+  validate(c);
+  return c;
+}
+
+void parse_grid(const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+  const GridConfig c = parse_grid_args(text, args);
+  const GridConfig d;
+  m.size = c.cells;
+  m.spec = "grid:" + std::to_string(c.cells);
+  if (c.box_size != d.box_size) m.spec += ":box=" + std::to_string(std::lround(c.box_size * 10));
+  if (c.max_shift != d.max_shift) m.spec += ":shift=" + std::to_string(c.max_shift);
+  if (c.substeps != d.substeps) m.spec += ":sub=" + std::to_string(c.substeps);
+  if (c.min_points != d.min_points) m.spec += ":min=" + std::to_string(c.min_points);
+  if (c.hub_weight != d.hub_weight) m.spec += ":hub=" + std::to_string(std::lround(c.hub_weight * 100));
+  const std::string side = std::to_string(c.cells);
+  m.name_label = m.spec == "grid:" + side ? "grid " + side + "x" + side : m.spec;
+}
+
+void parse_succinct(const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+  if (!args.empty()) throw InputError("method '" + text + "': succinct takes no arguments");
+  m.spec = "succinct";
+  m.name_label = "succinct";
+}
+
+}  // namespace
+
+const MethodEntry& grid_method() {
+  static const MethodEntry entry{"grid", "grid[:S[:box=DM:shift=C:sub=N:min=P:hub=PCT]]", parse_grid,
+                                 [](const MethodSpec& m, const RankingConfig&) {
+                                   return std::unique_ptr<Ranker>(new GridRanker(parse_grid_args(m.spec, m.args)));
+                                 }};
+  return entry;
+}
+
+const MethodEntry& succinct_method() {
+  static const MethodEntry entry{"succinct", "succinct", parse_succinct, [](const MethodSpec&, const RankingConfig&) {
+                                   return std::unique_ptr<Ranker>(new GridRanker(succinct_grid_config()));
+                                 }};
+  return entry;
+}
+
+}  // namespace partslam

@@ -1,0 +1,82 @@
+#include "core/matching/ranking.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/error.h"
+#include "core/sim/simulator.h"
+#include "core/testing/simulated_maps.h"
+#include "core/maps/submap.h"
+
+namespace partslam {
+namespace {
+
+TEST(Ranking, RegistryNamesAreUniqueAndEveryMethodParsesItsSyntax) {
+  std::set<std::string_view> names;
+  for (const MethodEntry& e : method_registry()) {
+    EXPECT_TRUE(names.insert(e.name).second) << e.name;
+    EXPECT_EQ(find_method(e.name), &e);
+    EXPECT_EQ(e.syntax.substr(0, e.name.size()), e.name);
+  }
+  EXPECT_EQ(find_method("nope"), nullptr);
+  EXPECT_NE(method_syntax_list().find("rerank:R"), std::string::npos);
+  MethodSpec unknown;
+  unknown.name = "nope";
+  EXPECT_THROW(make_ranker(unknown, {}), InputError);
+}
+
+TEST(Ranking, OrderIsStableBestFirst) {
+  EXPECT_EQ(ranking_order({1.0, 3.0, 1.0, 2.0}), (std::vector<std::size_t>{1, 3, 0, 2}));
+}
+
+TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
+  const Submaps& maps = testing::simulated_maps();
+  ASSERT_GT(maps.size(), 40u);
+  const std::vector<MapView> views = testing::point_views(maps);
+  const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("dmm"), {});
+  ranker->prepare(views, 2);
+  const std::vector<std::size_t> candidates = {3, 10, 0, 25, 40};
+  const Ranking one = ranker->rank(views[0], candidates, {1, 0});
+  const Ranking two = ranker->rank(views[0], candidates, {2, 0});
+  ASSERT_EQ(one.scores.size(), candidates.size());
+  EXPECT_EQ(one.scores, two.scores);
+  // The query itself (candidate 0 at position 2) matches every one of its points.
+  EXPECT_EQ(one.scores[2], static_cast<double>(maps[0].points.size()));
+  ASSERT_TRUE(one.direct[2].has_value());
+  EXPECT_LE(one.direct[2]->T_map_query.translation().norm(), 0.15);  // within a dilated cell
+  // Top-1 pruning keeps the best candidate exact and its score.
+  const Ranking top = ranker->rank(views[0], candidates, {1, 1});
+  EXPECT_EQ(top.scores[2], one.scores[2]);
+  EXPECT_GT(ranker->bits_per_map(), 0.0);
+}
+
+TEST(Ranking, RerankPutsTheShortlistFirstOrderedByDmm) {
+  const Submaps& maps = testing::simulated_maps();
+  const std::vector<MapView> views = testing::point_views(maps);
+  // A first stage without parts: every stored map scores 0, so the shortlist is the first R candidates.
+  MethodSpec spec = parse_method_spec("rerank:3:hmm:3");
+  std::vector<std::vector<Part>> parts(maps.size());
+  std::vector<MapView> with_parts = views;
+  for (std::size_t i = 0; i < maps.size(); ++i) with_parts[i].parts = &parts[i];
+  RankingConfig config;
+  const std::unique_ptr<Ranker> rerank = make_ranker(spec, config);
+  rerank->prepare(with_parts, 1);
+  const std::unique_ptr<Ranker> dmm = make_ranker(parse_method_spec("dmm"), config);
+  dmm->prepare(with_parts, 1);
+  const std::vector<std::size_t> candidates = {5, 0, 7, 9, 11};
+  const Ranking r = rerank->rank(with_parts[0], candidates);
+  const Ranking d = dmm->rank(with_parts[0], candidates);
+  ASSERT_EQ(r.shortlist_scores.size(), candidates.size());
+  for (std::size_t j = 0; j < candidates.size(); ++j) {
+    EXPECT_EQ(r.direct[j].has_value(), j < 3) << j;
+    if (j < 3) {
+      EXPECT_GT(r.scores[j], r.scores[3]);
+      EXPECT_EQ(r.direct[j]->inliers, static_cast<int>(d.scores[j]));
+    }
+  }
+  EXPECT_GT(r.scores[1], r.scores[0]);  // the query itself beats every other shortlisted map
+}
+
+}  // namespace
+}  // namespace partslam
