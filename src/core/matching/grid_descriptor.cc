@@ -75,12 +75,49 @@ GridBits make_grid(const Points2& points, const GridConfig& config) {
 
 std::vector<GridBits> make_query_grids(const Points2& points, const GridConfig& config) {
   validate(config);
-  const double step = config.box_size / config.cells / config.substeps;
-  const int reach = config.max_shift * config.substeps;
+  const double cell = config.box_size / config.cells, half = config.box_size / 2;
+  const double step = cell / config.substeps;
+  const int reach = config.max_shift * config.substeps, shifts = 2 * reach + 1, s = config.cells;
+  const std::size_t n = points.size();
   std::vector<GridBits> out;
-  for (int k = 0; k < 4; ++k)
-    for (int j = -reach; j <= reach; ++j)
-      for (int i = -reach; i <= reach; ++i) out.push_back(bin(points, config, k, Vec2{i * step, j * step}));
+  out.reserve(static_cast<std::size_t>(4 * shifts * shifts));
+  // The same cells as bin() (same arithmetic, so the same grids), computed separably: a point's column
+  // depends only on the x shift, its row only on the y shift. -1 marks a point outside the grid.
+  std::vector<int> column(static_cast<std::size_t>(shifts) * n), row(static_cast<std::size_t>(shifts) * n);
+  std::vector<int> counts(static_cast<std::size_t>(s * s));
+  auto cell_of = [&](double coordinate) {
+    const double f = std::floor((coordinate + half) / cell);
+    return f >= 0 && f < s ? static_cast<int>(f) : -1;  // NaN lands outside too
+  };
+  for (int k = 0; k < 4; ++k) {
+    for (int t = 0; t < shifts; ++t) {
+      const double offset = (t - reach) * step;
+      for (std::size_t q = 0; q < n; ++q) {
+        Vec2 p = points[q];
+        for (int turn = 0; turn < k; ++turn) p = Vec2{-p.y(), p.x()};
+        column[static_cast<std::size_t>(t) * n + q] = cell_of(p.x() + offset);
+        row[static_cast<std::size_t>(t) * n + q] = cell_of(p.y() + offset);
+      }
+    }
+    for (int tj = 0; tj < shifts; ++tj) {
+      for (int ti = 0; ti < shifts; ++ti) {
+        const int* xs = &column[static_cast<std::size_t>(ti) * n];
+        const int* ys = &row[static_cast<std::size_t>(tj) * n];
+        GridBits g;
+        if (config.min_points == 1) {
+          for (std::size_t q = 0; q < n; ++q)
+            if (xs[q] >= 0 && ys[q] >= 0) set_bit(g, xs[q] + s * ys[q]);
+        } else {
+          std::fill(counts.begin(), counts.end(), 0);
+          for (std::size_t q = 0; q < n; ++q)
+            if (xs[q] >= 0 && ys[q] >= 0) ++counts[static_cast<std::size_t>(xs[q] + s * ys[q])];
+          for (int i = 0; i < s * s; ++i)
+            if (counts[static_cast<std::size_t>(i)] >= config.min_points) set_bit(g, i);
+        }
+        out.push_back(g);
+      }
+    }
+  }
   return out;
 }
 
@@ -89,10 +126,32 @@ double jaccard(const GridBits& a, const GridBits& b) {
   return either > 0 ? static_cast<double>(both) / either : 0.0;
 }
 
+namespace {
+
+// The best Jaccard both / either as an exact fraction (integer cross-multiplication, no division per pose):
+// the same maximum as max over poses of jaccard(), in a few integer operations per pose. counts[v] is
+// query[v].count().
+double best_jaccard(const std::vector<GridBits>& query, const std::vector<int>& counts, const GridBits& stored) {
+  const int nb = stored.count();
+  int best_both = 0, best_either = 1;
+  for (std::size_t v = 0; v < query.size(); ++v) {
+    const int both = common(query[v], stored), either = counts[v] + nb - both;
+    if (both * best_either > best_both * either) best_both = both, best_either = either;
+  }
+  return static_cast<double>(best_both) / best_either;
+}
+
+std::vector<int> counts_of(const std::vector<GridBits>& grids) {
+  std::vector<int> counts;
+  counts.reserve(grids.size());
+  for (const GridBits& g : grids) counts.push_back(g.count());
+  return counts;
+}
+
+}  // namespace
+
 double grid_similarity(const std::vector<GridBits>& query, const GridBits& stored) {
-  double best = 0;
-  for (const GridBits& a : query) best = std::max(best, jaccard(a, stored));
-  return best;
+  return best_jaccard(query, counts_of(query), stored);
 }
 
 namespace {
@@ -116,9 +175,13 @@ class GridRanker final : public Ranker {
     // match m, i.e. how much m looks like everything.
     const std::size_t n = maps.size(), probes = std::min<std::size_t>(n, config_.hub_sample);
     std::vector<std::vector<GridBits>> probe_grids(probes);
+    std::vector<std::vector<int>> probe_counts(probes);
     parallel_for(
         probes, num_threads,
-        [&](std::size_t k) { probe_grids[k] = make_query_grids(*maps[k * n / probes].points, config_); },
+        [&](std::size_t k) {
+          probe_grids[k] = make_query_grids(*maps[k * n / probes].points, config_);
+          probe_counts[k] = counts_of(probe_grids[k]);
+        },
         "grid hubness probes", progress);
     const double levels = std::ldexp(1.0, config_.hub_bits) - 1;
     parallel_for(
@@ -128,7 +191,7 @@ class GridRanker final : public Ranker {
           int count = 0;
           for (std::size_t k = 0; k < probes; ++k) {
             if (k * n / probes == i) continue;  // never the map itself
-            sum += grid_similarity(probe_grids[k], stored_[i]);
+            sum += best_jaccard(probe_grids[k], probe_counts[k], stored_[i]);
             ++count;
           }
           hub_[i] = count > 0 ? std::round(sum / count * levels) / levels : 0.0;
@@ -144,12 +207,13 @@ class GridRanker final : public Ranker {
     Ranking r;
     auto t0 = Clock::now();
     const std::vector<GridBits> q = make_query_grids(*query.points, config_);
+    const std::vector<int> counts = counts_of(q);
     r.prep_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     t0 = Clock::now();
     r.scores.resize(candidates.size());
     parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
       const std::size_t c = candidates[j];
-      r.scores[j] = grid_similarity(q, stored_.at(c)) - config_.hub_weight * hub_.at(c);
+      r.scores[j] = best_jaccard(q, counts, stored_.at(c)) - config_.hub_weight * hub_.at(c);
     });
     r.match_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     return r;

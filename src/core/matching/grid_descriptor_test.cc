@@ -43,6 +43,31 @@ TEST(GridDescriptor, AQuarterTurnAndAShiftOfTheSameMapMatchExactly) {
   EXPECT_LT(grid_similarity(make_query_grids(map, c), make_grid(stored, c)), 1.0);
 }
 
+// Every query grid is the stored grid of the query's points turned and moved by that pose, in the order
+// quarter turn, y shift, x shift (for the counts threshold too).
+TEST(GridDescriptor, QueryGridsAreTheGridsOfTheMovedPoints) {
+  const Points2& points = testing::simulated_maps().at(7).points;
+  for (int min_points : {1, 3}) {
+    GridConfig c = succinct_grid_config();
+    c.min_points = min_points;
+    const std::vector<GridBits> q = make_query_grids(points, c);
+    const int reach = c.max_shift * c.substeps, shifts = 2 * reach + 1;
+    ASSERT_EQ(q.size(), static_cast<std::size_t>(4 * shifts * shifts));
+    const double step = c.box_size / c.cells / c.substeps;
+    for (int k = 0; k < 4; ++k)
+      for (int j = -reach; j <= reach; j += 3)
+        for (int i = -reach; i <= reach; i += 2) {
+          Points2 moved;
+          for (Vec2 p : points) {
+            for (int t = 0; t < k; ++t) p = Vec2{-p.y(), p.x()};
+            moved.push_back(p + Vec2{i * step, j * step});
+          }
+          const std::size_t v = static_cast<std::size_t>((k * shifts + j + reach) * shifts + i + reach);
+          EXPECT_EQ(q[v], make_grid(moved, c)) << "turn " << k << " shift " << i << ", " << j;
+        }
+  }
+}
+
 TEST(GridDescriptor, JaccardOfEmptyAndDisjointGrids) {
   GridBits a, b;
   EXPECT_EQ(jaccard(a, b), 0.0);
