@@ -100,6 +100,21 @@ TEST_F(CliTest, BadMapIdExitsNonZeroWithMessage) {
   EXPECT_THAT(neither.output, HasSubstr("--map ID or --dictionary NAME"));
 }
 
+// Command-line errors (unknown option, a number that is not one, a missing argument) exit 1 with the same
+// prefix as bad input; --help and --version still exit 0.
+TEST_F(CliTest, ParseErrorsExitOneWithThePrefix) {
+  for (const std::string& args : {std::string("eval --input sim --dict sim --tasks many"),
+                                  std::string("info --no-such-option ") + quoted(db_), std::string("match"),
+                                  std::string("frobnicate")}) {
+    const CliRun run = run_partslam(args);
+    EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
+    EXPECT_THAT(run.output, HasSubstr("partslam: error: ")) << args;
+  }
+  EXPECT_EQ(run_partslam("--help").exit_code, 0);
+  EXPECT_EQ(run_partslam("eval --help").exit_code, 0);
+  EXPECT_EQ(run_partslam("--version").exit_code, 0);
+}
+
 TEST_F(CliTest, InfoRefusesNonDatabase) {
   const fs::path text = dir_ / "notes.txt";
   std::ofstream(text) << "hello\n";

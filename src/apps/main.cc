@@ -13,8 +13,16 @@ int main(int argc, char** argv) {
   partslam::apps::register_all(app);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Bad command lines fail like bad input: one prefixed line, exit code 1 (not CLI11's own codes).
+    std::cerr << "partslam: error: " << e.what() << " (see 'partslam --help')\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "partslam: error: " << e.what() << "\n";
     return 1;
