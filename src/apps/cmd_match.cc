@@ -288,6 +288,10 @@ void register_match(CLI::App& app) {
                   "(the paper)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--dmm-dilation", o->dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
+  cmd->add_option_function<double>(
+         "--dmm-angular-window", [o](double deg) { o->dmm.angular_window = deg * std::numbers::pi / 180.0; },
+         "dMM: residual rotation window about each quarter turn [deg] (default 3)");
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->callback([o] { run_match(*o); });
 }

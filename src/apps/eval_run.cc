@@ -155,7 +155,8 @@ nlohmann::json to_json(const EvalRun& run) {
         {"mc", c.cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point"},
         {"t_size", c.cpd.t_size},
         {"gc", c.cpd.geometric_consistency},
-        {"seed", c.cpd.seed}}},
+        {"seed", c.cpd.seed},
+        {"dilation", c.cpd.dmm.dilation}}},
       {"dmm", {{"dilation", c.ranking.dmm.dilation}, {"angular_window_deg", run.options.dmm_angular_window_deg}}}};
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {

@@ -16,7 +16,7 @@ namespace partslam::apps {
 
 /// The CPD parameters as options of `cmd`, each named --PREFIXNAME (prefix "" for describe and render,
 /// "cpd-" for eval and demo): candidates, partitions, corners, box-sizes, corner-radius,
-/// corner-spacing, mc, tsize, gc, seed.
+/// corner-spacing, mc, tsize, gc, seed, dilation (of the crop-vs-dictionary fit, Eq. 2).
 void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix);
 
 /// The dictionary named, or when name is empty the only dictionary of the database; throws InputError naming

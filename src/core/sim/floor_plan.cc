@@ -121,6 +121,22 @@ void validate(const FloorPlanConfig& c) {
   if (c.corridor_clutter < 0 || c.corridor_clutter > 1000) fail("corridor_clutter", "must be in [0, 1000]");
 }
 
+namespace {
+
+// Corridor centreline: a figure-eight through the cross corridor (at x = cx), or the plain ring.
+std::vector<Vec2> corridor_loop(const FloorPlanConfig& config, double cx) {
+  const double d = config.room_depth, cw = config.corridor_width;
+  const double x0 = d + cw / 2, x1 = config.width - d - cw / 2, y0 = d + cw / 2, y1 = config.height - d - cw / 2;
+  if (config.cross_corridor) {
+    const Vec2 j0{cx, y0}, j1{cx, y1};
+    return {j0, {x1, y0}, {x1, y1}, j1, j0, {x0, y0}, {x0, y1}, j1, j0};
+  }
+  const Vec2 m{0.5 * (x0 + x1), y0};
+  return {m, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}, m};
+}
+
+}  // namespace
+
 FloorPlan make_floor_plan(const FloorPlanConfig& config, Rng& rng) {
   validate(config);
   const double W = config.width, H = config.height, d = config.room_depth, cw = config.corridor_width;
@@ -196,16 +212,7 @@ FloorPlan make_floor_plan(const FloorPlanConfig& config, Rng& rng) {
     }
   }
   for (const WallLine& l : lines) emit(l, &plan.walls);
-
-  // Corridor centreline: a figure-eight through the cross corridor, or the plain ring.
-  const double x0 = d + cw / 2, x1 = W - d - cw / 2, y0 = d + cw / 2, y1 = H - d - cw / 2;
-  if (config.cross_corridor) {
-    const Vec2 j0{cx, y0}, j1{cx, y1};
-    plan.loop = {j0, {x1, y0}, {x1, y1}, j1, j0, {x0, y0}, {x0, y1}, j1, j0};
-  } else {
-    const Vec2 m{0.5 * (x0 + x1), y0};
-    plan.loop = {m, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}, m};
-  }
+  plan.loop = corridor_loop(config, cx);
   return plan;
 }
 
