@@ -15,7 +15,8 @@
 #include <set>
 
 #include "apps/commands.h"
-#include "apps/stored_parts.h"
+#include "apps/cpd_options.h"
+#include "io/descriptor_store.h"
 #include "core/parts/cpd.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"

@@ -17,7 +17,8 @@
 #include <set>
 
 #include "apps/commands.h"
-#include "apps/stored_parts.h"
+#include "apps/cpd_options.h"
+#include "io/descriptor_store.h"
 #include "core/matching/ranking.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"
@@ -81,7 +82,7 @@ std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Sub
   const io::Dictionary dictionary = db.load_dictionary(resolve_descriptor_dictionary(db, o.dictionary));
   const int k = method.parts;
   const auto t0 = Clock::now();
-  std::map<std::int64_t, MapDescriptor> stored = load_descriptor_set(db, dictionary, k);
+  std::map<std::int64_t, MapDescriptor> stored = io::load_descriptor_set(db, dictionary, k);
   std::vector<std::vector<Part>> parts;
   std::size_t missing = 0;
   for (const Candidate& c : candidates) {
@@ -95,13 +96,13 @@ std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Sub
   if (missing > 0) {
     throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) +
                      " maps have no K=" + std::to_string(k) + " descriptor for dictionary '" +
-                     dictionary.name + "': " + describe_hint(db, dictionary.name, k));
+                     dictionary.name + "': " + io::describe_hint(db, dictionary.name, k));
   }
   const MethodSpec& parts_method = method.stages.empty() ? method : method.stages.front();
   const bool imm = parts_method.name == "imm";
   const int query_k = imm                 ? k
                       : o.query_parts > 0 ? o.query_parts
-                                          : query_list_parts(db, dictionary.name, query.id);
+                                          : io::query_list_parts(db, dictionary.name, query.id);
   if (query_k == 0) {
     throw InputError("map " + std::to_string(query.id) +
                      " has no hMM query list (a descriptor of more than " +
@@ -110,11 +111,11 @@ std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Sub
                      "' first (it stores the P-part list as K = P when P > " +
                      std::to_string(kMaxUnscoredParts) + "), or name a stored list with --query-parts");
   }
-  std::optional<MapDescriptor> query_descriptor = load_descriptor(db, dictionary, query_k, query.id);
+  std::optional<MapDescriptor> query_descriptor = io::load_descriptor(db, dictionary, query_k, query.id);
   if (!query_descriptor) {
     throw InputError("the query map " + std::to_string(query.id) + " has no K=" + std::to_string(query_k) +
                      " descriptor for dictionary '" + dictionary.name +
-                     "': " + describe_hint(db, dictionary.name, query_k));
+                     "': " + io::describe_hint(db, dictionary.name, query_k));
   }
   query_parts = std::move(query_descriptor->parts);
   char buf[200];

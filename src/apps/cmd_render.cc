@@ -9,7 +9,8 @@
 #include <memory>
 
 #include "apps/commands.h"
-#include "apps/stored_parts.h"
+#include "apps/cpd_options.h"
+#include "io/descriptor_store.h"
 #include "core/parts/cpd.h"
 #include "core/error.h"
 #include "io/map_database.h"
@@ -44,14 +45,14 @@ void run_render(RenderOptions o) {
   figure.map_points = submap.points;
   std::optional<io::Dictionary> dictionary;
   if (!o.dictionary.empty() || db.dictionaries().size() == 1)
-    dictionary = resolve_dictionary(db, o.dictionary);
+    dictionary = io::resolve_dictionary(db, o.dictionary);
   std::string source = "no dictionary in the database: no parts";
   if (dictionary) {
     if (!o.fresh) {
-      if (const int p = query_list_parts(db, dictionary->name, o.map_id); p > 0) {
-        figure.parts = select_top_parts(load_descriptor(db, *dictionary, p, o.map_id)->parts, o.parts).parts;
+      if (const int p = io::query_list_parts(db, dictionary->name, o.map_id); p > 0) {
+        figure.parts = select_top_parts(io::load_descriptor(db, *dictionary, p, o.map_id)->parts, o.parts).parts;
         source = "the stored " + std::to_string(p) + "-part list";
-      } else if (auto d = load_descriptor(db, *dictionary, o.parts, o.map_id)) {
+      } else if (auto d = io::load_descriptor(db, *dictionary, o.parts, o.map_id)) {
         figure.parts = d->parts;
         figure.show_scores = false;  // stored K-part descriptors keep no appearance score
         source = "the stored K=" + std::to_string(o.parts) + " descriptor";

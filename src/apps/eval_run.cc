@@ -1,6 +1,7 @@
 #include "apps/eval_run.h"
 
-#include "apps/stored_parts.h"
+#include "apps/cpd_options.h"
+#include "io/descriptor_store.h"
 
 #include <unistd.h>
 

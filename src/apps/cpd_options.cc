@@ -1,6 +1,5 @@
-#include "apps/stored_parts.h"
+#include "apps/cpd_options.h"
 
-#include "core/parts/descriptor_layout.h"
 #include "core/error.h"
 
 namespace partslam::apps {
@@ -59,63 +58,6 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
   cmd.add_option(name("dilation"), cpd.dmm.dilation,
                  "CPD: dilation of the dictionary's cells in the fit of a crop (Eq. 2) [cells]")
       ->capture_default_str();
-}
-
-io::Dictionary resolve_dictionary(const io::MapDatabase& db, const std::string& name) {
-  if (!name.empty()) return db.load_dictionary(name);
-  const std::vector<io::DictionaryInfo> all = db.dictionaries();
-  if (all.empty()) {
-    throw InputError(db.path().string() + ": no dictionary stored: run 'partslam dictionary LOG --db " +
-                     db.path().string() + " --name NAME' first");
-  }
-  if (all.size() > 1) {
-    std::string names;
-    for (const io::DictionaryInfo& d : all) names += (names.empty() ? "" : ", ") + d.name;
-    throw InputError(db.path().string() + ": several dictionaries (" + names + "): choose one with --dict");
-  }
-  return db.load_dictionary(all.front().name);
-}
-
-std::string describe_hint(const io::MapDatabase& db, const std::string& dictionary, int k) {
-  return "run 'partslam describe " + db.path().string() + " --dict " + dictionary +
-         (k > kMaxUnscoredParts ? " --parts " : " --k ") + std::to_string(k) + "' first";
-}
-
-std::map<std::int64_t, MapDescriptor> load_descriptor_set(const io::MapDatabase& db,
-                                                          const io::Dictionary& dictionary, int k) {
-  const CodecConfig codec = descriptor_codec_config(dictionary.points, k);
-  std::map<std::int64_t, MapDescriptor> out;
-  for (const io::DescriptorRecord& r : db.load_descriptors(dictionary.name, k)) {
-    try {
-      out.emplace(r.map_id, decode_stored(r.descriptor, k, codec));
-    } catch (const InputError& e) {
-      throw InputError(db.path().string() + ": descriptor of map " + std::to_string(r.map_id) +
-                       " (dictionary '" + dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
-    }
-  }
-  return out;
-}
-
-std::optional<MapDescriptor> load_descriptor(const io::MapDatabase& db, const io::Dictionary& dictionary,
-                                             int k, std::int64_t map_id) {
-  const std::optional<PackedDescriptor> packed = db.get_descriptor(map_id, dictionary.name, k);
-  if (!packed) return std::nullopt;
-  try {
-    return decode_stored(*packed, k, descriptor_codec_config(dictionary.points, k));
-  } catch (const InputError& e) {
-    throw InputError(db.path().string() + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" +
-                     dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
-  }
-}
-
-int query_list_parts(const io::MapDatabase& db, const std::string& dictionary, std::int64_t map_id) {
-  int best = 0;
-  for (const io::DescriptorSetInfo& s : db.descriptor_sets()) {
-    if (s.dictionary == dictionary && s.k > kMaxUnscoredParts && s.k > best &&
-        db.get_descriptor(map_id, dictionary, s.k))
-      best = s.k;
-  }
-  return best;
 }
 
 }  // namespace partslam::apps

@@ -1,0 +1,16 @@
+// Shared by `partslam describe`, `render`, `eval` and `demo`: the CPD parameters as command-line options.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "core/parts/cpd.h"
+
+namespace partslam::apps {
+
+/// The CPD parameters as options of `cmd`, each named --PREFIXNAME (prefix "" for describe and render,
+/// "cpd-" for eval and demo): candidates, partitions, corners, box-sizes, corner-radius,
+/// corner-spacing, mc, tsize, gc, seed, dilation (of the crop-vs-dictionary fit, Eq. 2).
+void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix);
+
+}  // namespace partslam::apps

@@ -1,0 +1,65 @@
+#include "io/descriptor_store.h"
+
+#include "core/error.h"
+#include "core/parts/descriptor_layout.h"
+
+namespace partslam::io {
+
+Dictionary resolve_dictionary(const MapDatabase& db, const std::string& name) {
+  if (!name.empty()) return db.load_dictionary(name);
+  const std::vector<DictionaryInfo> all = db.dictionaries();
+  if (all.empty()) {
+    throw InputError(db.path().string() + ": no dictionary stored: run 'partslam dictionary LOG --db " +
+                     db.path().string() + " --name NAME' first");
+  }
+  if (all.size() > 1) {
+    std::string names;
+    for (const DictionaryInfo& d : all) names += (names.empty() ? "" : ", ") + d.name;
+    throw InputError(db.path().string() + ": several dictionaries (" + names + "): choose one with --dict");
+  }
+  return db.load_dictionary(all.front().name);
+}
+
+std::string describe_hint(const MapDatabase& db, const std::string& dictionary, int k) {
+  return "run 'partslam describe " + db.path().string() + " --dict " + dictionary +
+         (k > kMaxUnscoredParts ? " --parts " : " --k ") + std::to_string(k) + "' first";
+}
+
+std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db,
+                                                          const Dictionary& dictionary, int k) {
+  const CodecConfig codec = descriptor_codec_config(dictionary.points, k);
+  std::map<std::int64_t, MapDescriptor> out;
+  for (const DescriptorRecord& r : db.load_descriptors(dictionary.name, k)) {
+    try {
+      out.emplace(r.map_id, decode_stored(r.descriptor, k, codec));
+    } catch (const InputError& e) {
+      throw InputError(db.path().string() + ": descriptor of map " + std::to_string(r.map_id) +
+                       " (dictionary '" + dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
+    }
+  }
+  return out;
+}
+
+std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const Dictionary& dictionary,
+                                             int k, std::int64_t map_id) {
+  const std::optional<PackedDescriptor> packed = db.get_descriptor(map_id, dictionary.name, k);
+  if (!packed) return std::nullopt;
+  try {
+    return decode_stored(*packed, k, descriptor_codec_config(dictionary.points, k));
+  } catch (const InputError& e) {
+    throw InputError(db.path().string() + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" +
+                     dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
+  }
+}
+
+int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::int64_t map_id) {
+  int best = 0;
+  for (const DescriptorSetInfo& s : db.descriptor_sets()) {
+    if (s.dictionary == dictionary && s.k > kMaxUnscoredParts && s.k > best &&
+        db.get_descriptor(map_id, dictionary, s.k))
+      best = s.k;
+  }
+  return best;
+}
+
+}  // namespace partslam::io

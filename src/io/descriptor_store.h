@@ -1,0 +1,34 @@
+// The stored descriptors of one dictionary, decoded with the codec that core/parts/descriptor_layout.h derives
+// from the dictionary's points and K; what `partslam describe`, `match` and `render` read and write.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "core/parts/part.h"
+#include "io/map_database.h"
+
+namespace partslam::io {
+
+/// The dictionary named, or when name is empty the only dictionary of the database; throws InputError naming
+/// what is missing or ambiguous.
+Dictionary resolve_dictionary(const MapDatabase& db, const std::string& name);
+
+/// "run 'partslam describe DB --dict NAME --k K'": how to produce a missing descriptor set.
+std::string describe_hint(const MapDatabase& db, const std::string& dictionary, int k);
+
+/// Every stored descriptor of (dictionary, K), decoded, by map id.
+std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db,
+                                                          const Dictionary& dictionary, int k);
+
+/// One map's stored descriptor of (dictionary, K), decoded; nullopt when there is none.
+std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const Dictionary& dictionary,
+                                             int k, std::int64_t map_id);
+
+/// K of the longest hMM query list (K > kMaxUnscoredParts, appearance scores stored) kept for the dictionary
+/// that holds map_id; 0 when there is none.
+int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::int64_t map_id);
+
+}  // namespace partslam::io
