@@ -23,6 +23,16 @@ void require_points(std::span<const MapView> maps) {
     if (m.points == nullptr) throw InputError("direct matching needs every map's points");
 }
 
+// Prepares every stored map's points with `make` (in parallel) into `out`; returns their mean point count.
+template <typename Prepared, typename Make>
+double prepare_points(std::span<const MapView> maps, int num_threads, const Progress& progress, const char* stage,
+                      std::vector<Prepared>& out, Make make) {
+  require_points(maps);
+  out.assign(maps.size(), {});
+  parallel_for(maps.size(), num_threads, [&](std::size_t i) { out[i] = make(*maps[i].points); }, stage, progress);
+  return mean_points(maps);
+}
+
 class DmmRanker final : public Ranker {
  public:
   DmmRanker(const RankingConfig& config, bool exhaustive)
@@ -31,12 +41,8 @@ class DmmRanker final : public Ranker {
   }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    require_points(maps);
-    maps_.assign(maps.size(), {});
-    parallel_for(
-        maps.size(), num_threads, [&](std::size_t i) { maps_[i] = prepare_map(*maps[i].points, dmm_); }, "grids",
-        progress);
-    mean_points_ = mean_points(maps);
+    mean_points_ = prepare_points(maps, num_threads, progress, "grids", maps_,
+                                  [&](const Points2& points) { return prepare_map(points, dmm_); });
   }
 
   double bits_per_map() const override { return bits_per_point_ * mean_points_; }
@@ -81,12 +87,8 @@ class RansacRanker final : public Ranker {
   }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    require_points(maps);
-    maps_.assign(maps.size(), {});
-    parallel_for(
-        maps.size(), num_threads, [&](std::size_t i) { maps_[i] = prepare_ransac_map(*maps[i].points, ransac_); },
-        "ransac grids", progress);
-    mean_points_ = mean_points(maps);
+    mean_points_ = prepare_points(maps, num_threads, progress, "ransac grids", maps_,
+                                  [&](const Points2& points) { return prepare_ransac_map(points, ransac_); });
   }
 
   double bits_per_map() const override { return bits_per_point_ * mean_points_; }
