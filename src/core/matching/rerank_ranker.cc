@@ -2,6 +2,7 @@
 // then its top R are reordered by dMM and put above all others (ties in dMM keep the first stage's order).
 // rerank:R:K is the paper's spelling (first stage hmm:K). The stored form is both methods'.
 #include <algorithm>
+#include <cctype>
 
 #include "core/error.h"
 #include "core/matching/ranking.h"
@@ -52,7 +53,10 @@ void parse_rerank(const std::string& text, const std::vector<std::string>& args,
   if (args.empty()) throw InputError("method '" + text + "': expected rerank:R[:K|:SPEC]");
   m.rerank = parse_spec_int(text, args[0], "R (maps to rerank)", 1, 1000000);
   std::string stage = "succinct";
-  if (args.size() == 2 && !args[1].empty() && std::all_of(args[1].begin(), args[1].end(), ::isdigit)) {
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
+  };
+  if (args.size() == 2 && digits(args[1])) {
     stage = "hmm:" + args[1];
   } else if (args.size() >= 2) {
     stage.clear();
