@@ -110,6 +110,18 @@ TEST_F(CliTest, ParseErrorsExitOneWithThePrefix) {
     EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
     EXPECT_THAT(run.output, HasSubstr("partslam: error: ")) << args;
   }
+  for (const std::string& args :
+       {std::string("eval --input sim --dict sim --seed -1"), std::string("describe ") + quoted(db_) + " --dict d --seed -3",
+        std::string("match ") + quoted(db_) + " --query 1 --min-gap nan",
+        std::string("match ") + quoted(db_) + " --query 1 --query-parts -5"}) {
+    const CliRun run = run_partslam(args);
+    EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
+    EXPECT_THAT(run.output, HasSubstr("partslam: error: ")) << args;
+  }
+  // Writing onto a folder names the folder, not "Success".
+  const CliRun onto = run_partslam("export " + quoted(db_) + " --map 1 --format csv --out " + quoted(dir_));
+  EXPECT_EQ(onto.exit_code, 1) << onto.output;
+  EXPECT_THAT(onto.output, HasSubstr("is a directory"));
   EXPECT_EQ(run_partslam("--help").exit_code, 0);
   EXPECT_EQ(run_partslam("eval --help").exit_code, 0);
   EXPECT_EQ(run_partslam("--version").exit_code, 0);

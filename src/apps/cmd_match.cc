@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -166,7 +167,11 @@ void run_match(const MatchOptions& o) {
   const MethodSpec method = parse_method_spec(o.method);
   if (o.top < 1) throw InputError("--top must be >= 1, got " + std::to_string(o.top));
   if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
-  if (o.min_gap < 0) throw InputError("--min-gap must be >= 0 m");
+  if (!(o.min_gap >= 0) || !std::isfinite(o.min_gap))
+    throw InputError("--min-gap must be a finite number >= 0 [m], got " + std::to_string(o.min_gap));
+  if (o.query_parts < 0 || o.query_parts > 10000)
+    throw InputError("--query-parts must be in [0, 10000] (0: the longest stored list), got " +
+                     std::to_string(o.query_parts));
   validate(o.dmm);
   validate(o.ransac);
   const auto t_start = Clock::now();

@@ -54,7 +54,11 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
   cmd.add_option(name("gc"), cpd.geometric_consistency,
                  "CPD: GC, keep only parts whose descriptor boxes pairwise overlap (true/false)")
       ->capture_default_str();
-  cmd.add_option(name("seed"), cpd.seed, "CPD: base seed (mixed with each map id)")->capture_default_str();
+  cmd.add_option(name("seed"), cpd.seed, "CPD: base seed (mixed with each map id)")
+      ->capture_default_str()
+      ->each([](const std::string& v) {
+        if (!v.empty() && v.front() == '-') throw CLI::ValidationError("must not be negative, got " + v);
+      });
   cmd.add_option(name("dilation"), cpd.dmm.dilation,
                  "CPD: dilation of the dictionary's cells in the fit of a crop (Eq. 2) [cells]")
       ->capture_default_str();

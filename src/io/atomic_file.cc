@@ -35,6 +35,7 @@ void check_writable(const std::filesystem::path& path) {
 }
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+  check_writable(path);
   const std::filesystem::path tmp = temporary_sibling(path);
   try {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
