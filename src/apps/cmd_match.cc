@@ -1,9 +1,10 @@
 // partslam match DB --query ID --method SPEC: the online half of PartSLAM (docs/DESIGN.md, "Schemes"). Ranks every
-// other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map:
+// other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map through
+// the library's one ranking entry point (core/matching/ranking.h), for any registered method:
 //   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
-//   imm:K[:matcher]                  stored K-part descriptors on both sides (Eqs. 3-6)
-//   hmm:K[:matcher]                  the query's stored P-part list (with AS) against the stored K-part ones
-//   rerank:R:K                       hMM:K, then the top R reordered by dMM
+//   succinct, grid, sc               built from the stored points at run time
+//   imm:K, hmm:K                     the stored K-part descriptors (the query's stored P-part list for hMM)
+//   rerank:R[:SPEC]                  SPEC ranks, its top R are reordered by dMM (with poses)
 // For a pose, the implied world offset compares where the match puts the query (T_world_map * T_map_query)
 // with the query's own stored pose; "dist" is the stored distance between the two maps' centres.
 #include <CLI/CLI.hpp>
