@@ -9,7 +9,6 @@
 // with the query's own stored pose; "dist" is the stored distance between the two maps' centres.
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -24,16 +23,12 @@
 #include "core/matching/ranking.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/matching/method_spec.h"
 #include "io/map_database.h"
 
 namespace partslam::apps {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 struct MatchOptions {
   std::string db;

@@ -1,16 +1,12 @@
 // Direct matching as rankers (docs/DESIGN.md, "dMM"): `dmm` (exact branch-and-bound), `dmm-exhaustive` (the
 // reference) and `dmm-ransac` (the paper's baseline). They store the map's points (bits_per_point each) and
 // return the relative pose T_map_query of every candidate.
-#include <chrono>
-
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/matching/ranking.h"
 
 namespace partslam {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 double mean_points(std::span<const MapView> maps) {
   double sum = 0;

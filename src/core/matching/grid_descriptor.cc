@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/matching/ranking.h"
 
 namespace partslam {
@@ -156,8 +156,6 @@ double grid_similarity(const std::vector<GridBits>& query, const GridBits& store
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 class GridRanker final : public Ranker {
  public:
   explicit GridRanker(const GridConfig& config) : config_(config) { validate(config_); }
@@ -208,14 +206,14 @@ class GridRanker final : public Ranker {
     auto t0 = Clock::now();
     const std::vector<GridBits> q = make_query_grids(*query.points, config_);
     const std::vector<int> counts = counts_of(q);
-    r.prep_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    r.prep_ms = ms_since(t0);
     t0 = Clock::now();
     r.scores.resize(candidates.size());
     parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
       const std::size_t c = candidates[j];
       r.scores[j] = best_jaccard(q, counts, stored_.at(c)) - config_.hub_weight * hub_.at(c);
     });
-    r.match_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    r.match_ms = ms_since(t0);
     return r;
   }
 

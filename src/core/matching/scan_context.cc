@@ -3,13 +3,13 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <numeric>
 #include <string>
 
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/matching/ranking.h"
 
 namespace partslam {
@@ -125,11 +125,6 @@ double ring_key_distance(const ScanContext& a, const ScanContext& b) {
 }
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 class ScanContextRanker final : public Ranker {
  public:

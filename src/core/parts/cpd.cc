@@ -1,7 +1,6 @@
 #include "core/parts/cpd.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <random>
 #include <map>
@@ -9,6 +8,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/maps/submap.h"
 
 namespace partslam {
@@ -249,9 +249,9 @@ std::vector<CpdResult> discover_parts_many(const std::vector<const Points2*>& ma
   parallel_for(
       maps.size(), num_threads,
       [&](std::size_t i) {
-        const auto t0 = std::chrono::steady_clock::now();
+        const auto t0 = Clock::now();
         results[i] = discover_parts(*maps[i], dictionary, config, map_keys[i]);
-        results[i].ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        results[i].ms = ms_since(t0);
       },
       "parts (CPD)", progress);
   return results;

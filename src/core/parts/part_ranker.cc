@@ -6,16 +6,14 @@
 // database is scored per query (DescriptorDatabase::score_all), as a deployed system would; the time reported
 // for the candidates is that time's share of them.
 #include <algorithm>
-#include <chrono>
 
 #include "core/parts/descriptor_database.h"
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/matching/ranking.h"
 
 namespace partslam {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 class PartRanker final : public Ranker {
  public:
@@ -48,7 +46,7 @@ class PartRanker final : public Ranker {
     const auto t0 = Clock::now();
     const std::vector<float> all =
         database_.score_all(descriptor, method_.matcher, {options.num_threads, config_.origin_gate});
-    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const double ms = ms_since(t0);
     for (std::size_t c : candidates) r.scores.push_back(all.at(c));
     r.match_ms = all.empty() ? 0.0 : ms * static_cast<double>(candidates.size()) / static_cast<double>(all.size());
     return r;
