@@ -14,21 +14,6 @@ double mean_points(std::span<const MapView> maps) {
   return maps.empty() ? 0.0 : sum / static_cast<double>(maps.size());
 }
 
-void require_points(std::span<const MapView> maps) {
-  for (const MapView& m : maps)
-    if (m.points == nullptr) throw InputError("direct matching needs every map's points");
-}
-
-// Prepares every stored map's points with `make` (in parallel) into `out`; returns their mean point count.
-template <typename Prepared, typename Make>
-double prepare_points(std::span<const MapView> maps, int num_threads, const Progress& progress, const char* stage,
-                      std::vector<Prepared>& out, Make make) {
-  require_points(maps);
-  out.assign(maps.size(), {});
-  parallel_for(maps.size(), num_threads, [&](std::size_t i) { out[i] = make(*maps[i].points); }, stage, progress);
-  return mean_points(maps);
-}
-
 class DmmRanker final : public Ranker {
  public:
   DmmRanker(const RankingConfig& config, bool exhaustive)
@@ -37,8 +22,9 @@ class DmmRanker final : public Ranker {
   }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    mean_points_ = prepare_points(maps, num_threads, progress, "grids", maps_,
-                                  [&](const Points2& points) { return prepare_map(points, dmm_); });
+    maps_ = prepare_from_points<PreparedMap>(maps, num_threads, progress, "dmm", "grids",
+                                             [&](const Points2& points) { return prepare_map(points, dmm_); });
+    mean_points_ = mean_points(maps);
   }
 
   double bits_per_map() const override { return bits_per_point_ * mean_points_; }
@@ -83,8 +69,10 @@ class RansacRanker final : public Ranker {
   }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    mean_points_ = prepare_points(maps, num_threads, progress, "ransac grids", maps_,
-                                  [&](const Points2& points) { return prepare_ransac_map(points, ransac_); });
+    maps_ = prepare_from_points<PreparedRansacMap>(
+        maps, num_threads, progress, "dmm-ransac", "ransac grids",
+        [&](const Points2& points) { return prepare_ransac_map(points, ransac_); });
+    mean_points_ = mean_points(maps);
   }
 
   double bits_per_map() const override { return bits_per_point_ * mean_points_; }

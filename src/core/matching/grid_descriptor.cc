@@ -161,12 +161,8 @@ class GridRanker final : public Ranker {
   explicit GridRanker(const GridConfig& config) : config_(config) { validate(config_); }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    for (const MapView& m : maps)
-      if (m.points == nullptr) throw InputError("grid: every map needs its points to build its grid");
-    stored_.assign(maps.size(), {});
-    parallel_for(
-        maps.size(), num_threads, [&](std::size_t i) { stored_[i] = make_grid(*maps[i].points, config_); }, "grids",
-        progress);
+    stored_ = prepare_from_points<GridBits>(maps, num_threads, progress, "grid", "grids",
+                                            [&](const Points2& points) { return make_grid(points, config_); });
     hub_.assign(maps.size(), 0.0);
     if (config_.hub_weight <= 0 || maps.size() < 2) return;
     // mu_m: how well the queries of other stored maps (a spread sample of up to hub_sample of them, as probes)

@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.h"
 #include "core/matching/dmm.h"
 #include "core/matching/dmm_ransac.h"
 #include "core/matching/method_spec.h"
@@ -91,6 +92,19 @@ const std::vector<MethodEntry>& method_registry();
 const MethodEntry* find_method(std::string_view name);
 /// "dmm, dmm-ransac, ...": every method's syntax, for help texts.
 std::string method_syntax_list();
+
+/// For rankers whose stored form is built from a map's points: make(points) of every map, in parallel (each map
+/// writes its own slot, so the result does not depend on num_threads). Throws InputError naming `method` and
+/// the map when a map has no points.
+template <typename Stored, typename Make>
+std::vector<Stored> prepare_from_points(std::span<const MapView> maps, int num_threads, const Progress& progress,
+                                        const std::string& method, const std::string& stage, Make make) {
+  for (std::size_t i = 0; i < maps.size(); ++i)
+    if (maps[i].points == nullptr) throw InputError(method + ": stored map " + std::to_string(i) + " has no points");
+  std::vector<Stored> out(maps.size());
+  parallel_for(maps.size(), num_threads, [&](std::size_t i) { out[i] = make(*maps[i].points); }, stage, progress);
+  return out;
+}
 
 /// The ranker of a parsed method. Throws InputError for an invalid config.
 std::unique_ptr<Ranker> make_ranker(const MethodSpec& method, const RankingConfig& config);

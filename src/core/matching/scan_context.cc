@@ -131,13 +131,9 @@ class ScanContextRanker final : public Ranker {
   explicit ScanContextRanker(const ScanContextConfig& config) : config_(config) { validate(config_); }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    for (const MapView& m : maps)
-      if (m.points == nullptr) throw InputError("scan context: every map needs its points to be described");
-    maps_.assign(maps.size(), {});
-    parallel_for(
-        maps.size(), num_threads,
-        [&](std::size_t i) { maps_[i] = make_scan_context(*maps[i].points, config_); }, "scan contexts",
-        progress);
+    maps_ = prepare_from_points<ScanContext>(
+        maps, num_threads, progress, "scan context", "scan contexts",
+        [&](const Points2& points) { return make_scan_context(points, config_); });
   }
 
   /// The bins only: the ring key, column norms and masks are recomputed from them.
