@@ -48,20 +48,26 @@ int common(const GridBits& a, const GridBits& b) {
   return std::popcount(a.words[0] & b.words[0]) + std::popcount(a.words[1] & b.words[1]);
 }
 
-// Occupancy of the points turned by quarter_turns and moved by offset on the S x S grid.
-GridBits bin(const Points2& points, const GridConfig& c, int quarter_turns, const Vec2& offset) {
-  const double cell = c.box_size / c.cells, half = c.box_size / 2;
-  std::vector<int> counts(static_cast<std::size_t>(c.cells * c.cells), 0);
-  for (const Vec2& p0 : points) {
-    Vec2 p = p0;
-    for (int k = 0; k < quarter_turns; ++k) p = Vec2{-p.y(), p.x()};
-    p += offset;
-    const double fx = std::floor((p.x() + half) / cell), fy = std::floor((p.y() + half) / cell);
-    if (!(fx >= 0 && fy >= 0 && fx < c.cells && fy < c.cells)) continue;  // also drops NaN
-    ++counts[static_cast<std::size_t>(static_cast<int>(fx) + c.cells * static_cast<int>(fy))];
-  }
+// The column (or row) of a coordinate on the S x S grid over [-box/2, box/2); -1 outside (NaN too).
+int grid_cell(double coordinate, const GridConfig& c) {
+  const double f = std::floor((coordinate + c.box_size / 2) / (c.box_size / c.cells));
+  return f >= 0 && f < c.cells ? static_cast<int>(f) : -1;
+}
+
+// The grid of n points whose columns are xs and rows ys (-1: outside): a cell is set when at least min_points
+// points fall in it. `counts` is scratch space of S^2 cells.
+GridBits occupancy(const int* xs, const int* ys, std::size_t n, const GridConfig& c, std::vector<int>& counts) {
+  const int s = c.cells;
   GridBits g;
-  for (int i = 0; i < c.cells * c.cells; ++i)
+  if (c.min_points == 1) {
+    for (std::size_t q = 0; q < n; ++q)
+      if (xs[q] >= 0 && ys[q] >= 0) set_bit(g, xs[q] + s * ys[q]);
+    return g;
+  }
+  counts.assign(static_cast<std::size_t>(s * s), 0);
+  for (std::size_t q = 0; q < n; ++q)
+    if (xs[q] >= 0 && ys[q] >= 0) ++counts[static_cast<std::size_t>(xs[q] + s * ys[q])];
+  for (int i = 0; i < s * s; ++i)
     if (counts[static_cast<std::size_t>(i)] >= c.min_points) set_bit(g, i);
   return g;
 }
@@ -70,53 +76,35 @@ GridBits bin(const Points2& points, const GridConfig& c, int quarter_turns, cons
 
 GridBits make_grid(const Points2& points, const GridConfig& config) {
   validate(config);
-  return bin(points, config, 0, Vec2::Zero());
+  std::vector<int> xs, ys, counts;
+  for (const Vec2& p : points) xs.push_back(grid_cell(p.x(), config)), ys.push_back(grid_cell(p.y(), config));
+  return occupancy(xs.data(), ys.data(), points.size(), config, counts);
 }
 
 std::vector<GridBits> make_query_grids(const Points2& points, const GridConfig& config) {
   validate(config);
-  const double cell = config.box_size / config.cells, half = config.box_size / 2;
-  const double step = cell / config.substeps;
-  const int reach = config.max_shift * config.substeps, shifts = 2 * reach + 1, s = config.cells;
+  const double step = config.box_size / config.cells / config.substeps;
+  const int reach = config.max_shift * config.substeps, shifts = 2 * reach + 1;
   const std::size_t n = points.size();
   std::vector<GridBits> out;
   out.reserve(static_cast<std::size_t>(4 * shifts * shifts));
-  // The same cells as bin() (same arithmetic, so the same grids), computed separably: a point's column
-  // depends only on the x shift, its row only on the y shift. -1 marks a point outside the grid.
-  std::vector<int> column(static_cast<std::size_t>(shifts) * n), row(static_cast<std::size_t>(shifts) * n);
-  std::vector<int> counts(static_cast<std::size_t>(s * s));
-  auto cell_of = [&](double coordinate) {
-    const double f = std::floor((coordinate + half) / cell);
-    return f >= 0 && f < s ? static_cast<int>(f) : -1;  // NaN lands outside too
-  };
+  // Computed separably: under a quarter turn, a point's column depends only on the x shift, its row only on
+  // the y shift. The grids equal make_grid of the turned and shifted points.
+  std::vector<int> column(static_cast<std::size_t>(shifts) * n), row(static_cast<std::size_t>(shifts) * n), counts;
   for (int k = 0; k < 4; ++k) {
     for (int t = 0; t < shifts; ++t) {
       const double offset = (t - reach) * step;
       for (std::size_t q = 0; q < n; ++q) {
         Vec2 p = points[q];
         for (int turn = 0; turn < k; ++turn) p = Vec2{-p.y(), p.x()};
-        column[static_cast<std::size_t>(t) * n + q] = cell_of(p.x() + offset);
-        row[static_cast<std::size_t>(t) * n + q] = cell_of(p.y() + offset);
+        column[static_cast<std::size_t>(t) * n + q] = grid_cell(p.x() + offset, config);
+        row[static_cast<std::size_t>(t) * n + q] = grid_cell(p.y() + offset, config);
       }
     }
-    for (int tj = 0; tj < shifts; ++tj) {
-      for (int ti = 0; ti < shifts; ++ti) {
-        const int* xs = &column[static_cast<std::size_t>(ti) * n];
-        const int* ys = &row[static_cast<std::size_t>(tj) * n];
-        GridBits g;
-        if (config.min_points == 1) {
-          for (std::size_t q = 0; q < n; ++q)
-            if (xs[q] >= 0 && ys[q] >= 0) set_bit(g, xs[q] + s * ys[q]);
-        } else {
-          std::fill(counts.begin(), counts.end(), 0);
-          for (std::size_t q = 0; q < n; ++q)
-            if (xs[q] >= 0 && ys[q] >= 0) ++counts[static_cast<std::size_t>(xs[q] + s * ys[q])];
-          for (int i = 0; i < s * s; ++i)
-            if (counts[static_cast<std::size_t>(i)] >= config.min_points) set_bit(g, i);
-        }
-        out.push_back(g);
-      }
-    }
+    for (int tj = 0; tj < shifts; ++tj)
+      for (int ti = 0; ti < shifts; ++ti)
+        out.push_back(occupancy(&column[static_cast<std::size_t>(ti) * n], &row[static_cast<std::size_t>(tj) * n], n,
+                                config, counts));
   }
   return out;
 }
