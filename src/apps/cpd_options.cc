@@ -56,12 +56,17 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
       ->capture_default_str();
   cmd.add_option(name("seed"), cpd.seed, "CPD: base seed (mixed with each map id)")
       ->capture_default_str()
-      ->each([](const std::string& v) {
-        if (!v.empty() && v.front() == '-') throw CLI::ValidationError("must not be negative, got " + v);
-      });
+      ->check(non_negative_seed());
   cmd.add_option(name("dilation"), cpd.dmm.dilation,
                  "CPD: dilation of the dictionary's cells in the fit of a crop (Eq. 2) [cells]")
       ->capture_default_str();
+}
+
+const CLI::Validator& non_negative_seed() {
+  static const CLI::Validator validator(
+      [](std::string& v) { return !v.empty() && v.front() == '-' ? "must not be negative, got " + v : std::string(); },
+      "SEED >= 0");
+  return validator;
 }
 
 }  // namespace partslam::apps

@@ -13,4 +13,7 @@ namespace partslam::apps {
 /// corner-spacing, mc, tsize, gc, seed, dilation (of the crop-vs-dictionary fit, Eq. 2).
 void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix);
 
+/// Refuses a negative seed ("-1" would otherwise wrap to 2^64 - 1 in an unsigned option).
+const CLI::Validator& non_negative_seed();
+
 }  // namespace partslam::apps

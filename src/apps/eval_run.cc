@@ -51,10 +51,9 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
       ->capture_default_str();
   cmd.add_option("--db-size", o.config.tasks.db_size, "N: maps per task database")->capture_default_str();
   cmd.add_option("--tasks", o.config.tasks.num_tasks, "tasks to sample")->capture_default_str();
-  cmd.add_option("--seed", o.config.tasks.seed, "task sampling seed")->capture_default_str()->each(
-      [](const std::string& v) {
-        if (!v.empty() && v.front() == '-') throw CLI::ValidationError("must not be negative, got " + v);
-      });
+  cmd.add_option("--seed", o.config.tasks.seed, "task sampling seed")
+      ->capture_default_str()
+      ->check(non_negative_seed());
   cmd.add_option("--max-range", o.max_range, "usable range of submaps and dictionary: farther beam endpoints are dropped [m]")
       ->capture_default_str();
   cmd.add_option("--radius", o.config.tasks.radius, "R: relevant-pair radius [m]")->capture_default_str();

@@ -60,11 +60,8 @@ MethodSpec parse_method_spec(const std::string& text) {
   std::vector<std::string> f = split(text, ':');
   if (f.empty() || f[0].empty()) throw InputError("method '" + text + "': empty method spec");
   const MethodEntry* entry = find_method(f[0]);
-  if (entry == nullptr) {
-    std::string names;
-    for (const MethodEntry& e : method_registry()) names += (names.empty() ? "" : ", ") + std::string(e.syntax);
-    throw InputError("method '" + text + "': unknown scheme '" + f[0] + "' (expected " + names + ")");
-  }
+  if (entry == nullptr)
+    throw InputError("method '" + text + "': unknown scheme '" + f[0] + "' (expected " + method_syntax_list() + ")");
   MethodSpec m;
   m.name = f[0];
   f.erase(f.begin());
