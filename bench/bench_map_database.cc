@@ -54,7 +54,10 @@ class Loaded : public benchmark::Fixture {
     std::vector<partslam::io::DescriptorRecord> records;
     for (std::int64_t id : db.map_ids(dataset_))
       records.push_back({id, {partslam::io::Bytes(16, 0x5a), 126}});
-    db.put_descriptors("albert", 3, records);
+    partslam::CodecConfig codec;  // 42 bits per part: 126 bits are K = 3 parts
+    codec.dictionary_extent = {-20.0, 30.0, -5.0, 45.0};
+    codec.rotation_bits = 0;
+    db.put_descriptors("albert", 3, codec, records);
   }
   void TearDown(const benchmark::State&) override { fs::remove(path_); }
 

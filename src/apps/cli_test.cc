@@ -46,7 +46,10 @@ class CliTest : public ::testing::Test {
     }
     db.store_dataset({"sim-loop", "simulator", io::DatasetKind::kSubmaps, {}}, submaps);
     db.store_dataset({"sim-other", "simulator", io::DatasetKind::kSubmaps, {}}, Submaps(2));
-    db.put_descriptor(3, "fr079", 3, {io::Bytes(16, 0x5a), 126});
+    CodecConfig codec;  // 42 bits per part
+    codec.dictionary_extent = {-20.0, 30.0, -5.0, 45.0};
+    codec.rotation_bits = 0;
+    db.put_descriptor(3, "fr079", 3, codec, {io::Bytes(16, 0x5a), 126});
   }
   void TearDown() override { fs::remove_all(dir_); }
 

@@ -1,9 +1,8 @@
 // partslam describe DB --dict NAME: the offline half of PartSLAM (docs/DESIGN.md data flow, "CPD" and "MD"). Runs
 // common pattern discovery of every stored submap (of one dataset, or all) against a stored dictionary, keeps
 // up to P parts per map, and stores in one transaction the packed descriptor of the top K parts for each K of
-// --k, plus the whole P-part list under K = P (with appearance scores when P > 16: the hMM query list). The
-// codec is derived from the dictionary's points and K (core/parts/descriptor_layout.h), so `match` decodes without
-// any stored codec state.
+// --k, plus the whole P-part list under K = P (with appearance scores when P > 16: the hMM query list). Each
+// set's codec (core/parts/descriptor_layout.h) is stored with it, so `match` decodes without the dictionary.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -113,7 +112,12 @@ void run_describe(DescribeOptions o) {
 
   // Encode every K and write them in one transaction.
   std::cout << std::fixed << std::setprecision(1);
-  std::vector<std::pair<int, std::vector<io::DescriptorRecord>>> sets;
+  struct Set {
+    int k;
+    CodecConfig codec;
+    std::vector<io::DescriptorRecord> records;
+  };
+  std::vector<Set> sets;
   for (int k : ks) {
     const CodecConfig codec = descriptor_codec_config(dictionary.points, k);
     std::vector<io::DescriptorRecord> records;
@@ -124,11 +128,11 @@ void run_describe(DescribeOptions o) {
         throw InputError("map " + std::to_string(m.map_id) + ", K=" + std::to_string(k) + ": " + e.what());
       }
     }
-    sets.emplace_back(k, std::move(records));
+    sets.push_back({k, codec, std::move(records)});
   }
   {
     io::MapDatabase::Transaction transaction(db);
-    for (const auto& [k, records] : sets) db.put_descriptors(dictionary.name, k, records);
+    for (const Set& set : sets) db.put_descriptors(dictionary.name, set.k, set.codec, set.records);
     transaction.commit();
   }
 
@@ -157,14 +161,14 @@ void run_describe(DescribeOptions o) {
   std::cout << std::setw(6) << "K" << std::setw(12) << "bits/part" << std::setw(12) << "mean parts"
             << std::setw(12) << "bits/map" << std::setw(10) << "min" << std::setw(10) << "max"
             << "\n";
-  for (const auto& [k, records] : sets) {
+  for (const auto& [k, codec, records] : sets) {
     double bits = 0;
     int lo = records.front().descriptor.bits, hi = lo;
     for (const io::DescriptorRecord& r : records) {
       bits += r.descriptor.bits;
       lo = std::min(lo, r.descriptor.bits), hi = std::max(hi, r.descriptor.bits);
     }
-    const int per_part = bits_per_part(descriptor_codec_config(dictionary.points, k));
+    const int per_part = bits_per_part(codec);
     std::cout << std::setw(6) << k << std::setw(12) << per_part << std::setw(12)
               << bits / per_part / records.size() << std::setw(12)
               << bits / static_cast<double>(records.size()) << std::setw(10) << lo << std::setw(10) << hi

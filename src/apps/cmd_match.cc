@@ -57,10 +57,15 @@ struct Row {
   std::optional<DmmResult> dmm;
 };
 
+// The dictionary whose descriptors to read: the one named (which must have descriptors or be stored), else
+// the only one with descriptors.
 std::string resolve_descriptor_dictionary(const io::MapDatabase& db, const std::string& name) {
-  if (!name.empty()) return name;
   std::set<std::string> names;
   for (const io::DescriptorSetInfo& s : db.descriptor_sets()) names.insert(s.dictionary);
+  if (!name.empty()) {
+    if (!names.count(name)) db.load_dictionary(name);  // throws "no dictionary named ..." when it is unknown
+    return name;
+  }
   if (names.empty()) {
     throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " +
                      db.path().string() + " --dict NAME' first");
@@ -76,7 +81,7 @@ std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Sub
                                             const std::vector<Candidate>& candidates, const MethodSpec& method,
                                             const MatchOptions& o, std::vector<Part>& query_parts,
                                             std::string& timing) {
-  const io::Dictionary dictionary = db.load_dictionary(resolve_descriptor_dictionary(db, o.dictionary));
+  const std::string dictionary = resolve_descriptor_dictionary(db, o.dictionary);
   const int k = method.parts;
   const auto t0 = Clock::now();
   std::map<std::int64_t, MapDescriptor> stored = io::load_descriptor_set(db, dictionary, k);
@@ -93,31 +98,31 @@ std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Sub
   if (missing > 0) {
     throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) +
                      " maps have no K=" + std::to_string(k) + " descriptor for dictionary '" +
-                     dictionary.name + "': " + io::describe_hint(db, dictionary.name, k));
+                     dictionary + "': " + io::describe_hint(db, dictionary, k));
   }
   const MethodSpec& parts_method = method.stages.empty() ? method : method.stages.front();
   const bool imm = parts_method.name == "imm";
   const int query_k = imm                 ? k
                       : o.query_parts > 0 ? o.query_parts
-                                          : io::query_list_parts(db, dictionary.name, query.id);
+                                          : io::query_list_parts(db, dictionary, query.id);
   if (query_k == 0) {
     throw InputError("map " + std::to_string(query.id) +
                      " has no hMM query list (a descriptor of more than " +
-                     std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary.name +
-                     "': run 'partslam describe " + db.path().string() + " --dict " + dictionary.name +
+                     std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary +
+                     "': run 'partslam describe " + db.path().string() + " --dict " + dictionary +
                      "' first (it stores the P-part list as K = P when P > " +
                      std::to_string(kMaxUnscoredParts) + "), or name a stored list with --query-parts");
   }
   std::optional<MapDescriptor> query_descriptor = io::load_descriptor(db, dictionary, query_k, query.id);
   if (!query_descriptor) {
     throw InputError("the query map " + std::to_string(query.id) + " has no K=" + std::to_string(query_k) +
-                     " descriptor for dictionary '" + dictionary.name +
-                     "': " + io::describe_hint(db, dictionary.name, query_k));
+                     " descriptor for dictionary '" + dictionary +
+                     "': " + io::describe_hint(db, dictionary, query_k));
   }
   query_parts = std::move(query_descriptor->parts);
   char buf[200];
   std::snprintf(buf, sizeof buf, "dictionary '%s', query %zu parts (K=%d), descriptors %.1f ms; ",
-                dictionary.name.c_str(), query_parts.size(), query_k, ms_since(t0));
+                dictionary.c_str(), query_parts.size(), query_k, ms_since(t0));
   timing += buf;
   if (query_parts.empty()) {
     timing += "note: CPD found no part of the query map, so every descriptor score is 0 (try 'describe --mc "

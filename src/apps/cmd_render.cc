@@ -50,9 +50,9 @@ void run_render(RenderOptions o) {
   if (dictionary) {
     if (!o.fresh) {
       if (const int p = io::query_list_parts(db, dictionary->name, o.map_id); p > 0) {
-        figure.parts = select_top_parts(io::load_descriptor(db, *dictionary, p, o.map_id)->parts, o.parts).parts;
+        figure.parts = select_top_parts(io::load_descriptor(db, dictionary->name, p, o.map_id)->parts, o.parts).parts;
         source = "the stored " + std::to_string(p) + "-part list";
-      } else if (auto d = io::load_descriptor(db, *dictionary, o.parts, o.map_id)) {
+      } else if (auto d = io::load_descriptor(db, dictionary->name, o.parts, o.map_id)) {
         figure.parts = d->parts;
         figure.show_scores = false;  // stored K-part descriptors keep no appearance score
         source = "the stored K=" + std::to_string(o.parts) + " descriptor";

@@ -25,31 +25,39 @@ std::string describe_hint(const MapDatabase& db, const std::string& dictionary, 
          (k > kMaxUnscoredParts ? " --parts " : " --k ") + std::to_string(k) + "' first";
 }
 
-std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db,
-                                                          const Dictionary& dictionary, int k) {
-  const CodecConfig codec = descriptor_codec_config(dictionary.points, k);
-  std::map<std::int64_t, MapDescriptor> out;
-  for (const DescriptorRecord& r : db.load_descriptors(dictionary.name, k)) {
-    try {
-      out.emplace(r.map_id, decode_stored(r.descriptor, k, codec));
-    } catch (const InputError& e) {
-      throw InputError(db.path().string() + ": descriptor of map " + std::to_string(r.map_id) +
-                       " (dictionary '" + dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
-    }
+namespace {
+
+std::string descriptor_context(const MapDatabase& db, const std::string& dictionary, int k, std::int64_t map_id) {
+  return db.path().string() + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
+         "', K=" + std::to_string(k) + ")";
+}
+
+MapDescriptor decode_record(const MapDatabase& db, const std::string& dictionary, int k, std::int64_t map_id,
+                            const PackedDescriptor& packed, const CodecConfig& codec) {
+  try {
+    return decode_stored(packed, k, codec);
+  } catch (const InputError& e) {
+    throw InputError(descriptor_context(db, dictionary, k, map_id) + ": " + e.what());
   }
+}
+
+}  // namespace
+
+std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db, const std::string& dictionary,
+                                                          int k) {
+  std::map<std::int64_t, MapDescriptor> out;
+  const std::optional<CodecConfig> codec = db.descriptor_codec(dictionary, k);
+  if (!codec) return out;
+  for (const DescriptorRecord& r : db.load_descriptors(dictionary, k))
+    out.emplace(r.map_id, decode_record(db, dictionary, k, r.map_id, r.descriptor, *codec));
   return out;
 }
 
-std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const Dictionary& dictionary,
-                                             int k, std::int64_t map_id) {
-  const std::optional<PackedDescriptor> packed = db.get_descriptor(map_id, dictionary.name, k);
+std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const std::string& dictionary, int k,
+                                             std::int64_t map_id) {
+  const std::optional<PackedDescriptor> packed = db.get_descriptor(map_id, dictionary, k);
   if (!packed) return std::nullopt;
-  try {
-    return decode_stored(*packed, k, descriptor_codec_config(dictionary.points, k));
-  } catch (const InputError& e) {
-    throw InputError(db.path().string() + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" +
-                     dictionary.name + "', K=" + std::to_string(k) + "): " + e.what());
-  }
+  return decode_record(db, dictionary, k, map_id, *packed, *db.descriptor_codec(dictionary, k));
 }
 
 int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::int64_t map_id) {

@@ -1,5 +1,5 @@
-// The stored descriptors of one dictionary, decoded with the codec that core/parts/descriptor_layout.h derives
-// from the dictionary's points and K; what `partslam describe`, `match` and `render` read and write.
+// The stored descriptors of one dictionary, decoded with the codec stored with their set (schema version 2);
+// what `partslam match` and `render` read.
 #pragma once
 
 #include <cstdint>
@@ -21,11 +21,11 @@ std::string describe_hint(const MapDatabase& db, const std::string& dictionary, 
 
 /// Every stored descriptor of (dictionary, K), decoded, by map id.
 std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db,
-                                                          const Dictionary& dictionary, int k);
+                                                          const std::string& dictionary, int k);
 
 /// One map's stored descriptor of (dictionary, K), decoded; nullopt when there is none.
-std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const Dictionary& dictionary,
-                                             int k, std::int64_t map_id);
+std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const std::string& dictionary, int k,
+                                             std::int64_t map_id);
 
 /// K of the longest hMM query list (K > kMaxUnscoredParts, appearance scores stored) kept for the dictionary
 /// that holds map_id; 0 when there is none.

@@ -68,7 +68,8 @@ CREATE TABLE descriptors (
 CREATE INDEX descriptors_by_map ON descriptors(map_id);
 )sql";
 
-constexpr std::array<const char*, 4> kTables = {"datasets", "submaps", "dictionaries", "descriptors"};
+constexpr std::array<const char*, 5> kTables = {"datasets", "submaps", "dictionaries", "descriptors",
+                                                "descriptor_codecs"};
 
 std::uint32_t big_endian(const unsigned char* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
@@ -120,7 +121,15 @@ void check_header(const fs::path& path) {
   }
 }
 
-void check_schema(const Connection& db) {
+void require_table(const Connection& db, const char* table) {
+  Statement find(db, "SELECT 1 FROM sqlite_schema WHERE type = 'table' AND name = ?1");
+  if (!find.bind_text(1, table).step()) {
+    throw InputError(db.path().string() + ": damaged PartSLAM map database: table '" + table + "' is missing");
+  }
+}
+
+// Checks the application id and the tables of the file's schema version; returns that version.
+int check_schema(const Connection& db) {
   const std::string prefix = db.path().string() + ": ";
   const auto application_id = static_cast<std::uint32_t>(db.query_int("PRAGMA application_id"));
   const std::int64_t version = db.query_int("PRAGMA user_version");
@@ -137,11 +146,9 @@ void check_schema(const Connection& db) {
   }
   if (version < 1) throw InputError(prefix + "unsupported schema version " + std::to_string(version));
   for (const char* table : kTables) {
-    Statement find(db, "SELECT 1 FROM sqlite_schema WHERE type = 'table' AND name = ?1");
-    if (!find.bind_text(1, table).step()) {
-      throw InputError(prefix + "damaged PartSLAM map database: table '" + table + "' is missing");
-    }
+    if (version >= 2 || std::string(table) != "descriptor_codecs") require_table(db, table);
   }
+  return static_cast<int>(version);
 }
 
 // Builds an empty database beside path and links it into place without replacing a file that another
@@ -160,6 +167,7 @@ void create_empty(const fs::path& path) {
     db.exec("PRAGMA application_id = " + std::to_string(kMapDatabaseApplicationId));
     db.exec("PRAGMA user_version = " + std::to_string(kMapDatabaseSchemaVersion));
     db.exec(kSchema);
+    db.exec(internal::kCodecsTable);
     db.exec("COMMIT");
   } catch (const InputError& e) {
     fs::remove(tmp, ec);
@@ -203,9 +211,13 @@ MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
   // (require_writable) and by PRAGMA query_only.
   const bool read_only = mode == Mode::kReadOnly;
   auto impl =
-      std::make_unique<Impl>(Impl{Connection::open(path, Connection::Access::kReadWrite), read_only, 0});
-  check_schema(impl->db);
+      std::make_unique<Impl>(Impl{Connection::open(path, Connection::Access::kReadWrite), read_only, 0, 0});
+  impl->schema_version = check_schema(impl->db);
   impl->db.exec("PRAGMA foreign_keys = ON");
+  if (impl->schema_version < kMapDatabaseSchemaVersion && !read_only) {
+    internal::migrate_to_current(impl->db);
+    impl->schema_version = check_schema(impl->db);
+  }
   if (read_only) impl->db.exec("PRAGMA query_only = ON");
   return MapDatabase(std::move(impl));
 }

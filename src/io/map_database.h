@@ -1,7 +1,7 @@
 // The map database: one SQLite file holding datasets of submaps, dictionary maps and packed part
 // descriptors (docs/DESIGN.md, data flow "... ──► packed descriptor ──► map database").
 //
-// Schema (version 1; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 1; STRICT tables):
+// Schema (version 2; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 2; STRICT tables):
 //   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig, created)
 //   submaps      (id = global map id, dataset_id, idx within dataset, anchor_scan, anchor_timestamp, travel,
 //                 alignment_angle, world_x/world_y/world_theta = T_world_map, point_count, points BLOB,
@@ -9,6 +9,8 @@
 //   dictionaries (id, name UNIQUE, source, resolution, alignment_angle, world_x/y/theta, point_count,
 //                 points BLOB, metadata JSON, created)
 //   descriptors  (dictionary, k, map_id, bits, data BLOB), primary key (dictionary, k, map_id)
+//   descriptor_codecs (dictionary, k, codec JSON of CodecConfig), primary key (dictionary, k): how the
+//                 descriptors of a set are packed, so they decode without the dictionary (version 2)
 // Blobs are little-endian (io/blob_codec.h): points are float32 pairs (< 0.4 um rounding in a submap),
 // timestamps float64. Every other number is stored exactly. Map ids are never reused (AUTOINCREMENT).
 //
@@ -18,7 +20,10 @@
 // a dataset and its submaps in one transaction. Callers may group several writes in a Transaction.
 //
 // Opening checks the file: missing, not SQLite, empty, truncated, foreign (other application_id), or a
-// newer schema version all throw InputError naming the file and the problem. SQLite errors met later
+// newer schema version all throw InputError naming the file and the problem. A version 1 file (no stored
+// codecs) opened for writing is migrated to version 2 in one transaction: each descriptor set gets the codec
+// version 1 implied (descriptor_codec_config_v1 of its dictionary's points); opened read-only it is left as
+// it is and that codec is derived on read. SQLite errors met later
 // (e.g. corruption found while reading) are InputError naming the file too.
 #pragma once
 
@@ -37,7 +42,7 @@
 namespace partslam::io {
 
 inline constexpr std::int32_t kMapDatabaseApplicationId = 0x50534C4D;  // "PSLM"
-inline constexpr int kMapDatabaseSchemaVersion = 1;
+inline constexpr int kMapDatabaseSchemaVersion = 2;
 
 /// What a dataset's submaps are for: maps to match, or the submaps of a dictionary log.
 enum class DatasetKind { kSubmaps, kDictionary };
@@ -175,12 +180,20 @@ class MapDatabase {
   std::vector<DictionaryInfo> dictionaries() const;
   void remove_dictionary(const std::string& name);
 
-  // ---- descriptors, keyed by (map id, dictionary name, K) ----
-  /// Inserts or replaces one descriptor. Throws InputError for an unknown map id, k < 1, an empty
-  /// dictionary name, or bytes.size() != ceil(bits / 8).
-  void put_descriptor(std::int64_t map_id, const std::string& dictionary, int k, const PackedDescriptor& d);
-  /// Inserts or replaces many descriptors of one (dictionary, K) in one transaction.
-  void put_descriptors(const std::string& dictionary, int k, const std::vector<DescriptorRecord>& records);
+  // ---- descriptors, keyed by (map id, dictionary name, K); one codec per (dictionary, K) ----
+  /// Inserts or replaces one descriptor packed under `codec`. Throws InputError for an unknown map id,
+  /// k < 1, an empty dictionary name, an invalid codec, bytes.size() != ceil(bits / 8), or a bit count that
+  /// is not a whole number of parts (at most K) under the codec.
+  void put_descriptor(std::int64_t map_id, const std::string& dictionary, int k, const CodecConfig& codec,
+                      const PackedDescriptor& d);
+  /// Inserts or replaces many descriptors of one (dictionary, K) in one transaction. A set holds one codec:
+  /// writing under a codec other than the stored one first removes the set's old descriptors, which that
+  /// codec cannot decode.
+  void put_descriptors(const std::string& dictionary, int k, const CodecConfig& codec,
+                       const std::vector<DescriptorRecord>& records);
+  /// The codec of the set (dictionary, K); nullopt when no descriptor of the set is stored. Throws InputError
+  /// naming the file and set for a stored codec that does not parse or validate.
+  std::optional<CodecConfig> descriptor_codec(const std::string& dictionary, int k) const;
   std::optional<PackedDescriptor> get_descriptor(std::int64_t map_id, const std::string& dictionary,
                                                  int k) const;
   /// All descriptors of one (dictionary, K), by increasing map id.

@@ -14,9 +14,18 @@ struct MapDatabase::Impl {
   sqlite::Connection db;
   bool read_only = false;
   int depth = 0;  ///< open Transactions
+  int schema_version = 0;
 };
 
 namespace internal {
+
+/// The table schema version 2 added.
+inline constexpr const char* kCodecsTable =
+    "CREATE TABLE descriptor_codecs (dictionary TEXT NOT NULL, k INTEGER NOT NULL, codec TEXT NOT NULL,"
+    " PRIMARY KEY (dictionary, k)) STRICT, WITHOUT ROWID";
+
+/// Migrates a version 1 file to the current schema in one transaction (see map_database.h).
+void migrate_to_current(sqlite::Connection& db);
 
 /// Throws InputError "<context>: <field> must be finite" (SQLite would store NaN as NULL).
 inline void require_finite(double value, const std::string& context, const char* field) {

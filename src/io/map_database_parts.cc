@@ -1,6 +1,9 @@
 // MapDatabase: dictionary maps and packed part descriptors.
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
+#include "core/parts/descriptor_layout.h"
 #include "io/map_database.h"
 #include "io/map_database_internal.h"
 
@@ -22,6 +25,80 @@ std::string descriptor_context(const std::string& file, std::int64_t map_id, con
                                int k) {
   return file + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
          "', K=" + std::to_string(k) + ")";
+}
+
+void check_fits_codec(const PackedDescriptor& d, int k, const CodecConfig& codec, const std::string& context) {
+  const int per_part = bits_per_part(codec);
+  if (d.bits % per_part != 0 || d.bits / per_part > k) {
+    throw InputError(context + ": " + std::to_string(d.bits) + " bits are not a whole number of parts (at most K = " +
+                     std::to_string(k) + ") of " + std::to_string(per_part) + " bits under the set's codec");
+  }
+}
+
+// A codec as stored: a JSON object with every field of CodecConfig (numbers round-trip exactly).
+std::string codec_json(const CodecConfig& c) {
+  const Box2& e = c.dictionary_extent;
+  nlohmann::json j = {{"crop_size", c.crop_size},
+                      {"keypoint_resolution", c.keypoint_resolution},
+                      {"keypoint_bits", c.keypoint_bits},
+                      {"dictionary_extent", {e.x_min, e.x_max, e.y_min, e.y_max}},
+                      {"origin_bits_x", c.origin_bits_x},
+                      {"origin_bits_y", c.origin_bits_y},
+                      {"rotation_bits", c.rotation_bits},
+                      {"score_bits", c.score_bits},
+                      {"score_max", c.score_max}};
+  return j.dump();
+}
+
+CodecConfig parse_codec_json(const std::string& text, const std::string& context) {
+  const auto j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) throw InputError(context + ": codec is not a JSON object (corrupt database)");
+  auto field = [&](const char* name) -> const nlohmann::json& {
+    if (!j.contains(name)) throw InputError(context + ": codec field '" + name + "' is missing (corrupt database)");
+    return j.at(name);
+  };
+  auto number = [&](const char* name) {
+    const nlohmann::json& v = field(name);
+    if (!v.is_number()) throw InputError(context + ": codec field '" + name + "' is not a number (corrupt database)");
+    return v.get<double>();
+  };
+  auto integer = [&](const char* name) {
+    const nlohmann::json& v = field(name);
+    if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() > 64)
+      throw InputError(context + ": codec field '" + name + "' is not an integer in [0, 64] (corrupt database)");
+    return static_cast<int>(v.get<std::int64_t>());
+  };
+  CodecConfig c;
+  c.crop_size = number("crop_size");
+  c.keypoint_resolution = number("keypoint_resolution");
+  c.keypoint_bits = integer("keypoint_bits");
+  const nlohmann::json& e = field("dictionary_extent");
+  if (!e.is_array() || e.size() != 4 || !std::all_of(e.begin(), e.end(), [](const auto& v) { return v.is_number(); }))
+    throw InputError(context + ": codec field 'dictionary_extent' is not 4 numbers (corrupt database)");
+  c.dictionary_extent = {e[0].get<double>(), e[1].get<double>(), e[2].get<double>(), e[3].get<double>()};
+  c.origin_bits_x = integer("origin_bits_x");
+  c.origin_bits_y = integer("origin_bits_y");
+  c.rotation_bits = integer("rotation_bits");
+  c.score_bits = integer("score_bits");
+  c.score_max = number("score_max");
+  try {
+    validate(c);
+  } catch (const InputError& err) {
+    throw InputError(context + ": " + err.what() + " (corrupt database)");
+  }
+  return c;
+}
+
+std::string set_context(const std::string& file, const std::string& dictionary, int k) {
+  return file + ": descriptors of dictionary '" + dictionary + "', K=" + std::to_string(k);
+}
+
+Points2 stored_dictionary_points(const sqlite::Connection& db, const std::string& dictionary) {
+  Statement q(db, "SELECT point_count, points FROM dictionaries WHERE name = ?1");
+  if (!q.bind_text(1, dictionary).step()) return {};
+  const std::string context = db.path().string() + ": dictionary '" + dictionary + "'";
+  if (q.int64(0) < 0) throw InputError(context + ": negative point count (corrupt database)");
+  return decode_points_f32(q.blob(1), static_cast<std::size_t>(q.int64(0)), context);
 }
 
 PackedDescriptor read_descriptor(const Statement& q, int bits_column, const std::string& context) {
@@ -114,15 +191,30 @@ void MapDatabase::remove_dictionary(const std::string& name) {
 }
 
 void MapDatabase::put_descriptor(std::int64_t map_id, const std::string& dictionary, int k,
-                                 const PackedDescriptor& d) {
-  put_descriptors(dictionary, k, {{map_id, d}});
+                                 const CodecConfig& codec, const PackedDescriptor& d) {
+  put_descriptors(dictionary, k, codec, {{map_id, d}});
 }
 
-void MapDatabase::put_descriptors(const std::string& dictionary, int k,
+void MapDatabase::put_descriptors(const std::string& dictionary, int k, const CodecConfig& codec,
                                   const std::vector<DescriptorRecord>& records) {
   internal::require_name(dictionary, "descriptor dictionary");
   if (k < 1) throw InputError("descriptor K must be >= 1, got " + std::to_string(k));
+  const std::string set = set_context(path().string(), dictionary, k);
+  try {
+    validate(codec);
+  } catch (const InputError& e) {
+    throw InputError(set + ": " + e.what());
+  }
   Transaction transaction(*this);
+  const std::string stored_codec = codec_json(codec);
+  Statement old_codec(impl_->db, "SELECT codec FROM descriptor_codecs WHERE dictionary = ?1 AND k = ?2");
+  if (old_codec.bind_text(1, dictionary).bind_int(2, k).step() && old_codec.text(0) != stored_codec) {
+    Statement drop(impl_->db, "DELETE FROM descriptors WHERE dictionary = ?1 AND k = ?2");
+    drop.bind_text(1, dictionary).bind_int(2, k).run();
+  }
+  Statement put_codec(impl_->db,
+                      "INSERT OR REPLACE INTO descriptor_codecs (dictionary, k, codec) VALUES (?1, ?2, ?3)");
+  put_codec.bind_text(1, dictionary).bind_int(2, k).bind_text(3, stored_codec).run();
   Statement exists(impl_->db, "SELECT 1 FROM submaps WHERE id = ?1");
   Statement insert(
       impl_->db,
@@ -130,6 +222,7 @@ void MapDatabase::put_descriptors(const std::string& dictionary, int k,
   for (const DescriptorRecord& r : records) {
     const std::string context = descriptor_context(path().string(), r.map_id, dictionary, k);
     check_descriptor(r.descriptor, context);
+    check_fits_codec(r.descriptor, k, codec, context);
     exists.reset();
     if (!exists.bind_int(1, r.map_id).step()) throw InputError(context + ": no map with this id");
     insert.reset();
@@ -147,6 +240,24 @@ std::optional<PackedDescriptor> MapDatabase::get_descriptor(std::int64_t map_id,
   return read_descriptor(q, 0, descriptor_context(path().string(), map_id, dictionary, k));
 }
 
+std::optional<CodecConfig> MapDatabase::descriptor_codec(const std::string& dictionary, int k) const {
+  Statement any(impl_->db, "SELECT 1 FROM descriptors WHERE dictionary = ?1 AND k = ?2 LIMIT 1");
+  if (!any.bind_text(1, dictionary).bind_int(2, k).step()) return std::nullopt;
+  const std::string context = set_context(path().string(), dictionary, k);
+  if (impl_->schema_version < 2) {  // read-only version 1 file: the codec version 1 implied
+    const Points2 points = stored_dictionary_points(impl_->db, dictionary);
+    if (points.empty()) {
+      throw InputError(context + ": stored by schema version 1 without their codec, and the dictionary's points "
+                       "that implied it are gone");
+    }
+    return descriptor_codec_config_v1(points, k);
+  }
+  Statement q(impl_->db, "SELECT codec FROM descriptor_codecs WHERE dictionary = ?1 AND k = ?2");
+  if (!q.bind_text(1, dictionary).bind_int(2, k).step())
+    throw InputError(context + ": no codec stored for them (corrupt database)");
+  return parse_codec_json(q.text(0), context);
+}
+
 std::vector<DescriptorRecord> MapDatabase::load_descriptors(const std::string& dictionary, int k) const {
   Statement q(impl_->db,
               "SELECT map_id, bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 ORDER BY map_id");
@@ -159,5 +270,34 @@ std::vector<DescriptorRecord> MapDatabase::load_descriptors(const std::string& d
   }
   return out;
 }
+
+namespace internal {
+
+void migrate_to_current(sqlite::Connection& db) {
+  db.exec("BEGIN IMMEDIATE");
+  try {
+    if (db.query_int("PRAGMA user_version") == 1) {  // another process may have migrated it meanwhile
+      db.exec(kCodecsTable);
+      Statement sets(db, "SELECT DISTINCT dictionary, k FROM descriptors ORDER BY dictionary, k");
+      Statement insert(db, "INSERT INTO descriptor_codecs (dictionary, k, codec) VALUES (?1, ?2, ?3)");
+      while (sets.step()) {
+        const std::string dictionary = sets.text(0);
+        const int k = static_cast<int>(sets.int64(1));
+        const Points2 points = stored_dictionary_points(db, dictionary);
+        if (points.empty() || k < 1) continue;  // undecodable under version 1 already; left without a codec
+        insert.reset();
+        insert.bind_text(1, dictionary).bind_int(2, k).bind_text(3, codec_json(descriptor_codec_config_v1(points, k)));
+        insert.run();
+      }
+      db.exec("PRAGMA user_version = 2");
+    }
+    db.exec("COMMIT");
+  } catch (const InputError& e) {
+    if (db.in_transaction()) db.exec("ROLLBACK");
+    throw InputError(db.path().string() + ": cannot migrate the database from schema version 1: " + e.what());
+  }
+}
+
+}  // namespace internal
 
 }  // namespace partslam::io

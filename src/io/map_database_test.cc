@@ -10,6 +10,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/parts/descriptor_layout.h"
 #include "io/sqlite.h"
 
 namespace partslam::io {
@@ -167,12 +168,21 @@ TEST_F(MapDatabaseTest, RefusesDuplicateNamesBadConfigAndUnknownIds) {
   EXPECT_THROW(parse_dataset_kind("maps"), InputError);
 }
 
+// A codec of 42 bits per part (the paper's layout, no rotation bits).
+CodecConfig codec42() {
+  CodecConfig c;
+  c.dictionary_extent = {-20.0, 30.0, -5.0, 45.0};
+  c.rotation_bits = 0;
+  return c;
+}
+
 TEST_F(MapDatabaseTest, DescriptorsPutGetReplaceAndCascade) {
   MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
   const std::int64_t ds = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1));
   const std::vector<std::int64_t> ids = db.map_ids(ds);
+  const CodecConfig c = codec42();
   const PackedDescriptor d126{Bytes{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0x3f}, 126};
-  db.put_descriptor(ids[1], "fr079", 3, d126);
+  db.put_descriptor(ids[1], "fr079", 3, c, d126);
   const auto got = db.get_descriptor(ids[1], "fr079", 3);
   ASSERT_TRUE(got.has_value());
   EXPECT_EQ(got->bytes, d126.bytes);
@@ -181,28 +191,113 @@ TEST_F(MapDatabaseTest, DescriptorsPutGetReplaceAndCascade) {
   EXPECT_FALSE(db.get_descriptor(ids[1], "albert", 3).has_value());
   EXPECT_FALSE(db.get_descriptor(ids[0], "fr079", 3).has_value());
 
-  db.put_descriptor(ids[1], "fr079", 3, {Bytes{0xab}, 5});  // replaces
-  EXPECT_EQ(db.get_descriptor(ids[1], "fr079", 3)->bytes, Bytes{0xab});
-  db.put_descriptors("fr079", 3, {{ids[2], {Bytes{7, 7}, 16}}, {ids[0], {Bytes{}, 0}}});
+  const PackedDescriptor d42{Bytes{0xab, 1, 2, 3, 4, 0x3}, 42};
+  db.put_descriptor(ids[1], "fr079", 3, c, d42);  // replaces
+  EXPECT_EQ(db.get_descriptor(ids[1], "fr079", 3)->bytes, d42.bytes);
+  db.put_descriptors("fr079", 3, c, {{ids[2], d126}, {ids[0], {Bytes{}, 0}}});
   const std::vector<DescriptorRecord> all = db.load_descriptors("fr079", 3);
   ASSERT_EQ(all.size(), 3u);
   EXPECT_EQ(all[0].map_id, ids[0]);
   EXPECT_EQ(all[0].descriptor.bits, 0);
-  EXPECT_EQ(all[2].descriptor.bytes, (Bytes{7, 7}));
+  EXPECT_EQ(all[2].descriptor.bytes, d126.bytes);
   ASSERT_EQ(db.descriptor_sets().size(), 1u);
   EXPECT_EQ(db.descriptor_sets()[0].count, 3);
-  EXPECT_DOUBLE_EQ(db.descriptor_sets()[0].mean_bits, 7.0);
+  EXPECT_DOUBLE_EQ(db.descriptor_sets()[0].mean_bits, 56.0);
 
-  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 3, {Bytes{1, 2}, 126}), InputError);  // length
-  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 0, {Bytes{1}, 8}), InputError);       // K
-  EXPECT_THROW(db.put_descriptor(ids[0], "", 3, {Bytes{1}, 8}), InputError);            // name
-  EXPECT_THROW(db.put_descriptor(1234, "fr079", 3, {Bytes{1}, 8}), InputError);         // map id
-  // A failing record leaves the batch unwritten.
-  EXPECT_THROW(db.put_descriptors("fr079", 4, {{ids[0], {Bytes{1}, 8}}, {999, {Bytes{1}, 8}}}), InputError);
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 3, c, {Bytes{1, 2}, 126}), InputError);  // length
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 3, c, {Bytes{1}, 8}), InputError);       // not whole parts
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 2, c, d126), InputError);                // 3 parts under K=2
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 0, c, d42), InputError);                 // K
+  EXPECT_THROW(db.put_descriptor(ids[0], "", 3, c, d42), InputError);                      // name
+  EXPECT_THROW(db.put_descriptor(1234, "fr079", 3, c, d42), InputError);                   // map id
+  EXPECT_THROW(db.put_descriptor(ids[0], "fr079", 3, CodecConfig{}, d42), InputError);     // no extent
+  // A failing record leaves the batch unwritten, codec included.
+  EXPECT_THROW(db.put_descriptors("fr079", 4, c, {{ids[0], d42}, {999, d42}}), InputError);
   EXPECT_TRUE(db.load_descriptors("fr079", 4).empty());
+  EXPECT_FALSE(db.descriptor_codec("fr079", 4).has_value());
 
   db.remove_dataset(ds);
   EXPECT_TRUE(db.load_descriptors("fr079", 3).empty());
+}
+
+TEST_F(MapDatabaseTest, DescriptorSetsKeepTheirCodec) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+  const std::vector<std::int64_t> ids =
+      db.map_ids(db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1)));
+  CodecConfig c = codec42();
+  c.dictionary_extent = {-20.1, 30.0 + 1.0 / 3.0, -5.0, 45.0};  // needs every digit to round-trip
+  c.score_bits = 8;
+  c.score_max = 0.7;
+  const PackedDescriptor d50{Bytes(7, 0), 50};
+  db.put_descriptors("fr079", 20, c, {{ids[0], d50}, {ids[1], d50}});
+  const std::optional<CodecConfig> back = MapDatabase::open(path, Mode::kReadOnly).descriptor_codec("fr079", 20);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->dictionary_extent.x_min, -20.1);
+  EXPECT_EQ(back->dictionary_extent.x_max, 30.0 + 1.0 / 3.0);
+  EXPECT_EQ(back->score_bits, 8);
+  EXPECT_EQ(back->score_max, 0.7);
+  EXPECT_EQ(back->rotation_bits, 0);
+  EXPECT_FALSE(db.descriptor_codec("fr079", 3).has_value());
+
+  // Same codec: the set grows. Another codec: the old descriptors, which it cannot decode, go.
+  db.put_descriptors("fr079", 20, c, {{ids[2], d50}});
+  EXPECT_EQ(db.load_descriptors("fr079", 20).size(), 3u);
+  c.score_max = 1.0;
+  db.put_descriptors("fr079", 20, c, {{ids[2], d50}});
+  EXPECT_EQ(db.load_descriptors("fr079", 20).size(), 1u);
+  EXPECT_EQ(db.descriptor_codec("fr079", 20)->score_max, 1.0);
+
+  // A damaged codec is named with its file and set.
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
+      .exec("UPDATE descriptor_codecs SET codec = '{\"crop_size\": 12.8}'");
+  try {
+    MapDatabase::open(path, Mode::kReadOnly).descriptor_codec("fr079", 20);
+    FAIL() << "damaged codec accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path.string()));
+    EXPECT_THAT(e.what(), HasSubstr("K=20"));
+    EXPECT_THAT(e.what(), HasSubstr("keypoint_resolution"));
+  }
+}
+
+TEST_F(MapDatabaseTest, SchemaVersionOneIsMigratedWhenOpenedForWriting) {
+  const fs::path path = dir_ / "maps.db";
+  std::vector<std::int64_t> ids;
+  Dictionary d;
+  d.name = "fr079";
+  d.source = "fr079.log";
+  d.resolution = 0.1;
+  d.points = {{-3.0, 1.0}, {12.0, 7.5}, {4.0, -2.25}};
+  const CodecConfig v1 = descriptor_codec_config_v1(d.points, 3);
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    ids = db.map_ids(db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(2, 10, 1)));
+    db.add_dictionary(d);
+    db.put_descriptors("fr079", 3, v1, {{ids[0], {Bytes(6, 0), 44}}});
+    db.put_descriptors("gone", 3, v1, {{ids[1], {Bytes(6, 0), 44}}});
+  }
+  // What a version 1 file looks like: no codec table, user_version 1.
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
+      .exec("DROP TABLE descriptor_codecs; PRAGMA user_version = 1");
+
+  {  // Read-only: left as it is, the codec derived as version 1 did.
+    const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+    EXPECT_EQ(db.summary().schema_version, 1);
+    EXPECT_EQ(db.descriptor_codec("fr079", 3)->dictionary_extent.x_min, v1.dictionary_extent.x_min);
+    EXPECT_THROW(db.descriptor_codec("gone", 3), InputError);  // no dictionary left to derive it from
+  }
+  {  // Read-write: migrated, the same codec now stored.
+    const MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
+    EXPECT_EQ(db.summary().schema_version, 2);
+    const std::optional<CodecConfig> c = db.descriptor_codec("fr079", 3);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_EQ(c->dictionary_extent.x_min, v1.dictionary_extent.x_min);
+    EXPECT_EQ(c->dictionary_extent.y_max, v1.dictionary_extent.y_max);
+    EXPECT_EQ(c->rotation_bits, 2);
+    EXPECT_THROW(db.descriptor_codec("gone", 3), InputError);
+  }
+  EXPECT_EQ(MapDatabase::open(path, Mode::kReadOnly).summary().schema_version, 2);
 }
 
 TEST_F(MapDatabaseTest, DictionariesRoundTrip) {
@@ -313,10 +408,10 @@ TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
 TEST_F(MapDatabaseTest, RefusesNewerSchemaVersion) {
   const fs::path path = dir_ / "maps.db";
   MapDatabase::open(path, Mode::kCreate);
-  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 2");
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 3");
   const std::string error = open_error(path, Mode::kReadWrite);
   EXPECT_THAT(error, HasSubstr(path.string()));
-  EXPECT_THAT(error, HasSubstr("schema version 2 is newer"));
+  EXPECT_THAT(error, HasSubstr("schema version 3 is newer"));
 }
 
 TEST_F(MapDatabaseTest, RefusesForeignSqliteDatabase) {
