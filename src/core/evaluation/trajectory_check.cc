@@ -1,0 +1,54 @@
+#include "core/evaluation/trajectory_check.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "core/maps/submap.h"
+
+namespace partslam {
+namespace {
+
+double quantile(std::vector<double>& v, double q) {
+  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+Consistency local_consistency(const Scans& estimate, const Scans& reference,
+                              const std::vector<std::optional<std::size_t>>& reference_index,
+                              const ConsistencyConfig& c) {
+  if (reference_index.size() != estimate.size())
+    throw InputError("local consistency: one reference index per estimated scan is needed");
+  if (!(c.window_length > 0) || !(c.spacing > 0) || !(c.max_range > 0))
+    throw InputError("local consistency: window_length, spacing and max_range must be positive");
+  const std::vector<double> s = travel_distances(estimate);
+  Consistency out;
+  std::vector<double> d;
+  double next_anchor = 0.0;
+  for (std::size_t a = 0; a < estimate.size(); ++a) {
+    if (s[a] < next_anchor) continue;
+    next_anchor = s[a] + c.spacing;
+    if (!reference_index[a]) continue;
+    ++out.windows;
+    const Pose2 est_anchor = estimate[a].T_world_laser.inverse();
+    const Pose2 ref_anchor = reference.at(*reference_index[a]).T_world_laser.inverse();
+    for (std::size_t j = a; j < estimate.size() && s[j] < s[a] + c.window_length; ++j) {
+      if (!reference_index[j]) continue;
+      const Pose2 est = est_anchor * estimate[j].T_world_laser;
+      const Pose2 ref = ref_anchor * reference.at(*reference_index[j]).T_world_laser;
+      for (const Vec2& p : estimate[j].points_laser)
+        if (p.squaredNorm() <= c.max_range * c.max_range) d.push_back((est * p - ref * p).norm());
+    }
+  }
+  out.points = d.size();
+  if (!d.empty()) {
+    out.max = *std::max_element(d.begin(), d.end());
+    out.p90 = quantile(d, 0.9);
+    out.median = quantile(d, 0.5);
+  }
+  return out;
+}
+
+}  // namespace partslam

@@ -1,0 +1,36 @@
+// Local consistency of an estimated trajectory against a reference (issue "raw logs", front-end floor): for
+// every submap window of the estimate (anchor every `spacing` of travel, scans within `window_length` of
+// travel after it, as submaps are built), each scan's pose relative to the anchor is compared with the same
+// relative pose in the reference, and the error is measured where it matters: the displacement of that
+// scan's beam endpoints (within max_range) between the two relative poses. Scans missing from the reference
+// (a corrected subset) are skipped. The median of all displacements is what "a submap from the raw log matches
+// the corrected one to d cm after aligning each pair by its anchor pose" means.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/maps/scan.h"
+
+namespace partslam {
+
+struct ConsistencyConfig {
+  double window_length = 2.0;  ///< travel a window covers [m] (SubmapConfig::window_length)
+  double spacing = 0.5;        ///< travel between anchors [m] (SubmapConfig::spacing)
+  double max_range = kDefaultMaxRange;  ///< beam endpoints farther from the laser are not counted [m]
+};
+
+struct Consistency {
+  std::size_t windows = 0;  ///< windows with an anchor found in the reference
+  std::size_t points = 0;   ///< displacements measured
+  double median = 0.0;      ///< median displacement [m]
+  double p90 = 0.0;         ///< 90th percentile [m]
+  double max = 0.0;         ///< largest [m]
+};
+
+/// `reference_index[i]`: the index in `reference` of estimate scan i, or nullopt (associate_scans).
+Consistency local_consistency(const Scans& estimate, const Scans& reference,
+                              const std::vector<std::optional<std::size_t>>& reference_index,
+                              const ConsistencyConfig& config = {});
+
+}  // namespace partslam

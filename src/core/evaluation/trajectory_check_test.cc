@@ -1,0 +1,55 @@
+#include "core/evaluation/trajectory_check.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace partslam {
+namespace {
+
+// A straight drive along x, one scan every 0.1 m, each seeing one point 2 m to its left.
+Scans straight(int n) {
+  Scans scans(n);
+  for (int i = 0; i < n; ++i) {
+    scans[i].timestamp = i;
+    scans[i].T_world_laser = {0.1 * i, 0.0, 0.0};
+    scans[i].points_laser = {{0.0, 2.0}};
+  }
+  return scans;
+}
+
+std::vector<std::optional<std::size_t>> identity(std::size_t n) {
+  std::vector<std::optional<std::size_t>> index(n);
+  for (std::size_t i = 0; i < n; ++i) index[i] = i;
+  return index;
+}
+
+TEST(LocalConsistency, IsZeroForTheSameTrajectoryAndIgnoresAGlobalOffset) {
+  const Scans ref = straight(50);
+  Scans moved = ref;
+  for (Scan& s : moved) s.T_world_laser = Pose2{3.0, -1.0, 0.7} * s.T_world_laser;  // anchors absorb it
+  const Consistency c = local_consistency(moved, ref, identity(ref.size()));
+  EXPECT_EQ(c.windows, 10u);  // anchors every 0.5 m over 4.9 m
+  EXPECT_GT(c.points, 0u);
+  EXPECT_NEAR(c.max, 0.0, 1e-9);
+}
+
+TEST(LocalConsistency, MeasuresTheEndpointDisplacementOfARelativePoseError) {
+  const Scans ref = straight(50);
+  Scans est = ref;
+  est[25].T_world_laser.y += 0.05;  // one scan off by 5 cm sideways
+  const Consistency c = local_consistency(est, ref, identity(ref.size()));
+  EXPECT_NEAR(c.max, 0.05, 1e-9);
+  EXPECT_NEAR(c.median, 0.0, 1e-9);
+  // Scans missing from the reference are skipped, anchors too.
+  auto index = identity(ref.size());
+  index[25].reset();
+  index[0].reset();
+  const Consistency skipped = local_consistency(est, ref, index);
+  EXPECT_NEAR(skipped.max, 0.0, 1e-9);
+  EXPECT_LT(skipped.windows, c.windows);  // anchors without a reference are skipped
+  EXPECT_THROW(local_consistency(est, ref, {}), InputError);
+}
+
+}  // namespace
+}  // namespace partslam

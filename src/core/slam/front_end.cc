@@ -1,0 +1,116 @@
+#include "core/slam/front_end.h"
+
+#include <cmath>
+#include <deque>
+#include <string>
+
+#include "core/error.h"
+#include "core/maps/submap.h"
+#include "core/timing.h"
+
+namespace partslam {
+namespace {
+
+Points2 matching_points(const Scan& scan, const FrontEndConfig& c) {
+  Points2 near;
+  near.reserve(scan.points_laser.size());
+  for (const Vec2& p : scan.points_laser)
+    if (p.squaredNorm() <= c.max_range * c.max_range) near.push_back(p);
+  return voxel_downsample(near, c.point_resolution);
+}
+
+bool moved(const Pose2& from, const Pose2& to, double translation, double rotation) {
+  return (to.translation() - from.translation()).norm() >= translation ||
+         std::abs(wrap_angle(to.theta - from.theta)) >= rotation;
+}
+
+// The local map: world points of the last key scans and the likelihood field over them.
+class LocalMap {
+ public:
+  explicit LocalMap(const FrontEndConfig& c) : config_(c) {}
+
+  void add(Points2 world_points) {
+    scans_.push_back(std::move(world_points));
+    if (static_cast<int>(scans_.size()) > config_.local_map_scans) scans_.pop_front();
+    Points2 all;
+    for (const Points2& s : scans_) all.insert(all.end(), s.begin(), s.end());
+    field_ = LikelihoodField(voxel_downsample(all, config_.point_resolution), config_.matcher.resolution,
+                             config_.matcher.sigma);
+  }
+  const LikelihoodField& field() const { return field_; }
+
+ private:
+  const FrontEndConfig& config_;
+  std::deque<Points2> scans_;
+  LikelihoodField field_;
+};
+
+}  // namespace
+
+void validate(const FrontEndConfig& c) {
+  validate(c.matcher);
+  auto positive = [](double v, const char* field, double max) {
+    if (!(v > 0.0) || !(v <= max))
+      throw InputError(std::string("front end config: ") + field + " must be in (0, " + std::to_string(max) + "]");
+  };
+  positive(c.max_range, "max_range", 1000.0);
+  positive(c.point_resolution, "point_resolution", 1.0);
+  positive(c.key_translation, "key_translation", 100.0);
+  positive(c.key_rotation, "key_rotation", 2 * std::acos(-1.0));
+  if (c.local_map_scans < 1 || c.local_map_scans > 10000)
+    throw InputError("front end config: local_map_scans must be in [1, 10000]");
+  if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
+    throw InputError("front end config: min_score must be in [0, 1]");
+}
+
+FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, const Progress& progress) {
+  validate(config);
+  const auto t0 = Clock::now();
+  FrontEndResult result;
+  FrontEndStats& stats = result.stats;
+  LocalMap local(config);
+  Pose2 last_key;
+  double score_sum = 0.0;
+  std::size_t matched = 0;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    const Scan& scan = raw[i];
+    if (!result.scans.empty()) {
+      const Scan& prev = result.scans.back();
+      if (scan.timestamp < prev.timestamp) {
+        ++stats.time_reversals;
+        continue;
+      }
+      if (moved(prev.T_world_odom, scan.T_world_odom, 1e-9, 1e-9)) stats.odometry_moves = true;
+    }
+    Scan out = scan;
+    const Points2 points = matching_points(scan, config);
+    if (!result.scans.empty()) {
+      const Scan& prev = result.scans.back();
+      const Pose2 prediction = prev.T_world_laser * (prev.T_world_odom.inverse() * scan.T_world_odom);
+      const ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
+      if (m.score >= config.min_score) {
+        out.T_world_laser = m.pose;
+        score_sum += m.score;
+        ++matched;
+      } else {
+        out.T_world_laser = prediction;
+        ++stats.rejected;
+      }
+    }
+    if (result.scans.empty() ||
+        moved(last_key, out.T_world_laser, config.key_translation, config.key_rotation)) {
+      local.add(transform(out.T_world_laser, points));
+      last_key = out.T_world_laser;
+    }
+    result.scans.push_back(std::move(out));
+    if (progress && (i + 1) % 100 == 0) progress("scan matching", i + 1, raw.size());
+  }
+  if (progress) progress("scan matching", raw.size(), raw.size());
+  stats.scans = result.scans.size();
+  stats.mean_score = matched > 0 ? score_sum / static_cast<double>(matched) : 0.0;
+  stats.seconds = ms_since(t0) / 1000.0;
+  if (result.scans.size() > 1) stats.log_seconds = result.scans.back().timestamp - result.scans.front().timestamp;
+  return result;
+}
+
+}  // namespace partslam

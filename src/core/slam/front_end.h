@@ -1,0 +1,51 @@
+// The local front end (issue "raw logs"; docs/NOTES.md "Front end"): turns a raw log's scans, whose poses are
+// drifting odometry, into a locally consistent trajectory by matching each scan against a local map of the
+// last few key scans (scan_matcher.h), seeded by the odometry increment since the previous scan:
+//   prediction_i = T_world_laser(i-1) * odom(i-1)^-1 * odom(i),   T_world_laser(i) = match(local map, scan i).
+// A scan becomes a key scan (and joins the local map, oldest key scan out) after key_translation of travel or
+// key_rotation of turn since the last key scan, as Cartographer's motion filter does. A match scoring below
+// min_score is rejected and the prediction kept (counted). Scans whose timestamp goes backwards are dropped
+// (counted). The first scan keeps its odometry pose, so the trajectory lives in the odometry frame.
+#pragma once
+
+#include <cstddef>
+
+#include "core/maps/scan.h"
+#include "core/parallel.h"
+#include "core/slam/scan_matcher.h"
+
+namespace partslam {
+
+struct FrontEndConfig {
+  ScanMatcherConfig matcher;
+  double max_range = 20.0;         ///< beam endpoints farther from the laser are not matched [m]
+  double point_resolution = 0.05;  ///< scan and local-map points are downsampled to one per cell [m]
+  int local_map_scans = 30;        ///< key scans in the local map
+  double key_translation = 0.2;    ///< travel that makes a key scan [m]
+  double key_rotation = 0.1;       ///< turn that makes a key scan [rad]
+  double min_score = 0.25;         ///< matches scoring lower are rejected (the prediction is kept)
+};
+
+/// Throws InputError naming the offending field when a value is out of range.
+void validate(const FrontEndConfig& config);
+
+struct FrontEndStats {
+  std::size_t scans = 0;            ///< scans in the result
+  std::size_t rejected = 0;         ///< scans whose match scored below min_score (prediction kept)
+  std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards
+  bool odometry_moves = false;      ///< false when the odometry never moves (no odometry in the log)
+  double mean_score = 0.0;          ///< over matched scans
+  double seconds = 0.0;             ///< time spent
+  double log_seconds = 0.0;         ///< time the log covers (last - first timestamp)
+};
+
+struct FrontEndResult {
+  Scans scans;  ///< the input scans in order, minus dropped ones, T_world_laser = the scan-matched pose
+  FrontEndStats stats;
+};
+
+/// Runs the front end over a log's scans (serial: each scan depends on the previous ones).
+FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config = {},
+                              const Progress& progress = {});
+
+}  // namespace partslam

@@ -1,0 +1,109 @@
+#include "core/slam/front_end.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "core/error.h"
+#include "core/evaluation/trajectory_check.h"
+#include "core/sim/simulator.h"
+
+namespace partslam {
+namespace {
+
+// A simulated log with the exact poses kept aside: what a raw log gives is odometry in both pose slots.
+struct RawLog {
+  Scans raw;
+  Scans truth;
+};
+
+RawLog simulated_raw_log(double odometry_noise_scale) {
+  SimulatorConfig config;
+  config.route.laps = 1;
+  config.route.room_visits = 1;
+  config.odometry.translation_sigma *= odometry_noise_scale;
+  config.odometry.heading_sigma *= odometry_noise_scale;
+  config.odometry.turn_sigma *= odometry_noise_scale;
+  config.odometry.heading_bias *= odometry_noise_scale;
+  RawLog log;
+  log.truth = simulate(config).scans;
+  log.raw = log.truth;
+  for (Scan& s : log.raw) s.T_world_laser = s.T_world_odom;
+  return log;
+}
+
+std::vector<std::optional<std::size_t>> identity_index(std::size_t n) {
+  std::vector<std::optional<std::size_t>> index(n);
+  for (std::size_t i = 0; i < n; ++i) index[i] = i;
+  return index;
+}
+
+TEST(FrontEnd, MakesBadOdometryLocallyConsistent) {
+  const RawLog log = simulated_raw_log(5.0);
+  const FrontEndResult fe = scan_match_log(log.raw);
+  ASSERT_EQ(fe.scans.size(), log.raw.size());
+  EXPECT_TRUE(fe.stats.odometry_moves);
+  EXPECT_EQ(fe.stats.time_reversals, 0u);
+  EXPECT_LT(fe.stats.rejected, fe.scans.size() / 100);
+  const auto index = identity_index(log.raw.size());
+  const Consistency odometry = local_consistency(log.raw, log.truth, index);
+  const Consistency matched = local_consistency(fe.scans, log.truth, index);
+  EXPECT_GT(odometry.median, 0.03) << odometry.median;  // the premise: odometry alone smears a 2 m submap
+  EXPECT_LT(matched.median, 0.03) << matched.median;
+  EXPECT_LT(matched.median, odometry.median / 2);
+  EXPECT_LT(matched.p90, odometry.p90 / 2);
+  for (std::size_t i = 0; i < fe.scans.size(); ++i) {  // scans are carried over, only their pose changes
+    EXPECT_EQ(fe.scans[i].timestamp, log.raw[i].timestamp);
+    EXPECT_EQ(fe.scans[i].points_laser.size(), log.raw[i].points_laser.size());
+  }
+}
+
+TEST(FrontEnd, SameAnswerEveryRun) {
+  const RawLog log = simulated_raw_log(1.0);
+  const Scans part(log.raw.begin(), log.raw.begin() + 200);
+  const FrontEndResult a = scan_match_log(part), b = scan_match_log(part);
+  for (std::size_t i = 0; i < part.size(); ++i) {
+    EXPECT_EQ(a.scans[i].T_world_laser.x, b.scans[i].T_world_laser.x);
+    EXPECT_EQ(a.scans[i].T_world_laser.theta, b.scans[i].T_world_laser.theta);
+  }
+}
+
+TEST(FrontEnd, DropsScansWhoseTimeGoesBackwards) {
+  const RawLog log = simulated_raw_log(1.0);
+  Scans raw(log.raw.begin(), log.raw.begin() + 100);
+  raw[50].timestamp = raw[10].timestamp;
+  raw[51].timestamp = raw[10].timestamp;
+  const FrontEndResult fe = scan_match_log(raw);
+  EXPECT_EQ(fe.stats.time_reversals, 2u);
+  EXPECT_EQ(fe.scans.size(), 98u);
+}
+
+TEST(FrontEnd, WorksWithoutOdometry) {
+  const RawLog log = simulated_raw_log(1.0);
+  Scans raw(log.raw.begin(), log.raw.begin() + 300);
+  for (Scan& s : raw) s.T_world_odom = s.T_world_laser = Pose2{};
+  const FrontEndResult fe = scan_match_log(raw);
+  EXPECT_FALSE(fe.stats.odometry_moves);
+  const Scans truth(log.truth.begin(), log.truth.begin() + 300);
+  const Consistency matched = local_consistency(fe.scans, truth, identity_index(raw.size()));
+  EXPECT_LT(matched.median, 0.03);  // the robot moves <= 0.1 m per scan: inside the search window
+}
+
+TEST(FrontEnd, RefusesAbsurdConfigs) {
+  FrontEndConfig c;
+  c.local_map_scans = 0;
+  EXPECT_THROW(scan_match_log({}, c), InputError);
+  c = {};
+  c.max_range = -1;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.min_score = 2;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.matcher.sigma = 0;
+  EXPECT_THROW(validate(c), InputError);
+  EXPECT_EQ(scan_match_log({}).scans.size(), 0u);
+}
+
+}  // namespace
+}  // namespace partslam

@@ -1,0 +1,75 @@
+#include "core/slam/scan_matcher.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace partslam {
+namespace {
+
+// Walls of an L-shaped room with a pillar, sampled every 2 cm: structure in x, y and rotation.
+Points2 room() {
+  Points2 p;
+  for (double t = 0; t <= 6.0; t += 0.02) p.emplace_back(t, 0.0), p.emplace_back(0.0, t * 0.8);
+  for (double t = 0; t <= 3.0; t += 0.02) p.emplace_back(6.0, t), p.emplace_back(3.0 + t, 3.0);
+  for (double t = 0; t <= 0.5; t += 0.02) p.emplace_back(2.0 + t, 2.0), p.emplace_back(2.0, 2.0 + t);
+  return p;
+}
+
+TEST(LikelihoodField, IsOneOnPointsAndFallsOffWithDistance) {
+  const LikelihoodField field({{1.0, 1.0}}, 0.05, 0.1);
+  EXPECT_NEAR(field.interpolate({1.0, 1.0}, nullptr), 1.0, 1e-6);
+  EXPECT_NEAR(field.at({1.1, 1.0}), std::exp(-0.5), 1e-3);
+  EXPECT_EQ(field.at({5.0, 5.0}), 0.0f);  // outside the grid
+  Vec2 gradient;
+  field.interpolate({1.07, 1.0}, &gradient);
+  EXPECT_LT(gradient.x(), 0.0);  // uphill is towards the point
+  EXPECT_GT(std::abs(gradient.x()), 2 * std::abs(gradient.y()));
+  EXPECT_TRUE(LikelihoodField({}, 0.05, 0.1).empty());
+  EXPECT_THROW(LikelihoodField({{0, 0}, {1e6, 1e6}}, 0.05, 0.1), InputError);  // 2^26-cell cap
+}
+
+TEST(ScanMatcher, RecoversAnOffsetInsideTheWindow) {
+  const Points2 map = room();
+  const LikelihoodField field(map, 0.05, 0.1);
+  for (const Pose2 truth : {Pose2{0.17, -0.12, 0.08}, Pose2{-0.25, 0.2, -0.15}, Pose2{0.0, 0.0, 0.0}}) {
+    // The scan sees the room from `truth`: its points are the map's points in the scan frame.
+    const Points2 scan = transform(truth.inverse(), map);
+    const ScanMatch m = match_scan(field, scan, Pose2{}, ScanMatcherConfig{});
+    EXPECT_NEAR(m.pose.x, truth.x, 0.01);
+    EXPECT_NEAR(m.pose.y, truth.y, 0.01);
+    EXPECT_NEAR(m.pose.theta, truth.theta, 0.003);
+    EXPECT_GT(m.score, 0.95);
+  }
+}
+
+TEST(ScanMatcher, EmptyInputKeepsThePrediction) {
+  const Pose2 prediction{1.0, 2.0, 0.3};
+  const ScanMatch none = match_scan(LikelihoodField(room(), 0.05, 0.1), {}, prediction);
+  EXPECT_EQ(none.pose.x, 1.0);
+  EXPECT_EQ(none.score, 0.0);
+  EXPECT_EQ(match_scan(LikelihoodField(), room(), prediction).pose.theta, 0.3);
+}
+
+TEST(ScanMatcher, RefusesAbsurdConfigs) {
+  ScanMatcherConfig c;
+  c.resolution = 0;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.sigma = std::nan("");
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.linear_window = 50;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.angular_window = -1;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.max_iterations = -1;
+  EXPECT_THROW(validate(c), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
