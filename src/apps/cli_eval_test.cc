@@ -123,3 +123,41 @@ TEST_F(CliEvalTest, UnwritableOutputsFailBeforeAnyWork) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+// Raw logs: scan matching in `submaps` and `eval`, ground truth from a corrected twin (the simulator's exact
+// poses play the twin here).
+TEST_F(CliEvalTest, ScanMatchedSubmapsAreStoredAndMarked) {
+  const fs::path db = dir_ / "raw.db";
+  const CliRun run = run_partslam("submaps sim:1 --scan-match --spacing 2 --db " + quoted(db));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("scan matching: "));
+  EXPECT_THAT(run.output, HasSubstr("0 matches rejected"));
+  const CliRun info = run_partslam("info --json " + quoted(db));
+  EXPECT_THAT(info.output, HasSubstr("\"scan_matched\": true"));
+  EXPECT_NE(run_partslam("submaps sim:1 --scan-match --scan-match-window -1 --db " + quoted(dir_ / "x.db")).exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "x.db"));
+}
+
+TEST_F(CliEvalTest, BadRelationsStoreNothing) {
+  const fs::path db = dir_ / "rel.db";
+  const CliRun run = run_partslam("submaps sim:1 --db " + quoted(db) + " --relations " + quoted(dir_ / "none.relations"));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.output, HasSubstr("none.relations"));
+  EXPECT_FALSE(fs::exists(db));  // a retry is not refused with "already exists"
+}
+
+TEST_F(CliEvalTest, EvaluatesARawLogAgainstItsTwin) {
+  const CliRun run = run_partslam("eval --input sim:1 --dict sim:2 --tasks 12 --db-size 20 --methods dmm "
+                                  "--scan-match --truth sim:1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("ground truth from sim:1; 0 without an associated scan left out"));
+  const CliRun foreign = run_partslam(kEval + "--methods dmm --truth sim:3");
+  EXPECT_EQ(foreign.exit_code, 1);
+  EXPECT_THAT(foreign.output, HasSubstr("not its corrected twin"));
+}
+
+}  // namespace
+}  // namespace partslam

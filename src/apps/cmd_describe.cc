@@ -16,6 +16,7 @@
 #include "apps/commands.h"
 #include "apps/cpd_options.h"
 #include "io/descriptor_store.h"
+#include "apps/progress_bar.h"
 #include "core/parts/cpd.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"
@@ -98,16 +99,14 @@ void run_describe(DescribeOptions o) {
   // on which maps are described together or on the thread count.
   const auto t0 = Clock::now();
   const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
-  const bool tty = isatty(STDERR_FILENO);
+  ProgressBar bar;
   std::vector<const Points2*> points;
   std::vector<std::uint64_t> keys;
   for (const MapParts& m : maps) points.push_back(&m.submap->points), keys.push_back(static_cast<std::uint64_t>(m.map_id));
   std::vector<CpdResult> results =
-      discover_parts_many(points, keys, prepared, o.cpd, o.threads, [tty](const std::string&, std::size_t d, std::size_t n) {
-        if (tty) std::cerr << "\rCPD " << d << "/" << n << std::flush;
-      });
+      discover_parts_many(points, keys, prepared, o.cpd, o.threads,
+                          [&bar](const std::string&, std::size_t d, std::size_t n) { bar("CPD", d, n); });
   for (std::size_t i = 0; i < maps.size(); ++i) maps[i].parts = std::move(results[i].parts), maps[i].cpd_ms = results[i].ms;
-  if (tty) std::cerr << "\r\033[K" << std::flush;
   const double cpd_s = std::chrono::duration<double>(Clock::now() - t0).count();
 
   // Encode every K and write them in one transaction.

@@ -37,6 +37,7 @@ nlohmann::json to_json(const io::DatabaseSummary& s, const std::string& file) {
                              {"name", d.spec.name},
                              {"source", d.spec.source},
                              {"kind", io::to_string(d.spec.kind)},
+                             {"scan_matched", d.spec.scan_matched},
                              {"created", d.created},
                              {"submaps", d.submap_count},
                              {"mean_points", d.mean_points},
@@ -71,7 +72,8 @@ void print_text(const io::DatabaseSummary& s, const std::string& file, std::ostr
   out << "datasets: " << s.datasets.size() << "\n";
   for (const io::DatasetInfo& d : s.datasets) {
     out << "  " << d.spec.name << ": " << d.submap_count << " submaps, mean " << d.mean_points << " points, "
-        << map_id_range(d) << " (" << io::to_string(d.spec.kind) << ", from " << d.spec.source << ", "
+        << map_id_range(d) << " (" << io::to_string(d.spec.kind) << ", from " << d.spec.source
+        << (d.spec.scan_matched ? " scan-matched" : "") << ", "
         << d.created << ")\n";
   }
   out << "total: " << s.submap_count << " submaps, " << s.point_count << " points\n";

@@ -1,7 +1,10 @@
 // partslam submaps LOG --db FILE: reads a CARMEN log (or "sim[:SEED]"), builds its submaps (docs/DESIGN.md,
-// "Submap") and stores them as one dataset, atomically. Optionally checks the ground truth against a
-// Freiburg .relations file (--relations, with --raw LOG when the submaps come from a re-timed corrected log).
+// "Submap") and stores them as one dataset, atomically. With --scan-match the scan poses come from the front
+// end (core/slam/front_end.h) instead of the log: for raw logs, whose poses are drifting odometry. Optionally
+// checks the ground truth against a Freiburg .relations file (--relations, with --raw LOG when the submaps come
+// from a re-timed corrected log); every input is read before anything is stored.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -15,6 +18,8 @@
 #include "io/map_database.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
+#include "apps/progress_bar.h"
+#include "core/slam/front_end.h"
 
 namespace partslam::apps {
 namespace {
@@ -28,14 +33,48 @@ struct SubmapsOptions {
   std::string relations;
   std::string raw;
   TaskConfig tasks;
+  bool scan_match = false;
+  FrontEndConfig front_end;
+  bool quiet = false;
 };
+
+// Replaces the scans' poses by the front end's and prints what it did.
+void scan_match(io::ScanSource& source, const SubmapsOptions& o) {
+  FrontEndResult fe;
+  {
+    ProgressBar bar(!o.quiet);
+    fe = scan_match_log(source.scans, o.front_end,
+                        [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
+  }
+  const FrontEndStats& st = fe.stats;
+  std::cout << std::fixed << std::setprecision(1) << "scan matching: " << st.scans << " scans in " << st.seconds
+            << " s (" << std::setprecision(0) << st.log_seconds / std::max(st.seconds, 1e-9) << "x the log's "
+            << st.log_seconds << " s), mean score " << std::setprecision(3) << st.mean_score << ", "
+            << st.rejected << " matches rejected (odometry kept)\n";
+  if (st.time_reversals > 0)
+    std::cerr << "partslam: warning: " << o.log << ": " << st.time_reversals
+              << " scans dropped because their timestamp goes backwards\n";
+  if (!st.odometry_moves)
+    std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?): the "
+              << "front end predicts a standing robot, so fast motion may break it\n";
+  if (st.rejected * 10 > st.scans)
+    std::cerr << "partslam: warning: " << o.log << ": " << st.rejected << " of " << st.scans
+              << " scans matched nowhere (score < " << o.front_end.min_score << "): their poses are odometry\n";
+  source.scans = std::move(fe.scans);
+}
 
 void run_submaps(SubmapsOptions o) {
   o.config.align = !o.no_align;
   validate(o.config);
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
+  validate(o.front_end);
   io::ScanSource source = io::load_scan_source(o.log);
+  const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  // Everything else that is read, before anything is stored.
+  const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
+  const Scans raw = o.raw.empty() ? Scans{} : io::load_scan_source(o.raw).scans;
+  if (o.scan_match) scan_match(source, o);
   const auto t1 = Clock::now();
   const Submaps submaps = build_submaps(source.scans, o.config);
   const auto t2 = Clock::now();
@@ -45,12 +84,12 @@ void run_submaps(SubmapsOptions o) {
   spec.name = o.name.empty() ? source.name : o.name;
   spec.source = o.log;
   spec.config = o.config;
+  spec.scan_matched = o.scan_match;
   auto db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kCreate);
   db.store_dataset(spec, submaps);
 
   double points = 0;
   for (const Submap& m : submaps) points += static_cast<double>(m.points.size());
-  const double read_s = std::chrono::duration<double>(t1 - t0).count();
   const double build_s = std::chrono::duration<double>(t2 - t1).count();
   std::cout << std::fixed << std::setprecision(1) << spec.name << ": " << submaps.size() << " submaps, mean "
             << points / static_cast<double>(submaps.size()) << " points, from " << source.scans.size()
@@ -60,8 +99,6 @@ void run_submaps(SubmapsOptions o) {
             << "stored in " << o.db << "\n";
 
   if (!o.relations.empty()) {
-    const Relations relations = io::read_relations(o.relations);
-    const Scans raw = o.raw.empty() ? Scans{} : io::load_scan_source(o.raw).scans;
     const auto pairs = relevant_pairs(submaps, o.tasks);
     const RelationCheck check =
         check_relevant_pairs(submaps, pairs, source.scans, o.raw.empty() ? source.scans : raw, relations);
@@ -87,6 +124,13 @@ void register_submaps(CLI::App& app) {
   cmd->add_option("--max-range", o->config.max_range, "usable range: farther beam endpoints are dropped [m]")
       ->capture_default_str();
   cmd->add_flag("--no-align", o->no_align, "keep the log's axes (no Manhattan alignment)");
+  cmd->add_flag("--scan-match", o->scan_match,
+                "poses from scan matching seeded by odometry (raw logs), not from the log");
+  cmd->add_option("--scan-match-window", o->front_end.matcher.linear_window,
+                  "scan matching: search half-width [m]")->capture_default_str();
+  cmd->add_option("--scan-match-turn", o->front_end.matcher.angular_window,
+                  "scan matching: search half-width in rotation [rad]")->capture_default_str();
+  cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->add_option("--relations", o->relations, "check relevant pairs against this .relations file");
   cmd->add_option("--raw", o->raw, "raw log the relations refer to (when LOG is a re-timed corrected log)");
   cmd->add_option("--radius", o->tasks.radius, "R for the relations check [m]")->capture_default_str();

@@ -13,36 +13,14 @@
 #include "core/matching/ranking.h"
 #include "core/maps/submap.h"
 #include "io/scan_source.h"
+#include "apps/progress_bar.h"
+#include "core/error.h"
+#include "core/evaluation/relation_check.h"
+#include "core/evaluation/trajectory_check.h"
+#include "core/slam/front_end.h"
 
 namespace partslam::apps {
-namespace {
 
-// A one-line progress bar on stderr, redrawn in place; silent when stderr is not a terminal.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
-  ~ProgressBar() {
-    if (enabled_ && drawn_) std::cerr << "\r\033[K" << std::flush;
-  }
-  void operator()(const std::string& stage, std::size_t done, std::size_t total) {
-    if (!enabled_ || total == 0) return;
-    const int percent = static_cast<int>(100 * done / total);
-    if (stage == stage_ && percent == percent_ && done != total) return;
-    stage_ = stage, percent_ = percent, drawn_ = true;
-    const int width = 30, filled = width * percent / 100;
-    std::cerr << "\r\033[K" << std::setw(22) << std::left << stage.substr(0, 22) << " ["
-              << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << std::right << std::setw(3)
-              << percent << "% " << done << "/" << total << std::flush;
-  }
-
- private:
-  bool enabled_;
-  bool drawn_ = false;
-  std::string stage_;
-  int percent_ = -1;
-};
-
-}  // namespace
 
 void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--input", o.input, "input CARMEN log (corrected), or sim[:SEED]")->required();
@@ -69,6 +47,10 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--dmm-dilation", o.config.ranking.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
       ->capture_default_str();
+  cmd.add_flag("--scan-match", o.scan_match, "input poses from scan matching seeded by odometry (raw logs)");
+  cmd.add_option("--truth", o.truth,
+                 "corrected twin of the input log: ground truth for submaps of a raw log (scans associated by "
+                 "content; submaps without an associated scan are left out)");
   cmd.add_flag("--quiet", o.quiet, "no progress bar");
 }
 
@@ -88,16 +70,24 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   DictionaryConfig dictionary_config;
   dictionary_config.max_range = o.max_range;
   validate(submap_config);
-  const Submaps maps = build_submaps(input.scans, submap_config);
-  const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);
-  const bool tty = !o.quiet && isatty(STDERR_FILENO);
-  if (!o.quiet) {
-    log << run.input_name << ": " << maps.size() << " submaps; dictionary " << run.dictionary_name << ": "
-        << dictionary.points.size() << " points\n";
+  const Scans truth = o.truth.empty() ? Scans{} : io::load_scan_source(o.truth).scans;
+  ProgressBar bar(!o.quiet);
+  const Progress progress = [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); };
+  const Scans scans = o.scan_match ? scan_match_log(input.scans, FrontEndConfig{}, progress).scans : input.scans;
+  Submaps maps = build_submaps(scans, submap_config);
+  std::string truth_note;
+  if (!o.truth.empty()) {
+    std::size_t dropped = 0;
+    maps = with_reference_frames(maps, scans, truth, associate_scans(scans, truth), &dropped);
+    truth_note = " (ground truth from " + o.truth + "; " + std::to_string(dropped) + " without an associated scan left out)";
+    if (maps.empty()) throw InputError(o.truth + ": no scan of " + o.input + " found in it: not its corrected twin");
   }
-  ProgressBar bar(tty);
-  run.report = evaluate(maps, dictionary.points, methods, run.options.config,
-                        [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
+  const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);
+  if (!o.quiet) {
+    log << run.input_name << ": " << maps.size() << " submaps" << truth_note << "; dictionary "
+        << run.dictionary_name << ": " << dictionary.points.size() << " points\n";
+  }
+  run.report = evaluate(maps, dictionary.points, methods, run.options.config, progress);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;
 }

@@ -22,6 +22,8 @@ struct EvalOptions {
   std::string json;
   std::string plot;
   bool quiet = false;
+  bool scan_match = false;  ///< input poses from the front end (raw logs)
+  std::string truth;        ///< corrected twin of the input: ground truth for submaps of a raw log
   double dmm_angular_window_deg = EvalConfig{}.ranking.dmm.angular_window * 180.0 / std::numbers::pi;
 };
 

@@ -2,7 +2,8 @@
 // descriptors (docs/DESIGN.md, data flow "... ──► packed descriptor ──► map database").
 //
 // Schema (version 2; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 2; STRICT tables):
-//   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig, created)
+//   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig and
+//                 scan_matched, created)
 //   submaps      (id = global map id, dataset_id, idx within dataset, anchor_scan, anchor_timestamp, travel,
 //                 alignment_angle, world_x/world_y/world_theta = T_world_map, point_count, points BLOB,
 //                 scan_timestamps BLOB)
@@ -57,6 +58,7 @@ struct DatasetSpec {
   std::string source;  ///< where the submaps came from (log path)
   DatasetKind kind = DatasetKind::kSubmaps;
   SubmapConfig config;  ///< the parameters the submaps were built with
+  bool scan_matched = false;  ///< scan poses from the front end (core/slam/front_end.h), not from the log
 };
 
 /// A stored dataset with its counts.

@@ -10,19 +10,24 @@ namespace {
 using internal::require_finite;
 using sqlite::Statement;
 
-std::string config_to_json(const SubmapConfig& c) {
+// How a dataset's submaps were built: the SubmapConfig and where the scan poses came from.
+std::string config_to_json(const DatasetSpec& spec) {
+  const SubmapConfig& c = spec.config;
   const nlohmann::json j = {{"window_length", c.window_length}, {"spacing", c.spacing},
                             {"resolution", c.resolution},       {"crop_size", c.crop_size},
-                            {"min_points", c.min_points},       {"align", c.align}};
+                            {"max_range", c.max_range},         {"min_points", c.min_points},
+                            {"align", c.align},                 {"scan_matched", spec.scan_matched}};
   return j.dump();
 }
 
 // Missing keys keep their defaults, so older files stay readable when SubmapConfig grows.
-SubmapConfig config_from_json(const std::string& text, const std::string& context) {
-  SubmapConfig c;
+void config_from_json(const std::string& text, const std::string& context, DatasetSpec& spec) {
+  SubmapConfig& c = spec.config;
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
     if (!j.is_object()) throw InputError("not a JSON object");
+    c.max_range = j.value("max_range", c.max_range);
+    spec.scan_matched = j.value("scan_matched", false);
     c.window_length = j.value("window_length", c.window_length);
     c.spacing = j.value("spacing", c.spacing);
     c.resolution = j.value("resolution", c.resolution);
@@ -33,7 +38,6 @@ SubmapConfig config_from_json(const std::string& text, const std::string& contex
   } catch (const std::exception& e) {
     throw InputError(context + ": bad submap config '" + text + "': " + e.what());
   }
-  return c;
 }
 
 constexpr const char* kDatasetQuery =
@@ -53,7 +57,7 @@ DatasetInfo read_dataset(const Statement& q, const std::string& file) {
   } catch (const InputError& e) {
     throw InputError(context + ": " + e.what());
   }
-  info.spec.config = config_from_json(q.text(4), context);
+  config_from_json(q.text(4), context, info.spec);
   info.created = q.text(5);
   info.submap_count = q.int64(6);
   info.mean_points = q.real(7);
@@ -100,7 +104,7 @@ std::int64_t MapDatabase::add_dataset(const DatasetSpec& spec) {
                    "INSERT INTO datasets (name, source, kind, config, created) "
                    "VALUES (?1, ?2, ?3, ?4, strftime('%Y-%m-%dT%H:%M:%SZ', 'now')) RETURNING id");
   insert.bind_text(1, spec.name).bind_text(2, spec.source).bind_text(3, to_string(spec.kind));
-  insert.bind_text(4, config_to_json(spec.config));
+  insert.bind_text(4, config_to_json(spec));
   insert.step();
   const std::int64_t id = insert.int64(0);
   insert.run();

@@ -51,4 +51,25 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
   return out;
 }
 
+Submaps with_reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
+                              const std::vector<std::optional<std::size_t>>& reference_index, std::size_t* dropped) {
+  if (reference_index.size() != estimate.size())
+    throw InputError("reference frames: one reference index per estimated scan is needed");
+  Submaps kept;
+  for (const Submap& m : maps) {
+    const auto first = static_cast<std::size_t>(std::max<std::int64_t>(m.anchor_scan, 0));
+    const std::size_t end = std::min(estimate.size(), first + std::max<std::size_t>(m.scan_timestamps.size(), 1));
+    for (std::size_t j = first; j < end; ++j) {
+      if (!reference_index[j]) continue;
+      Submap out = m;
+      out.T_world_map = reference.at(*reference_index[j]).T_world_laser *
+                        (estimate[j].T_world_laser.inverse() * m.T_world_map);
+      kept.push_back(std::move(out));
+      break;
+    }
+  }
+  if (dropped) *dropped = maps.size() - kept.size();
+  return kept;
+}
+
 }  // namespace partslam

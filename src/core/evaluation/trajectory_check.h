@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/maps/scan.h"
+#include "core/maps/submap.h"
 
 namespace partslam {
 
@@ -32,5 +33,15 @@ struct Consistency {
 Consistency local_consistency(const Scans& estimate, const Scans& reference,
                               const std::vector<std::optional<std::size_t>>& reference_index,
                               const ConsistencyConfig& config = {});
+
+/// Ground truth for submaps built on an estimated trajectory (issue "raw logs", item 2): each submap's frame
+/// re-expressed in the reference's world frame, T_world_map := T_ref(j) * T_est(j)^-1 * T_world_map, through
+/// the scan j of the submap (scans anchor_scan .. anchor_scan + scan_timestamps.size() - 1 of `estimate`)
+/// nearest its anchor that has a reference. Submaps without such a scan are left out (`dropped` counts them).
+/// The relative pose of two kept submaps is then the reference's, up to the estimate's error within each
+/// submap (local_consistency).
+Submaps with_reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
+                              const std::vector<std::optional<std::size_t>>& reference_index,
+                              std::size_t* dropped = nullptr);
 
 }  // namespace partslam

@@ -53,3 +53,35 @@ TEST(LocalConsistency, MeasuresTheEndpointDisplacementOfARelativePoseError) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST(ReferenceFrames, CarryEachSubmapIntoTheReferenceFrame) {
+  const Scans ref = straight(30);
+  const Pose2 drift{1.0, -2.0, 0.3};
+  Scans est = ref;
+  for (Scan& s : est) s.T_world_laser = drift * s.T_world_laser;
+  Submap m;
+  m.anchor_scan = 10;
+  m.scan_timestamps.assign(5, 0.0);  // scans 10..14
+  const Pose2 T_anchor_map{0.5, 0.2, 0.1};
+  m.T_world_map = est[10].T_world_laser * T_anchor_map;
+  Submap far = m;
+  far.anchor_scan = 20;
+  auto index = identity(est.size());
+  index[10].reset();  // the next scan of the submap stands in for its anchor
+  for (std::size_t j = 20; j < 25; ++j) index[j].reset();
+  std::size_t dropped = 0;
+  const Submaps out = with_reference_frames({m, far}, est, ref, index, &dropped);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(dropped, 1u);
+  const Pose2 expected = ref[10].T_world_laser * T_anchor_map;
+  EXPECT_NEAR(out[0].T_world_map.x, expected.x, 1e-9);
+  EXPECT_NEAR(out[0].T_world_map.y, expected.y, 1e-9);
+  EXPECT_NEAR(out[0].T_world_map.theta, expected.theta, 1e-9);
+  EXPECT_THROW(with_reference_frames({m}, est, ref, {}), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
