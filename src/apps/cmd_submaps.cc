@@ -85,6 +85,7 @@ void run_submaps(SubmapsOptions o) {
   spec.source = o.log;
   spec.config = o.config;
   spec.scan_matched = o.scan_match;
+  spec.front_end = o.front_end;
   auto db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kCreate);
   db.store_dataset(spec, submaps);
 

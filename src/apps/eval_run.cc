@@ -77,8 +77,9 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   Submaps maps = build_submaps(scans, submap_config);
   std::string truth_note;
   if (!o.truth.empty()) {
-    std::size_t dropped = 0;
-    maps = with_reference_frames(maps, scans, truth, associate_scans(scans, truth), &dropped);
+    const std::size_t built = maps.size();
+    maps = with_reference_frames(maps, reference_frames(maps, scans, truth, associate_scans(scans, truth)));
+    const std::size_t dropped = built - maps.size();
     truth_note = " (ground truth from " + o.truth + "; " + std::to_string(dropped) + " without an associated scan left out)";
     if (maps.empty()) throw InputError(o.truth + ": no scan of " + o.input + " found in it: not its corrected twin");
   }

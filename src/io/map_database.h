@@ -38,6 +38,7 @@
 #include "core/maps/dictionary.h"
 #include "core/parts/part_codec.h"
 #include "core/maps/submap.h"
+#include "core/slam/front_end.h"
 #include "io/blob_codec.h"
 
 namespace partslam::io {
@@ -59,6 +60,7 @@ struct DatasetSpec {
   DatasetKind kind = DatasetKind::kSubmaps;
   SubmapConfig config;  ///< the parameters the submaps were built with
   bool scan_matched = false;  ///< scan poses from the front end (core/slam/front_end.h), not from the log
+  FrontEndConfig front_end{};  ///< its settings when scan_matched (the search window is stored)
 };
 
 /// A stored dataset with its counts.

@@ -13,10 +13,14 @@ using sqlite::Statement;
 // How a dataset's submaps were built: the SubmapConfig and where the scan poses came from.
 std::string config_to_json(const DatasetSpec& spec) {
   const SubmapConfig& c = spec.config;
-  const nlohmann::json j = {{"window_length", c.window_length}, {"spacing", c.spacing},
+  nlohmann::json j = {{"window_length", c.window_length}, {"spacing", c.spacing},
                             {"resolution", c.resolution},       {"crop_size", c.crop_size},
                             {"max_range", c.max_range},         {"min_points", c.min_points},
                             {"align", c.align},                 {"scan_matched", spec.scan_matched}};
+  if (spec.scan_matched) {
+    j["scan_match_window"] = spec.front_end.matcher.linear_window;
+    j["scan_match_turn"] = spec.front_end.matcher.angular_window;
+  }
   return j.dump();
 }
 
@@ -28,6 +32,9 @@ void config_from_json(const std::string& text, const std::string& context, Datas
     if (!j.is_object()) throw InputError("not a JSON object");
     c.max_range = j.value("max_range", c.max_range);
     spec.scan_matched = j.value("scan_matched", false);
+    spec.front_end.matcher.linear_window = j.value("scan_match_window", spec.front_end.matcher.linear_window);
+    spec.front_end.matcher.angular_window = j.value("scan_match_turn", spec.front_end.matcher.angular_window);
+    validate(spec.front_end);
     c.window_length = j.value("window_length", c.window_length);
     c.spacing = j.value("spacing", c.spacing);
     c.resolution = j.value("resolution", c.resolution);

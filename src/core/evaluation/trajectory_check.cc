@@ -51,24 +51,32 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
   return out;
 }
 
-Submaps with_reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
-                              const std::vector<std::optional<std::size_t>>& reference_index, std::size_t* dropped) {
+std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
+                                                   const std::vector<std::optional<std::size_t>>& reference_index) {
   if (reference_index.size() != estimate.size())
     throw InputError("reference frames: one reference index per estimated scan is needed");
-  Submaps kept;
-  for (const Submap& m : maps) {
+  std::vector<std::optional<Pose2>> frames(maps.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    const Submap& m = maps[i];
     const auto first = static_cast<std::size_t>(std::max<std::int64_t>(m.anchor_scan, 0));
     const std::size_t end = std::min(estimate.size(), first + std::max<std::size_t>(m.scan_timestamps.size(), 1));
     for (std::size_t j = first; j < end; ++j) {
       if (!reference_index[j]) continue;
-      Submap out = m;
-      out.T_world_map = reference.at(*reference_index[j]).T_world_laser *
-                        (estimate[j].T_world_laser.inverse() * m.T_world_map);
-      kept.push_back(std::move(out));
+      frames[i] = reference.at(*reference_index[j]).T_world_laser * (estimate[j].T_world_laser.inverse() * m.T_world_map);
       break;
     }
   }
-  if (dropped) *dropped = maps.size() - kept.size();
+  return frames;
+}
+
+Submaps with_reference_frames(const Submaps& maps, const std::vector<std::optional<Pose2>>& frames) {
+  if (frames.size() != maps.size()) throw InputError("reference frames: one frame per submap is needed");
+  Submaps kept;
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    if (!frames[i]) continue;
+    kept.push_back(maps[i]);
+    kept.back().T_world_map = *frames[i];
+  }
   return kept;
 }
 

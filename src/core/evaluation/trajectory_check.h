@@ -35,13 +35,14 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
                               const ConsistencyConfig& config = {});
 
 /// Ground truth for submaps built on an estimated trajectory (issue "raw logs", item 2): each submap's frame
-/// re-expressed in the reference's world frame, T_world_map := T_ref(j) * T_est(j)^-1 * T_world_map, through
-/// the scan j of the submap (scans anchor_scan .. anchor_scan + scan_timestamps.size() - 1 of `estimate`)
-/// nearest its anchor that has a reference. Submaps without such a scan are left out (`dropped` counts them).
-/// The relative pose of two kept submaps is then the reference's, up to the estimate's error within each
-/// submap (local_consistency).
-Submaps with_reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
-                              const std::vector<std::optional<std::size_t>>& reference_index,
-                              std::size_t* dropped = nullptr);
+/// in the reference's world frame, T_ref(j) * T_est(j)^-1 * T_world_map, through the scan j of the submap
+/// (scans anchor_scan .. anchor_scan + scan_timestamps.size() - 1 of `estimate`) nearest its anchor that has a
+/// reference; nullopt for a submap without one. The relative pose of two submaps is then the reference's, up
+/// to the estimate's error within each submap (local_consistency).
+std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
+                                                   const std::vector<std::optional<std::size_t>>& reference_index);
+
+/// The submaps that have a reference frame, with T_world_map set to it.
+Submaps with_reference_frames(const Submaps& maps, const std::vector<std::optional<Pose2>>& frames);
 
 }  // namespace partslam

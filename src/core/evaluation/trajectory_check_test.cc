@@ -72,15 +72,17 @@ TEST(ReferenceFrames, CarryEachSubmapIntoTheReferenceFrame) {
   auto index = identity(est.size());
   index[10].reset();  // the next scan of the submap stands in for its anchor
   for (std::size_t j = 20; j < 25; ++j) index[j].reset();
-  std::size_t dropped = 0;
-  const Submaps out = with_reference_frames({m, far}, est, ref, index, &dropped);
+  const auto frames = reference_frames({m, far}, est, ref, index);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_FALSE(frames[1].has_value());
+  const Submaps out = with_reference_frames({m, far}, frames);
   ASSERT_EQ(out.size(), 1u);
-  EXPECT_EQ(dropped, 1u);
   const Pose2 expected = ref[10].T_world_laser * T_anchor_map;
   EXPECT_NEAR(out[0].T_world_map.x, expected.x, 1e-9);
   EXPECT_NEAR(out[0].T_world_map.y, expected.y, 1e-9);
   EXPECT_NEAR(out[0].T_world_map.theta, expected.theta, 1e-9);
-  EXPECT_THROW(with_reference_frames({m}, est, ref, {}), InputError);
+  EXPECT_THROW(reference_frames({m}, est, ref, {}), InputError);
+  EXPECT_THROW(with_reference_frames({m}, {}), InputError);
 }
 
 }  // namespace

@@ -1,0 +1,210 @@
+// partslam loops DB: loop closures among the submaps of one dataset (core/slam/loop_closure.h): for every
+// submap, the earlier submaps beyond the travel gap that its shortlist (rerank:20 = the succinct matcher's top
+// 20 verified by dMM) finds, with the dMM relative pose, score and confidence. Accepted closures (confidence
+// >= --min-confidence) go to --g2o as EDGE_SE2 lines, after a VERTEX_SE2 per submap frame and an EDGE_SE2
+// between consecutive submaps (the front end's). With ground truth — the stored frames of a dataset built from
+// a corrected log, or --truth TWIN for a scan-matched one (the dataset's log is read again and scan-matched
+// with the stored settings, its scans associated with the twin's) — it prints precision-recall, writes the
+// curve to --plot and the figures to --json.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "apps/commands.h"
+#include "apps/progress_bar.h"
+#include "core/error.h"
+#include "core/evaluation/relation_check.h"
+#include "core/evaluation/trajectory_check.h"
+#include "core/maps/submap.h"
+#include "core/slam/front_end.h"
+#include "core/slam/loop_closure.h"
+#include "core/timing.h"
+#include "io/atomic_file.h"
+#include "io/map_database.h"
+#include "io/scan_source.h"
+#include "plot/line_plot.h"
+
+namespace partslam::apps {
+namespace {
+
+struct LoopsOptions {
+  std::string db;
+  std::string dataset;
+  LoopClosureConfig config;
+  LoopTruthConfig truth_config;
+  double min_confidence = 0.1;
+  std::string truth;
+  std::string json;
+  std::string g2o;
+  std::string plot;
+  bool quiet = false;
+};
+
+io::DatasetInfo choose_dataset(const io::MapDatabase& db, const std::string& name) {
+  if (!name.empty()) {
+    auto d = db.find_dataset(name);
+    if (!d) throw InputError(db.path().string() + ": no dataset named '" + name + "'");
+    return *d;
+  }
+  std::vector<io::DatasetInfo> maps;
+  for (const io::DatasetInfo& d : db.datasets())
+    if (d.spec.kind == io::DatasetKind::kSubmaps) maps.push_back(d);
+  if (maps.size() != 1)
+    throw InputError(db.path().string() + ": " + std::to_string(maps.size()) +
+                     " datasets of submaps: choose one with --dataset");
+  return maps.front();
+}
+
+// True frames of the stored submaps: the stored ones for a dataset of a corrected log; with a twin, through the
+// dataset's log rebuilt as it was stored. Empty when there is no ground truth.
+std::vector<std::optional<Pose2>> true_frames(const io::DatasetInfo& d, const Submaps& maps, const LoopsOptions& o,
+                                              std::string& note) {
+  if (o.truth.empty()) {
+    if (d.spec.scan_matched) {
+      note = "no ground truth (scan-matched dataset: give --truth with its corrected twin)";
+      return {};
+    }
+    note = "ground truth: the stored frames (the log's poses)";
+    std::vector<std::optional<Pose2>> frames;
+    for (const Submap& m : maps) frames.emplace_back(m.T_world_map);
+    return frames;
+  }
+  Scans scans = io::load_scan_source(d.spec.source).scans;
+  if (d.spec.scan_matched) scans = scan_match_log(scans, d.spec.front_end).scans;
+  const Submaps rebuilt = build_submaps(scans, d.spec.config);
+  bool same = rebuilt.size() == maps.size();
+  for (std::size_t i = 0; same && i < maps.size(); ++i) same = rebuilt[i].anchor_scan == maps[i].anchor_scan;
+  if (!same)
+    throw InputError(d.spec.source + ": rebuilding dataset '" + d.spec.name + "' from it gives other submaps (" +
+                     std::to_string(rebuilt.size()) + ", stored " + std::to_string(maps.size()) +
+                     "): the log changed since it was stored");
+  const Scans twin = io::load_scan_source(o.truth).scans;
+  std::vector<std::optional<Pose2>> frames = reference_frames(maps, scans, twin, associate_scans(scans, twin));
+  std::size_t known = 0;
+  for (const auto& f : frames) known += f.has_value();
+  if (known == 0) throw InputError(o.truth + ": no scan of " + d.spec.source + " found in it: not its corrected twin");
+  note = "ground truth: " + o.truth + " (" + std::to_string(known) + " of " + std::to_string(maps.size()) +
+         " submaps have an associated scan)";
+  return frames;
+}
+
+void write_g2o(std::ostream& out, const Submaps& maps, const std::vector<LoopClosure>& accepted) {
+  // Information: consecutive submaps (the front end's relative pose) are trusted more than loop closures.
+  auto edge = [&out](std::int64_t from, std::int64_t to, const Pose2& T, const char* info) {
+    out << "EDGE_SE2 " << from << " " << to << " " << T.x << " " << T.y << " " << T.theta << " " << info << "\n";
+  };
+  out << std::setprecision(9);
+  for (const Submap& m : maps)
+    out << "VERTEX_SE2 " << m.id << " " << m.T_world_map.x << " " << m.T_world_map.y << " " << m.T_world_map.theta << "\n";
+  for (std::size_t i = 1; i < maps.size(); ++i)
+    edge(maps[i - 1].id, maps[i].id, maps[i - 1].T_world_map.inverse() * maps[i].T_world_map, "400 0 0 400 0 2500");
+  for (const LoopClosure& c : accepted) edge(maps[c.match].id, maps[c.query].id, c.T_match_query, "25 0 0 25 0 100");
+}
+
+nlohmann::json closures_json(const Submaps& maps, const std::vector<LoopClosure>& closures, double min_confidence) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const LoopClosure& c : closures) {
+    out.push_back({{"query", maps[c.query].id},
+                   {"match", maps[c.match].id},
+                   {"pose", {{"x", c.T_match_query.x}, {"y", c.T_match_query.y}, {"theta", c.T_match_query.theta}}},
+                   {"score", c.score},
+                   {"confidence", c.confidence},
+                   {"accepted", c.confidence >= min_confidence}});
+  }
+  return out;
+}
+
+nlohmann::json evaluation_json(const LoopEvaluation& e) {
+  nlohmann::json curve = nlohmann::json::array();
+  for (const PrecisionRecall& p : e.curve)
+    curve.push_back({{"confidence", p.confidence}, {"precision", p.precision}, {"recall", p.recall}});
+  return {{"relevant_pairs", e.relevant_pairs},
+          {"hypotheses", e.hypotheses},
+          {"correct", e.correct},
+          {"max_f1", e.max_f1},
+          {"recall_at_full_precision", e.recall_at_full_precision},
+          {"confidence_at_full_precision", e.confidence_at_full_precision},
+          {"curve", curve}};
+}
+
+void run_loops(const LoopsOptions& o) {
+  validate(o.config);
+  for (const std::string& path : {o.json, o.g2o, o.plot})
+    if (!path.empty()) io::check_writable(path);
+  const auto db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
+  const io::DatasetInfo dataset = choose_dataset(db, o.dataset);
+  const Submaps maps = db.load_submaps(dataset.id);
+  std::string note;
+  const std::vector<std::optional<Pose2>> truth = true_frames(dataset, maps, o, note);
+  if (!o.plot.empty() && truth.empty()) throw InputError("--plot: " + note);
+
+  const auto t0 = Clock::now();
+  std::vector<LoopClosure> closures;
+  {
+    ProgressBar bar(!o.quiet);
+    closures = find_loop_closures(maps, o.config, [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
+  }
+  const double seconds = ms_since(t0) / 1e3;
+  std::vector<LoopClosure> accepted;
+  for (const LoopClosure& c : closures)
+    if (c.confidence >= o.min_confidence) accepted.push_back(c);
+  std::cout << std::fixed << std::setprecision(1) << dataset.spec.name << ": " << maps.size() << " submaps, "
+            << closures.size() << " verified hypotheses (" << o.config.method << ", G " << o.config.min_travel_gap
+            << " m), " << accepted.size() << " accepted at confidence >= " << std::setprecision(2) << o.min_confidence
+            << std::setprecision(1) << ", " << seconds << " s\n"
+            << note << "\n";
+  nlohmann::json j = {{"dataset", dataset.spec.name},
+                      {"method", o.config.method},
+                      {"min_travel_gap", o.config.min_travel_gap},
+                      {"min_confidence", o.min_confidence},
+                      {"seconds", seconds},
+                      {"closures", closures_json(maps, closures, o.min_confidence)}};
+  if (!truth.empty()) {
+    const LoopEvaluation e = evaluate_loop_closures(closures, maps, truth, o.truth_config);
+    std::cout << std::setprecision(3) << "relevant pairs (R " << o.truth_config.radius << " m): " << e.relevant_pairs
+              << "; correct hypotheses " << e.correct << " of " << e.hypotheses << "; max F1 " << e.max_f1
+              << "; recall at 100 % precision " << e.recall_at_full_precision << " (confidence >= "
+              << e.confidence_at_full_precision << ")\n";
+    j["evaluation"] = evaluation_json(e);
+    if (!o.plot.empty()) {
+      plot::Curve curve{dataset.spec.name + " " + o.config.method, {}};
+      for (const PrecisionRecall& p : e.curve) curve.points.emplace_back(p.recall, p.precision);
+      plot::write_line_plot(o.plot, {"loop closures: " + dataset.spec.name, "recall", "precision", 1.0, 1}, {curve});
+    }
+  }
+  if (!o.json.empty()) io::write_atomically(o.json, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+  if (!o.g2o.empty()) io::write_atomically(o.g2o, [&](std::ostream& out) { write_g2o(out, maps, accepted); });
+}
+
+}  // namespace
+
+void register_loops(CLI::App& app) {
+  auto o = std::make_shared<LoopsOptions>();
+  CLI::App* cmd = app.add_subcommand("loops", "Find loop closures among the submaps of a dataset (shortlist, dMM verification)");
+  cmd->add_option("db", o->db, "map database")->required();
+  cmd->add_option("--dataset", o->dataset, "dataset of submaps (default: the only one)");
+  cmd->add_option("--method", o->config.method, "shortlist and verification: rerank:R[:SPEC] or dmm")->capture_default_str();
+  cmd->add_option("--gap", o->config.min_travel_gap, "G: min travel between a submap and its matches [m]")
+      ->capture_default_str();
+  cmd->add_option("--min-score", o->config.min_score, "hypotheses with a lower dMM inlier fraction are dropped")
+      ->capture_default_str();
+  cmd->add_option("--min-confidence", o->min_confidence, "closures at least this confident are accepted (g2o)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->config.num_threads, "threads (results do not depend on it)")->capture_default_str();
+  cmd->add_option("--truth", o->truth, "corrected twin of the dataset's log (ground truth for a scan-matched dataset)");
+  cmd->add_option("--radius", o->truth_config.radius, "R: true frames this close are the same place [m]")
+      ->capture_default_str();
+  cmd->add_option("--json", o->json, "write closures (and precision-recall) as JSON");
+  cmd->add_option("--g2o", o->g2o, "write the pose graph: submap vertices, consecutive and accepted loop edges");
+  cmd->add_option("--plot", o->plot, "write the precision-recall curve as PNG (needs ground truth)");
+  cmd->add_flag("--quiet", o->quiet, "no progress bar");
+  cmd->callback([o] {
+    o->truth_config.min_travel_gap = o->config.min_travel_gap;
+    run_loops(*o);
+  });
+}
+
+}  // namespace partslam::apps

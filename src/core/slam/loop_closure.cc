@@ -1,0 +1,116 @@
+#include "core/slam/loop_closure.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/matching/ranking.h"
+
+namespace partslam {
+namespace {
+
+// The hypotheses of one query from its ranking: every candidate dMM verified.
+std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const std::vector<std::size_t>& candidates,
+                                    const Ranking& r, const LoopClosureConfig& c) {
+  std::vector<LoopClosure> out;
+  for (std::size_t j = 0; j < candidates.size(); ++j) {
+    if (!r.direct.at(j) || r.direct[j]->inlier_fraction < c.min_score) continue;
+    out.push_back({q, candidates[j], r.direct[j]->T_map_query, r.direct[j]->inlier_fraction, 0.0});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const LoopClosure& a, const LoopClosure& b) { return a.score > b.score; });
+  for (LoopClosure& h : out) {
+    double elsewhere = 0.0;
+    for (const LoopClosure& o : out) {
+      const double d = (maps[o.match].T_world_map.translation() - maps[h.match].T_world_map.translation()).norm();
+      if (d > c.other_place) elsewhere = std::max(elsewhere, o.score);
+    }
+    h.confidence = h.score - elsewhere;
+  }
+  return out;
+}
+
+}  // namespace
+
+void validate(const LoopClosureConfig& c) {
+  if (!(c.min_travel_gap >= 0.0) || !std::isfinite(c.min_travel_gap))
+    throw InputError("loop closure config: min_travel_gap must be a finite number >= 0 [m]");
+  if (!(c.other_place > 0.0) || !std::isfinite(c.other_place))
+    throw InputError("loop closure config: other_place must be a positive finite number [m]");
+  if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
+    throw InputError("loop closure config: min_score must be in [0, 1]");
+  if (c.num_threads < 0) throw InputError("loop closure config: num_threads must be >= 0");
+}
+
+std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config,
+                                            const Progress& progress) {
+  validate(config);
+  const MethodSpec method = parse_method_spec(config.method);
+  if (method.name != "dmm" && method.name != "rerank")
+    throw InputError("loop closures: method '" + config.method + "' gives no dMM pose: use rerank:R[:SPEC] or dmm");
+  if (method.needs_parts)
+    throw InputError("loop closures: method '" + config.method + "' needs CPD parts; use a point-based shortlist");
+  const std::unique_ptr<Ranker> ranker = make_ranker(method, RankingConfig{});
+  std::vector<MapView> views;
+  for (const Submap& m : maps) views.push_back({&m.points, nullptr});
+  ranker->prepare(views, config.num_threads, progress);
+  std::vector<std::vector<LoopClosure>> per_query(maps.size());
+  parallel_for(
+      maps.size(), config.num_threads,
+      [&](std::size_t q) {
+        std::vector<std::size_t> candidates;
+        for (std::size_t g = 0; g < q; ++g)
+          if (maps[g].travel <= maps[q].travel - config.min_travel_gap) candidates.push_back(g);
+        if (candidates.empty()) return;
+        const Ranking r = ranker->rank(views[q], candidates, {1, 0});
+        per_query[q] = hypotheses(maps, q, candidates, r, config);
+      },
+      "loop closures", progress);
+  std::vector<LoopClosure> out;
+  for (auto& h : per_query) out.insert(out.end(), h.begin(), h.end());
+  return out;
+}
+
+LoopEvaluation evaluate_loop_closures(const std::vector<LoopClosure>& closures, const Submaps& maps,
+                                      const std::vector<std::optional<Pose2>>& truth, const LoopTruthConfig& c) {
+  if (truth.size() != maps.size()) throw InputError("loop evaluation: one true frame per map is needed");
+  auto same_place = [&](std::size_t q, std::size_t g) {
+    return truth[q] && truth[g] && maps[q].travel - maps[g].travel >= c.min_travel_gap &&
+           (truth[q]->translation() - truth[g]->translation()).norm() <= c.radius;
+  };
+  LoopEvaluation e;
+  for (std::size_t q = 0; q < maps.size(); ++q)
+    for (std::size_t g = 0; g < q; ++g) e.relevant_pairs += same_place(q, g);
+  // A hypothesis is correct when its pose is (whatever the distance of the two frames); recall counts the
+  // correct ones between frames of the same place.
+  struct Judged {
+    double confidence;
+    bool correct, relevant;
+  };
+  std::vector<Judged> judged;
+  for (const LoopClosure& h : closures) {
+    if (!truth.at(h.query) || !truth.at(h.match)) continue;
+    const Pose2 T = truth[h.match]->inverse() * *truth[h.query];
+    const bool correct = (T.translation() - h.T_match_query.translation()).norm() <= c.max_translation_error &&
+                         std::abs(wrap_angle(T.theta - h.T_match_query.theta)) <= c.max_rotation_error;
+    judged.push_back({h.confidence, correct, correct && same_place(h.query, h.match)});
+  }
+  e.hypotheses = judged.size();
+  std::stable_sort(judged.begin(), judged.end(), [](const Judged& a, const Judged& b) { return a.confidence > b.confidence; });
+  std::size_t tp = 0, found = 0;
+  bool perfect = true;
+  for (std::size_t k = 0; k < judged.size(); ++k) {
+    tp += judged[k].correct;
+    found += judged[k].relevant;
+    perfect = perfect && judged[k].correct;
+    if (k + 1 < judged.size() && judged[k + 1].confidence == judged[k].confidence) continue;  // one point per threshold
+    const double precision = static_cast<double>(tp) / static_cast<double>(k + 1);
+    const double recall = e.relevant_pairs ? static_cast<double>(found) / static_cast<double>(e.relevant_pairs) : 0.0;
+    e.curve.push_back({judged[k].confidence, precision, recall});
+    if (precision + recall > 0) e.max_f1 = std::max(e.max_f1, 2 * precision * recall / (precision + recall));
+    if (perfect) e.recall_at_full_precision = recall, e.confidence_at_full_precision = judged[k].confidence;
+  }
+  e.correct = tp;
+  return e;
+}
+
+}  // namespace partslam

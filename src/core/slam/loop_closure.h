@@ -1,0 +1,73 @@
+// Loop closures (issue "raw logs", item 3): for every submap, the earlier submaps (beyond a travel gap) of the
+// same place, found by a ranking method that verifies its shortlist by dMM (core/matching/ranking.h:
+// rerank:R[:SPEC], the succinct shortlist reordered by dMM, or dmm itself). Every verified candidate is a
+// hypothesis with the dMM relative pose, its score (inlier fraction) and a confidence: its score minus the best
+// score among the query's verified candidates at another place (stored frames more than other_place apart),
+// so a place that looks like several others gets a low confidence even when its score is high.
+// evaluate_loop_closures measures them against true map frames: precision-recall over the confidence, where a
+// hypothesis is correct when its pose is (0.5 m, 0.2 rad) and recall is the share of the relevant pairs (true
+// frames within R, beyond the travel gap) found by a correct hypothesis. Every verified shortlist candidate is
+// a hypothesis, so recall is bounded by how many of a query's relevant pairs its shortlist of R holds.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/maps/submap.h"
+#include "core/parallel.h"
+
+namespace partslam {
+
+struct LoopClosureConfig {
+  std::string method = "rerank:20";  ///< a method spec whose candidates carry a dMM pose (rerank:R..., dmm)
+  double min_travel_gap = 20.0;      ///< G: candidates were anchored at least this much travel earlier [m]
+  double other_place = 4.0;          ///< stored frames farther apart are another place (confidence) [m]
+  double min_score = 0.0;            ///< hypotheses with a lower dMM inlier fraction are not kept
+  int num_threads = 1;               ///< results do not depend on it
+};
+
+/// Throws InputError naming the offending field.
+void validate(const LoopClosureConfig& config);
+
+struct LoopClosure {
+  std::size_t query = 0;  ///< index of the later submap
+  std::size_t match = 0;  ///< index of the earlier submap
+  Pose2 T_match_query;    ///< the query's frame in the match's frame (dMM)
+  double score = 0.0;     ///< dMM inlier fraction
+  double confidence = 0.0;  ///< score minus the best score at another place (the score when there is none)
+};
+
+/// Hypotheses of every query, in query order, each query's by decreasing score.
+std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config = {},
+                                            const Progress& progress = {});
+
+struct LoopTruthConfig {
+  double radius = 2.0;               ///< R: true frames at most this far apart are the same place [m]
+  double min_travel_gap = 20.0;      ///< G: as LoopClosureConfig::min_travel_gap [m]
+  double max_translation_error = 0.5;  ///< a correct hypothesis's pose error [m]
+  double max_rotation_error = 0.2;     ///< [rad]
+};
+
+struct PrecisionRecall {
+  double confidence = 0.0;  ///< threshold: hypotheses with at least this confidence are accepted
+  double precision = 0.0;
+  double recall = 0.0;
+};
+
+struct LoopEvaluation {
+  std::size_t relevant_pairs = 0;  ///< (later, earlier) pairs of the same place with true frames
+  std::size_t hypotheses = 0;      ///< hypotheses between maps with true frames
+  std::size_t correct = 0;         ///< of them: the pose within the errors of the true relative pose
+  std::vector<PrecisionRecall> curve;  ///< one point per distinct confidence, decreasing
+  double max_f1 = 0.0;
+  double recall_at_full_precision = 0.0;  ///< largest recall with every accepted hypothesis correct
+  double confidence_at_full_precision = 0.0;  ///< the threshold that gives it
+};
+
+/// `true_frames[i]`: the true T_world_map of maps[i], or nullopt when unknown (left out of everything).
+LoopEvaluation evaluate_loop_closures(const std::vector<LoopClosure>& closures, const Submaps& maps,
+                                      const std::vector<std::optional<Pose2>>& true_frames,
+                                      const LoopTruthConfig& config = {});
+
+}  // namespace partslam

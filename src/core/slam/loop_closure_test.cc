@@ -1,0 +1,99 @@
+#include "core/slam/loop_closure.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/sim/simulator.h"
+
+namespace partslam {
+namespace {
+
+// The simulator drives its corridor loop twice: the second lap revisits the first's places.
+const Submaps& two_laps() {
+  static const Submaps maps = [] {
+    SubmapConfig c;
+    c.spacing = 1.0;
+    return build_submaps(simulate(SimulatorConfig{}).scans, c);
+  }();
+  return maps;
+}
+
+std::vector<std::optional<Pose2>> exact_frames(const Submaps& maps) {
+  std::vector<std::optional<Pose2>> frames;
+  for (const Submap& m : maps) frames.emplace_back(m.T_world_map);
+  return frames;
+}
+
+TEST(LoopClosure, FindsTheSecondLapsPlacesWithTheirPoses) {
+  const Submaps& maps = two_laps();
+  LoopClosureConfig config;
+  config.num_threads = 2;
+  const std::vector<LoopClosure> closures = find_loop_closures(maps, config);
+  ASSERT_FALSE(closures.empty());
+  for (const LoopClosure& c : closures) {
+    EXPECT_LT(c.match, c.query);
+    EXPECT_GE(maps[c.query].travel - maps[c.match].travel, config.min_travel_gap);
+    EXPECT_LE(c.confidence, c.score);
+  }
+  const LoopEvaluation e = evaluate_loop_closures(closures, maps, exact_frames(maps));
+  EXPECT_GT(e.relevant_pairs, 50u);
+  EXPECT_GT(e.max_f1, 0.5) << e.max_f1;
+  EXPECT_GT(e.recall_at_full_precision, 0.0);
+  ASSERT_FALSE(e.curve.empty());
+  EXPECT_NEAR(e.curve.back().precision, static_cast<double>(e.correct) / static_cast<double>(e.hypotheses), 1e-12);
+  for (std::size_t i = 1; i < e.curve.size(); ++i) EXPECT_GE(e.curve[i].recall, e.curve[i - 1].recall);
+
+  config.num_threads = 1;  // the same answer on one thread
+  const std::vector<LoopClosure> serial = find_loop_closures(maps, config);
+  ASSERT_EQ(serial.size(), closures.size());
+  for (std::size_t i = 0; i < serial.size(); ++i) {
+    EXPECT_EQ(serial[i].match, closures[i].match);
+    EXPECT_EQ(serial[i].confidence, closures[i].confidence);
+  }
+}
+
+TEST(LoopClosure, EvaluationJudgesPosesAgainstTheTruth) {
+  Submaps maps(3);
+  for (std::size_t i = 0; i < 3; ++i) maps[i].travel = 30.0 * static_cast<double>(i);
+  maps[0].T_world_map = {0, 0, 0};
+  maps[1].T_world_map = {50, 0, 0};
+  maps[2].T_world_map = {1, 0, 0};  // the place of map 0, revisited
+  std::vector<LoopClosure> closures = {{2, 0, Pose2{1.0, 0.0, 0.0}, 0.9, 0.5},   // right
+                                       {2, 1, Pose2{0.0, 0.0, 0.0}, 0.8, 0.6},   // another place, more confident
+                                       {1, 0, Pose2{50.0, 0.0, 0.0}, 0.3, 0.3}};  // right pose, not the same place
+  const LoopEvaluation e = evaluate_loop_closures(closures, maps, exact_frames(maps));
+  EXPECT_EQ(e.relevant_pairs, 1u);
+  EXPECT_EQ(e.hypotheses, 3u);
+  EXPECT_EQ(e.correct, 2u);
+  EXPECT_EQ(e.recall_at_full_precision, 0.0);  // the most confident one is wrong
+  ASSERT_EQ(e.curve.size(), 3u);
+  EXPECT_DOUBLE_EQ(e.curve[1].precision, 0.5);
+  EXPECT_DOUBLE_EQ(e.curve[1].recall, 1.0);
+  EXPECT_NEAR(e.max_f1, 0.8, 1e-12);  // all three: precision 2/3, recall 1
+  // Unknown frames leave their hypotheses out.
+  std::vector<std::optional<Pose2>> partial = exact_frames(maps);
+  partial[1].reset();
+  EXPECT_EQ(evaluate_loop_closures(closures, maps, partial).hypotheses, 1u);
+  EXPECT_EQ(evaluate_loop_closures(closures, maps, partial).recall_at_full_precision, 1.0);
+  EXPECT_THROW(evaluate_loop_closures(closures, maps, {}), InputError);
+}
+
+TEST(LoopClosure, RefusesMethodsWithoutAPoseAndAbsurdConfigs) {
+  LoopClosureConfig c;
+  c.method = "succinct";
+  EXPECT_THROW(find_loop_closures(two_laps(), c), InputError);
+  c.method = "rerank:5:3";  // needs CPD parts
+  EXPECT_THROW(find_loop_closures(two_laps(), c), InputError);
+  c = {};
+  c.other_place = 0;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.min_score = 2;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.min_travel_gap = std::nan("");
+  EXPECT_THROW(validate(c), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
