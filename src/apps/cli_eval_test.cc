@@ -161,3 +161,40 @@ TEST_F(CliEvalTest, EvaluatesARawLogAgainstItsTwin) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
+  const fs::path db = dir_ / "loops.db", json = dir_ / "loops.json", g2o = dir_ / "loops.g2o", png = dir_ / "pr.png";
+  ASSERT_EQ(run_partslam("submaps sim:1 --spacing 1 --db " + quoted(db)).exit_code, 0);
+  const CliRun run = run_partslam("loops " + quoted(db) + " --threads 2 --json " + quoted(json) + " --g2o " +
+                                  quoted(g2o) + " --plot " + quoted(png));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("ground truth: the stored frames"));
+  EXPECT_THAT(run.output, HasSubstr("recall at 100 % precision"));
+  const nlohmann::json j = read_json(json);
+  ASSERT_GT(j["closures"].size(), 0u);
+  EXPECT_TRUE(j["closures"][0]["pose"]["theta"].is_number());
+  EXPECT_GT(j["evaluation"]["relevant_pairs"].get<int>(), 0);
+  EXPECT_GT(j["evaluation"]["max_f1"].get<double>(), 0.0);
+  std::ifstream in(g2o);
+  std::string first;
+  in >> first;
+  EXPECT_EQ(first, "VERTEX_SE2");
+  EXPECT_GT(fs::file_size(png), 1000u);
+
+  // A scan-matched dataset has no ground truth of its own: a curve needs --truth.
+  const fs::path raw = dir_ / "raw.db";
+  ASSERT_EQ(run_partslam("submaps sim:1 --spacing 1 --scan-match --db " + quoted(raw)).exit_code, 0);
+  const CliRun no_truth = run_partslam("loops " + quoted(raw) + " --plot " + quoted(dir_ / "x.png"));
+  EXPECT_EQ(no_truth.exit_code, 1);
+  EXPECT_THAT(no_truth.output, HasSubstr("--truth"));
+  const CliRun twin = run_partslam("loops " + quoted(raw) + " --truth sim:1 --quiet");
+  EXPECT_EQ(twin.exit_code, 0) << twin.output;
+  EXPECT_THAT(twin.output, HasSubstr("submaps have an associated scan"));
+  EXPECT_NE(run_partslam("loops " + quoted(raw) + " --method succinct").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace partslam

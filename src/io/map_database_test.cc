@@ -77,6 +77,10 @@ TEST_F(MapDatabaseTest, SubmapsRoundTripExactlyUpToFloat32Points) {
   spec.config.resolution = 0.05;
   spec.config.min_points = 7;
   spec.config.align = false;
+  spec.config.max_range = 12.5;
+  spec.scan_matched = true;
+  spec.front_end.matcher.linear_window = 0.45;
+  spec.front_end.matcher.angular_window = 0.05;
   std::int64_t dataset_id = 0;
   {
     MapDatabase db = MapDatabase::open(path, Mode::kCreate);
@@ -116,6 +120,10 @@ TEST_F(MapDatabaseTest, SubmapsRoundTripExactlyUpToFloat32Points) {
   EXPECT_EQ(info.spec.config.resolution, 0.05);
   EXPECT_EQ(info.spec.config.min_points, 7);
   EXPECT_FALSE(info.spec.config.align);
+  EXPECT_EQ(info.spec.config.max_range, 12.5);
+  EXPECT_TRUE(info.spec.scan_matched);
+  EXPECT_EQ(info.spec.front_end.matcher.linear_window, 0.45);
+  EXPECT_EQ(info.spec.front_end.matcher.angular_window, 0.05);
   EXPECT_EQ(info.submap_count, 5);
   EXPECT_DOUBLE_EQ(info.mean_points, 300.0);
   EXPECT_EQ(info.first_map_id, ids.front());
