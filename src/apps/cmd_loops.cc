@@ -35,7 +35,7 @@ struct LoopsOptions {
   std::string dataset;
   LoopClosureConfig config;
   LoopTruthConfig truth_config;
-  double min_confidence = 0.1;
+  double min_confidence = 0.5;
   std::string truth;
   std::string json;
   std::string g2o;
@@ -111,6 +111,7 @@ nlohmann::json closures_json(const Submaps& maps, const std::vector<LoopClosure>
                    {"match", maps[c.match].id},
                    {"pose", {{"x", c.T_match_query.x}, {"y", c.T_match_query.y}, {"theta", c.T_match_query.theta}}},
                    {"score", c.score},
+                   {"context_score", c.context_score},
                    {"confidence", c.confidence},
                    {"accepted", c.confidence >= min_confidence}});
   }
@@ -126,6 +127,8 @@ nlohmann::json evaluation_json(const LoopEvaluation& e) {
           {"correct", e.correct},
           {"max_f1", e.max_f1},
           {"recall_at_full_precision", e.recall_at_full_precision},
+          {"relevant_queries", e.relevant_queries},
+          {"query_recall_at_full_precision", e.query_recall_at_full_precision},
           {"confidence_at_full_precision", e.confidence_at_full_precision},
           {"curve", curve}};
 }
@@ -167,8 +170,16 @@ void run_loops(const LoopsOptions& o) {
     std::cout << std::setprecision(3) << "relevant pairs (R " << o.truth_config.radius << " m): " << e.relevant_pairs
               << "; correct hypotheses " << e.correct << " of " << e.hypotheses << "; max F1 " << e.max_f1
               << "; recall at 100 % precision " << e.recall_at_full_precision << " (confidence >= "
-              << e.confidence_at_full_precision << ")\n";
+              << e.confidence_at_full_precision << "); places: " << e.relevant_queries
+              << " submaps with a relevant earlier one, " << e.query_recall_at_full_precision
+              << " of them closed at 100 % precision\n";
     j["evaluation"] = evaluation_json(e);
+    for (std::size_t i = 0; i < closures.size(); ++i) {
+      if (e.verdicts[i] < 0) continue;
+      const Pose2 T = truth[closures[i].match]->inverse() * *truth[closures[i].query];
+      j["closures"][i]["correct"] = e.verdicts[i] == 1;
+      j["closures"][i]["true_pose"] = {{"x", T.x}, {"y", T.y}, {"theta", T.theta}};
+    }
     if (!o.plot.empty()) {
       plot::Curve curve{dataset.spec.name + " " + o.config.method, {}};
       for (const PrecisionRecall& p : e.curve) curve.points.emplace_back(p.recall, p.precision);
@@ -191,6 +202,13 @@ void register_loops(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--min-score", o->config.min_score, "hypotheses with a lower dMM inlier fraction are dropped")
       ->capture_default_str();
+  cmd->add_option("--context", o->config.context,
+                  "verification in context: submaps within this travel of query and match are joined [m]; 0 = off")
+      ->capture_default_str();
+  cmd->add_option("--drift", o->config.drift_rate,
+                  "drift gate: matches farther than 2 m + DRIFT x travel gap (and 0.3 rad + 0.2 DRIFT rad/m) from "
+                  "the stored relative pose are dropped; 0 = off")
+      ->capture_default_str();
   cmd->add_option("--min-confidence", o->min_confidence, "closures at least this confident are accepted (g2o)")
       ->capture_default_str();
   cmd->add_option("--threads", o->config.num_threads, "threads (results do not depend on it)")->capture_default_str();
@@ -203,6 +221,8 @@ void register_loops(CLI::App& app) {
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->callback([o] {
     o->truth_config.min_travel_gap = o->config.min_travel_gap;
+    if (o->config.drift_rate == 0) o->config.drift_offset = 0;  // --drift 0: off
+    o->config.drift_turn_rate = 0.2 * o->config.drift_rate;
     run_loops(*o);
   });
 }

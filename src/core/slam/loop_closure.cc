@@ -5,26 +5,64 @@
 
 #include "core/error.h"
 #include "core/matching/ranking.h"
+#include "core/slam/scan_matcher.h"
 
 namespace partslam {
 namespace {
 
-// The hypotheses of one query from its ranking: every candidate dMM verified.
+constexpr double kContextResolution = 0.1;  // context maps are downsampled to one point per cell [m]
+
+// Map i with the submaps within `context` of travel around it, in its frame, one point per cell.
+Points2 context_points(const Submaps& maps, std::size_t i, double context) {
+  Points2 all = maps[i].points;
+  const Pose2 T_map_world = maps[i].T_world_map.inverse();
+  for (std::size_t j = 0; j < maps.size(); ++j) {
+    if (j == i || std::abs(maps[j].travel - maps[i].travel) > context) continue;
+    const Points2 p = transform(T_map_world * maps[j].T_world_map, maps[j].points);
+    all.insert(all.end(), p.begin(), p.end());
+  }
+  return voxel_downsample(all, kContextResolution);
+}
+
+// False when the hypothesis lies outside the drift gate around the stored relative pose.
+bool within_drift(const Submaps& maps, std::size_t q, std::size_t m, const Pose2& T_match_query,
+                  const LoopClosureConfig& c) {
+  if (c.drift_offset == 0 && c.drift_rate == 0) return true;
+  const double gap = std::abs(maps[q].travel - maps[m].travel);
+  const Pose2 prior = maps[m].T_world_map.inverse() * maps[q].T_world_map;
+  return (prior.translation() - T_match_query.translation()).norm() <= c.drift_offset + c.drift_rate * gap &&
+         std::abs(wrap_angle(prior.theta - T_match_query.theta)) <= c.drift_turn + c.drift_turn_rate * gap;
+}
+
+// The hypotheses of one query from its ranking: every candidate dMM verified within the drift gate, then in
+// context.
 std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const std::vector<std::size_t>& candidates,
                                     const Ranking& r, const LoopClosureConfig& c) {
   std::vector<LoopClosure> out;
   for (std::size_t j = 0; j < candidates.size(); ++j) {
     if (!r.direct.at(j) || r.direct[j]->inlier_fraction < c.min_score) continue;
-    out.push_back({q, candidates[j], r.direct[j]->T_map_query, r.direct[j]->inlier_fraction, 0.0});
+    if (!within_drift(maps, q, candidates[j], r.direct[j]->T_map_query, c)) continue;
+    out.push_back({q, candidates[j], r.direct[j]->T_map_query, r.direct[j]->inlier_fraction, 0.0, 0.0});
   }
   std::stable_sort(out.begin(), out.end(), [](const LoopClosure& a, const LoopClosure& b) { return a.score > b.score; });
+  if (c.context > 0 && !out.empty()) {
+    ScanMatcherConfig verify;
+    verify.angular_window = 0.1;
+    const LikelihoodField field(context_points(maps, q, c.context), verify.resolution, verify.sigma);
+    for (LoopClosure& h : out) {  // the match's context placed in the query's frame, refined around dMM's pose
+      const ScanMatch m = match_scan(field, context_points(maps, h.match, c.context), h.T_match_query.inverse(), verify);
+      h.T_match_query = m.pose.inverse();
+      h.context_score = m.score;
+    }
+  }
   for (LoopClosure& h : out) {
+    const auto value = [&c](const LoopClosure& x) { return c.context > 0 ? x.context_score : x.score; };
     double elsewhere = 0.0;
     for (const LoopClosure& o : out) {
       const double d = (maps[o.match].T_world_map.translation() - maps[h.match].T_world_map.translation()).norm();
-      if (d > c.other_place) elsewhere = std::max(elsewhere, o.score);
+      if (d > c.other_place) elsewhere = std::max(elsewhere, value(o));
     }
-    h.confidence = h.score - elsewhere;
+    h.confidence = value(h) - elsewhere;
   }
   return out;
 }
@@ -39,6 +77,11 @@ void validate(const LoopClosureConfig& c) {
   if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
     throw InputError("loop closure config: min_score must be in [0, 1]");
   if (c.num_threads < 0) throw InputError("loop closure config: num_threads must be >= 0");
+  if (!(c.context >= 0.0 && c.context <= 100.0))
+    throw InputError("loop closure config: context must be in [0, 100] m");
+  for (const double v : {c.drift_offset, c.drift_rate, c.drift_turn, c.drift_turn_rate})
+    if (!(v >= 0.0) || !std::isfinite(v))
+      throw InputError("loop closure config: drift_offset, drift_rate, drift_turn, drift_turn_rate must be finite and >= 0");
 }
 
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config,
@@ -78,36 +121,52 @@ LoopEvaluation evaluate_loop_closures(const std::vector<LoopClosure>& closures, 
            (truth[q]->translation() - truth[g]->translation()).norm() <= c.radius;
   };
   LoopEvaluation e;
-  for (std::size_t q = 0; q < maps.size(); ++q)
-    for (std::size_t g = 0; g < q; ++g) e.relevant_pairs += same_place(q, g);
+  for (std::size_t q = 0; q < maps.size(); ++q) {
+    std::size_t pairs = 0;
+    for (std::size_t g = 0; g < q; ++g) pairs += same_place(q, g);
+    e.relevant_pairs += pairs;
+    e.relevant_queries += pairs > 0;
+  }
   // A hypothesis is correct when its pose is (whatever the distance of the two frames); recall counts the
   // correct ones between frames of the same place.
   struct Judged {
     double confidence;
     bool correct, relevant;
+    std::size_t query;
   };
   std::vector<Judged> judged;
-  for (const LoopClosure& h : closures) {
+  e.verdicts.assign(closures.size(), -1);
+  for (std::size_t i = 0; i < closures.size(); ++i) {
+    const LoopClosure& h = closures[i];
     if (!truth.at(h.query) || !truth.at(h.match)) continue;
     const Pose2 T = truth[h.match]->inverse() * *truth[h.query];
     const bool correct = (T.translation() - h.T_match_query.translation()).norm() <= c.max_translation_error &&
                          std::abs(wrap_angle(T.theta - h.T_match_query.theta)) <= c.max_rotation_error;
-    judged.push_back({h.confidence, correct, correct && same_place(h.query, h.match)});
+    e.verdicts[i] = correct ? 1 : 0;
+    judged.push_back({h.confidence, correct, correct && same_place(h.query, h.match), h.query});
   }
   e.hypotheses = judged.size();
   std::stable_sort(judged.begin(), judged.end(), [](const Judged& a, const Judged& b) { return a.confidence > b.confidence; });
   std::size_t tp = 0, found = 0;
+  std::vector<bool> closed(maps.size(), false);
+  std::size_t closed_queries = 0;
   bool perfect = true;
   for (std::size_t k = 0; k < judged.size(); ++k) {
     tp += judged[k].correct;
     found += judged[k].relevant;
+    if (judged[k].relevant && !closed[judged[k].query]) closed[judged[k].query] = true, ++closed_queries;
     perfect = perfect && judged[k].correct;
     if (k + 1 < judged.size() && judged[k + 1].confidence == judged[k].confidence) continue;  // one point per threshold
     const double precision = static_cast<double>(tp) / static_cast<double>(k + 1);
     const double recall = e.relevant_pairs ? static_cast<double>(found) / static_cast<double>(e.relevant_pairs) : 0.0;
     e.curve.push_back({judged[k].confidence, precision, recall});
     if (precision + recall > 0) e.max_f1 = std::max(e.max_f1, 2 * precision * recall / (precision + recall));
-    if (perfect) e.recall_at_full_precision = recall, e.confidence_at_full_precision = judged[k].confidence;
+    if (perfect) {
+      e.recall_at_full_precision = recall;
+      e.confidence_at_full_precision = judged[k].confidence;
+      e.query_recall_at_full_precision =
+          e.relevant_queries ? static_cast<double>(closed_queries) / static_cast<double>(e.relevant_queries) : 0.0;
+    }
   }
   e.correct = tp;
   return e;

@@ -33,7 +33,8 @@ TEST(LoopClosure, FindsTheSecondLapsPlacesWithTheirPoses) {
   for (const LoopClosure& c : closures) {
     EXPECT_LT(c.match, c.query);
     EXPECT_GE(maps[c.query].travel - maps[c.match].travel, config.min_travel_gap);
-    EXPECT_LE(c.confidence, c.score);
+    EXPECT_LE(c.confidence, c.context_score);
+    EXPECT_GT(c.context_score, 0.0);
   }
   const LoopEvaluation e = evaluate_loop_closures(closures, maps, exact_frames(maps));
   EXPECT_GT(e.relevant_pairs, 50u);
@@ -58,14 +59,17 @@ TEST(LoopClosure, EvaluationJudgesPosesAgainstTheTruth) {
   maps[0].T_world_map = {0, 0, 0};
   maps[1].T_world_map = {50, 0, 0};
   maps[2].T_world_map = {1, 0, 0};  // the place of map 0, revisited
-  std::vector<LoopClosure> closures = {{2, 0, Pose2{1.0, 0.0, 0.0}, 0.9, 0.5},   // right
-                                       {2, 1, Pose2{0.0, 0.0, 0.0}, 0.8, 0.6},   // another place, more confident
-                                       {1, 0, Pose2{50.0, 0.0, 0.0}, 0.3, 0.3}};  // right pose, not the same place
+  std::vector<LoopClosure> closures = {{2, 0, Pose2{1.0, 0.0, 0.0}, 0.9, 0.0, 0.5},   // right
+                                       {2, 1, Pose2{0.0, 0.0, 0.0}, 0.8, 0.0, 0.6},   // another place, more confident
+                                       {1, 0, Pose2{50.0, 0.0, 0.0}, 0.3, 0.0, 0.3}};  // right pose, not the same place
   const LoopEvaluation e = evaluate_loop_closures(closures, maps, exact_frames(maps));
   EXPECT_EQ(e.relevant_pairs, 1u);
   EXPECT_EQ(e.hypotheses, 3u);
   EXPECT_EQ(e.correct, 2u);
   EXPECT_EQ(e.recall_at_full_precision, 0.0);  // the most confident one is wrong
+  EXPECT_EQ(e.relevant_queries, 1u);
+  EXPECT_EQ(e.query_recall_at_full_precision, 0.0);
+  EXPECT_EQ(e.verdicts, (std::vector<int>{1, 0, 1}));
   ASSERT_EQ(e.curve.size(), 3u);
   EXPECT_DOUBLE_EQ(e.curve[1].precision, 0.5);
   EXPECT_DOUBLE_EQ(e.curve[1].recall, 1.0);
@@ -75,6 +79,8 @@ TEST(LoopClosure, EvaluationJudgesPosesAgainstTheTruth) {
   partial[1].reset();
   EXPECT_EQ(evaluate_loop_closures(closures, maps, partial).hypotheses, 1u);
   EXPECT_EQ(evaluate_loop_closures(closures, maps, partial).recall_at_full_precision, 1.0);
+  EXPECT_EQ(evaluate_loop_closures(closures, maps, partial).query_recall_at_full_precision, 1.0);
+  EXPECT_EQ(evaluate_loop_closures(closures, maps, partial).verdicts, (std::vector<int>{1, -1, -1}));
   EXPECT_THROW(evaluate_loop_closures(closures, maps, {}), InputError);
 }
 
@@ -93,6 +99,33 @@ TEST(LoopClosure, RefusesMethodsWithoutAPoseAndAbsurdConfigs) {
   c = {};
   c.min_travel_gap = std::nan("");
   EXPECT_THROW(validate(c), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST(LoopClosure, DriftGateDropsMatchesFarFromTheStoredRelativePose) {
+  // Stored frames that put the second lap 30 m from where it really is: no closure across the laps passes a
+  // gate of 2 m, and some do when the gate is off.
+  Submaps maps = two_laps();
+  const double lap_start = maps.back().travel / 2;
+  for (Submap& m : maps)
+    if (m.travel > lap_start) m.T_world_map.x += 30.0;
+  LoopClosureConfig tight;
+  tight.drift_rate = tight.drift_turn_rate = 0.0;
+  tight.num_threads = 2;
+  const auto across = [&](const std::vector<LoopClosure>& closures) {
+    std::size_t n = 0;
+    for (const LoopClosure& c : closures) n += maps[c.query].travel > lap_start && maps[c.match].travel <= lap_start;
+    return n;
+  };
+  EXPECT_EQ(across(find_loop_closures(maps, tight)), 0u);
+  LoopClosureConfig off = tight;
+  off.drift_offset = 0.0;
+  EXPECT_GT(across(find_loop_closures(maps, off)), 10u);
 }
 
 }  // namespace
