@@ -4,6 +4,7 @@ set -euo pipefail
 PACKAGES=(
   g++ make cmake pkg-config
   libeigen3-dev        # 2D geometry
+  libceres-dev         # pose-graph optimisation (partslam slam)
   libcli11-dev         # command-line parsing
   libsqlite3-dev       # map database
   zlib1g-dev           # gzip CARMEN logs
