@@ -198,3 +198,31 @@ TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST_F(CliEvalTest, SlamWritesTheCorrectedLogMapLoopsAndRelationErrors) {
+  // Relations of the simulated run from its exact poses (the simulator's log is the raw log here: its pose
+  // fields are exact, so this checks the plumbing; core/slam/slam_test.cc checks the accuracy).
+  const fs::path out = dir_ / "slam", relations = dir_ / "sim.relations";
+  {
+    std::ofstream r(relations);
+    r << "0.0 10.0 0 0 0 0 0 0\n";  // timestamps of the simulated scans start at 0 s
+  }
+  const CliRun run = run_partslam("slam sim:1 --out " + quoted(out) + " --relations " + quoted(relations) + " --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("pose graph: cost"));
+  for (const char* f : {"corrected.log", "map.png", "loops.json", "relations_error.json"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const nlohmann::json e = read_json(out / "relations_error.json");
+  EXPECT_TRUE(e["translation"]["mean"].is_number());
+  EXPECT_TRUE(e["rotation"]["std"].is_number());
+  EXPECT_EQ(e["relations"].get<int>() + e["missing"].get<int>(), 1);
+  // The corrected log is a log: submaps can be built from it.
+  EXPECT_EQ(run_partslam("submaps " + quoted(out / "corrected.log") + " --db " + quoted(dir_ / "c.db")).exit_code, 0);
+  EXPECT_NE(run_partslam("slam sim:1 --out " + quoted(out) + " --relations " + quoted(dir_ / "none")).exit_code, 0);
+}
+
+}  // namespace
+}  // namespace partslam

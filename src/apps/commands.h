@@ -16,6 +16,7 @@ void register_describe(CLI::App& app);  // cmd_describe.cc
 void register_match(CLI::App& app);     // cmd_match.cc
 void register_render(CLI::App& app);    // cmd_render.cc
 void register_loops(CLI::App& app);     // cmd_loops.cc
+void register_slam(CLI::App& app);      // cmd_slam.cc
 
 // One line per subcommand; keep them in this order: foundation, matching, parts, evaluation.
 
@@ -26,6 +27,7 @@ inline void register_all(CLI::App& app) {
   register_export(app);
   register_match(app);
   register_loops(app);
+  register_slam(app);
   register_describe(app);
   register_render(app);
   register_eval(app);

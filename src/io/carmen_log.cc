@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 
 #include "core/error.h"
+#include "io/atomic_file.h"
 #include "io/line_reader.h"
 #include "io/text_fields.h"
 
@@ -287,6 +289,34 @@ CarmenLog read_carmen_log(const std::filesystem::path& path, const LogReadOption
   log.odometry = reader.take_odometry();
   log.stats = reader.stats();
   return log;
+}
+
+void write_carmen_log(const std::filesystem::path& path, const Scans& scans, const std::string& header) {
+  write_atomically(path, [&](std::ostream& out) {
+    out << "# " << (header.empty() ? "written by partslam" : header) << "\n";
+    char buf[64];
+    for (std::size_t k = 0; k < scans.size(); ++k) {
+      const Scan& scan = scans[k];
+      if (scan.num_beams < 1)
+        throw InputError(path.string() + ": scan " + std::to_string(k) + " has no beams to write");
+      const double increment = flaser_angle_increment(scan.num_beams, FlaserSpacing::kCarmen);
+      std::vector<double> ranges(static_cast<std::size_t>(scan.num_beams), 81.92);
+      for (const Vec2& p : scan.points_laser) {
+        const long beam = std::lround((std::atan2(p.y(), p.x()) + std::numbers::pi / 2) / increment);
+        if (beam >= 0 && beam < scan.num_beams) ranges[static_cast<std::size_t>(beam)] = p.norm();
+      }
+      out << "FLASER " << scan.num_beams;
+      for (double r : ranges) {
+        std::snprintf(buf, sizeof buf, " %.4f", r);
+        out << buf;
+      }
+      const Pose2& T = scan.T_world_laser;
+      std::snprintf(buf, sizeof buf, " %.6f %.6f %.6f", T.x, T.y, T.theta);
+      out << buf << buf;
+      std::snprintf(buf, sizeof buf, " %.6f partslam %.6f\n", scan.timestamp, scan.timestamp);
+      out << buf;
+    }
+  });
 }
 
 }  // namespace partslam::io

@@ -134,4 +134,11 @@ struct CarmenLog {
 /// Reads a whole log; same errors as CarmenReader.
 CarmenLog read_carmen_log(const std::filesystem::path& path, const LogReadOptions& options = {});
 
+/// Writes scans as a CARMEN log of FLASER messages (atomically): each scan's ranges rebuilt from its points on
+/// the beams of the kCarmen convention (-90 deg .. +90 deg, num_beams beams; beams without a point, dropped when
+/// read, are written as 81.92 "no return"), both pose slots holding T_world_laser (a corrected log), ranges to
+/// 0.1 mm. Reading it back gives the same points to 0.1 mm. Throws InputError naming the path when it cannot be
+/// written, and for a scan with no beams.
+void write_carmen_log(const std::filesystem::path& path, const Scans& scans, const std::string& header = {});
+
 }  // namespace partslam::io

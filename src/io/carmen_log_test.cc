@@ -344,3 +344,39 @@ TEST(CarmenLog, MutatedLogsParseOrThrowInputErrorNeverAnythingElse) {
 
 }  // namespace
 }  // namespace partslam::io
+
+namespace partslam::io {
+namespace {
+
+TEST(CarmenLog, WrittenLogsReadBackToTheSamePointsAndPoses) {
+  testing::TempDir dir;
+  Scans scans(2);
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    Scan& s = scans[k];
+    s.timestamp = 1000.5 + static_cast<double>(k);
+    s.num_beams = 181;
+    s.T_world_laser = s.T_world_odom = Pose2{1.25 * static_cast<double>(k), -3.5, 0.3};
+    const double inc = flaser_angle_increment(181, FlaserSpacing::kCarmen);
+    for (int b = 0; b < 181; b += 3) {  // every third beam has a return
+      const double a = -std::numbers::pi / 2 + b * inc, r = 2.0 + 0.01 * b;
+      s.points_laser.emplace_back(r * std::cos(a), r * std::sin(a));
+    }
+  }
+  write_carmen_log(dir / "out.log", scans);
+  const CarmenLog back = read_carmen_log(dir / "out.log");
+  ASSERT_EQ(back.scans.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_NEAR(back.scans[k].timestamp, scans[k].timestamp, 1e-6);
+    EXPECT_NEAR(back.scans[k].T_world_laser.x, scans[k].T_world_laser.x, 1e-6);
+    EXPECT_NEAR(back.scans[k].T_world_laser.theta, 0.3, 1e-6);
+    ASSERT_EQ(back.scans[k].points_laser.size(), scans[k].points_laser.size());
+    for (std::size_t i = 0; i < scans[k].points_laser.size(); ++i)
+      EXPECT_LT((back.scans[k].points_laser[i] - scans[k].points_laser[i]).norm(), 1e-4);
+  }
+  Scans bad(1);
+  EXPECT_THROW(write_carmen_log(dir / "bad.log", bad), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.log"));
+}
+
+}  // namespace
+}  // namespace partslam::io

@@ -1,6 +1,7 @@
 #include "core/evaluation/trajectory_check.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.h"
 #include "core/maps/submap.h"
@@ -78,6 +79,41 @@ Submaps with_reference_frames(const Submaps& maps, const std::vector<std::option
     kept.back().T_world_map = *frames[i];
   }
   return kept;
+}
+
+RelationsError relations_error(const Scans& scans, const Relations& relations) {
+  std::vector<std::pair<double, std::size_t>> by_time;
+  for (std::size_t i = 0; i < scans.size(); ++i) by_time.emplace_back(scans[i].timestamp, i);
+  std::sort(by_time.begin(), by_time.end());
+  const auto find = [&](double t) -> std::optional<std::size_t> {
+    auto it = std::lower_bound(by_time.begin(), by_time.end(), std::pair{t - 1e-3, std::size_t{0}});
+    if (it == by_time.end() || it->first > t + 1e-3) return std::nullopt;
+    return it->second;
+  };
+  RelationsError e;
+  std::vector<double> dt, dr;
+  for (const Relation& r : relations) {
+    const auto a = find(r.t1), b = find(r.t2);
+    if (!a || !b) {
+      ++e.missing;
+      continue;
+    }
+    const Pose2 E = r.T_1_2.inverse() * (scans[*a].T_world_laser.inverse() * scans[*b].T_world_laser);
+    dt.push_back(E.translation().norm());
+    dr.push_back(std::abs(E.theta));
+  }
+  const auto mean_std = [](const std::vector<double>& v, double& mean, double& sd) {
+    if (v.empty()) return;
+    double sum = 0, sq = 0;
+    for (double x : v) sum += x;
+    mean = sum / static_cast<double>(v.size());
+    for (double x : v) sq += (x - mean) * (x - mean);
+    sd = std::sqrt(sq / static_cast<double>(v.size()));
+  };
+  mean_std(dt, e.translation_mean, e.translation_std);
+  mean_std(dr, e.rotation_mean, e.rotation_std);
+  e.relations = dt.size();
+  return e;
 }
 
 }  // namespace partslam

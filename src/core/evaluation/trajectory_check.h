@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/maps/scan.h"
+#include "core/evaluation/relation_check.h"
 #include "core/maps/submap.h"
 
 namespace partslam {
@@ -44,5 +45,18 @@ std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Sc
 
 /// The submaps that have a reference frame, with T_world_map set to it.
 Submaps with_reference_frames(const Submaps& maps, const std::vector<std::optional<Pose2>>& frames);
+
+/// The relations metric of Kuemmerle et al. 2009 ("On measuring the accuracy of SLAM algorithms"): for every
+/// relation (t1, t2, T_1_2) whose two scans are in `scans` (matched by timestamp within 1 ms), the error pose
+/// E = T_1_2^-1 * (T_world(t1)^-1 * T_world(t2)); mean and standard deviation of |E.translation| [m] and of
+/// |E.theta| [rad].
+struct RelationsError {
+  double translation_mean = 0.0, translation_std = 0.0;  ///< [m]
+  double rotation_mean = 0.0, rotation_std = 0.0;        ///< [rad]
+  std::size_t relations = 0;  ///< relations measured
+  std::size_t missing = 0;    ///< relations with a scan not in `scans`
+};
+
+RelationsError relations_error(const Scans& scans, const Relations& relations);
 
 }  // namespace partslam

@@ -87,3 +87,26 @@ TEST(ReferenceFrames, CarryEachSubmapIntoTheReferenceFrame) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST(RelationsError, IsZeroForTheTrueTrajectoryAndMeasuresAnOffset) {
+  const Scans ref = straight(20);
+  Relations relations = {{ref[2].timestamp, ref[12].timestamp, ref[2].T_world_laser.inverse() * ref[12].T_world_laser},
+                         {ref[3].timestamp, 99.0, Pose2{}}};  // the second names a scan that is not there
+  RelationsError e = relations_error(ref, relations);
+  EXPECT_EQ(e.relations, 1u);
+  EXPECT_EQ(e.missing, 1u);
+  EXPECT_NEAR(e.translation_mean, 0.0, 1e-12);
+  Scans est = ref;
+  est[12].T_world_laser.y += 0.3;
+  est[12].T_world_laser.theta += 0.1;
+  e = relations_error(est, relations);
+  EXPECT_NEAR(e.translation_mean, 0.3, 1e-9);
+  EXPECT_NEAR(e.rotation_mean, 0.1, 1e-9);
+  EXPECT_NEAR(e.translation_std, 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace partslam

@@ -1,0 +1,82 @@
+#include "core/slam/slam.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "core/timing.h"
+
+namespace partslam {
+namespace {
+
+// a + t (b - a) on SE(2) parameters, the angle along the short way.
+Pose2 interpolate(const Pose2& a, const Pose2& b, double t) {
+  return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), wrap_angle(a.theta + t * wrap_angle(b.theta - a.theta))};
+}
+
+std::vector<PoseGraphEdge> graph_edges(const Submaps& maps, const std::vector<LoopClosure>& accepted,
+                                       const SlamConfig& c) {
+  std::vector<PoseGraphEdge> edges;
+  for (std::size_t i = 1; i < maps.size(); ++i)
+    edges.push_back({i - 1, i, maps[i - 1].T_world_map.inverse() * maps[i].T_world_map, c.chain_translation_weight,
+                     c.chain_rotation_weight, false});
+  for (const LoopClosure& l : accepted)
+    edges.push_back({l.match, l.query, l.T_match_query, c.loop_translation_weight, c.loop_rotation_weight, true});
+  return edges;
+}
+
+}  // namespace
+
+Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps& new_maps) {
+  if (old_maps.size() != new_maps.size() || old_maps.empty())
+    throw InputError("corrected scans: the same non-empty submaps before and after are needed");
+  std::vector<Pose2> correction;
+  for (std::size_t k = 0; k < old_maps.size(); ++k)
+    correction.push_back(new_maps[k].T_world_map * old_maps[k].T_world_map.inverse());
+  const std::vector<double> s = travel_distances(scans);
+  Scans out = scans;
+  std::size_t k = 0;  // the last anchor at or before scan i
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    while (k + 1 < old_maps.size() && static_cast<std::size_t>(old_maps[k + 1].anchor_scan) <= i) ++k;
+    Pose2 C = correction[k];
+    const auto anchor = static_cast<std::size_t>(old_maps[k].anchor_scan);
+    if (i >= anchor && k + 1 < old_maps.size()) {
+      const auto next = static_cast<std::size_t>(old_maps[k + 1].anchor_scan);
+      const double span = s.at(next) - s.at(anchor);
+      const double t = span > 0 ? std::clamp((s[i] - s[anchor]) / span, 0.0, 1.0) : 0.0;
+      C = interpolate(correction[k], correction[k + 1], t);
+    }
+    out[i].T_world_laser = C * scans[i].T_world_laser;
+  }
+  return out;
+}
+
+SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress) {
+  SlamResult r;
+  auto t0 = Clock::now();
+  FrontEndResult fe = scan_match_log(raw, config.front_end, progress);
+  r.front_end = fe.stats;
+  r.front_end_s = ms_since(t0) / 1e3;
+  const Submaps maps = build_submaps(fe.scans, config.submaps);
+  if (maps.empty()) throw InputError("slam: no submap could be built (too little travel or too few points)");
+
+  t0 = Clock::now();
+  r.closures = find_loop_closures(maps, config.loops, progress);
+  std::vector<LoopClosure> accepted;
+  for (const LoopClosure& l : r.closures)
+    if (l.confidence >= config.min_confidence) accepted.push_back(l);
+  r.accepted = accepted.size();
+  r.loops_s = ms_since(t0) / 1e3;
+
+  t0 = Clock::now();
+  std::vector<Pose2> initial;
+  for (const Submap& m : maps) initial.push_back(m.T_world_map);
+  const std::vector<Pose2> optimised = optimize_pose_graph(initial, graph_edges(maps, accepted, config), config.graph,
+                                                           &r.graph);
+  r.submaps = maps;
+  for (std::size_t k = 0; k < maps.size(); ++k) r.submaps[k].T_world_map = optimised[k];
+  r.scans = corrected_scans(fe.scans, maps, r.submaps);
+  r.graph_s = ms_since(t0) / 1e3;
+  return r;
+}
+
+}  // namespace partslam

@@ -1,0 +1,45 @@
+// The whole chain for a raw log (issue "raw logs", item 4): front end (front_end.h) -> submaps on the
+// scan-matched trajectory -> loop closures among them (loop_closure.h) -> a pose graph over the submap frames
+// (consecutive submaps joined by the front end's relative poses, accepted closures with a robust loss;
+// pose_graph.h) -> every scan's pose corrected by its submaps' corrections, interpolated along the travel
+// between the two anchors around it.
+#pragma once
+
+#include "core/maps/submap.h"
+#include "core/slam/front_end.h"
+#include "core/slam/loop_closure.h"
+#include "core/slam/pose_graph.h"
+
+namespace partslam {
+
+struct SlamConfig {
+  FrontEndConfig front_end;
+  SubmapConfig submaps;
+  LoopClosureConfig loops;
+  double min_confidence = 0.5;  ///< closures at least this confident join the graph
+  PoseGraphConfig graph;
+  double chain_translation_weight = 400;  ///< consecutive submaps: information of x, y [1/m^2] (sigma 5 cm)
+  double chain_rotation_weight = 2500;    ///< consecutive submaps: information of theta [1/rad^2] (0.02 rad)
+  double loop_translation_weight = 25;    ///< loop closures (sigma 0.2 m)
+  double loop_rotation_weight = 100;      ///< loop closures (sigma 0.1 rad)
+};
+
+struct SlamResult {
+  Scans scans;                        ///< the log's scans with corrected poses (scans the front end dropped excluded)
+  Submaps submaps;                    ///< with optimised frames
+  std::vector<LoopClosure> closures;  ///< every hypothesis
+  std::size_t accepted = 0;           ///< closures in the graph
+  FrontEndStats front_end;
+  PoseGraphSummary graph;
+  double front_end_s = 0, loops_s = 0, graph_s = 0;
+};
+
+/// Throws InputError when no submap can be built or a setting is out of range.
+SlamResult run_slam(const Scans& raw, const SlamConfig& config = {}, const Progress& progress = {});
+
+/// Moves every scan by the correction (T_new * T_old^-1, in the world frame) of the submaps around it,
+/// interpolated along the travel between their anchors; scans before the first anchor and after the last take
+/// the nearest one's. `old_maps` and `new_maps` are the same submaps before and after optimisation.
+Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps& new_maps);
+
+}  // namespace partslam

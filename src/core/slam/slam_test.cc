@@ -1,0 +1,65 @@
+#include "core/slam/slam.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/evaluation/trajectory_check.h"
+#include "core/sim/simulator.h"
+
+namespace partslam {
+namespace {
+
+// Relations between scans far apart in time (what loop closing must get right), from the exact poses.
+Relations long_relations(const Scans& truth) {
+  Relations r;
+  for (std::size_t i = 0; i + 400 < truth.size(); i += 25)
+    r.push_back({truth[i].timestamp, truth[i + 400].timestamp,
+                 truth[i].T_world_laser.inverse() * truth[i + 400].T_world_laser});
+  return r;
+}
+
+TEST(Slam, ClosingTheLoopsUndoesTheDriftOfARawLog) {
+  SimulatorConfig sim;
+  sim.odometry.heading_bias *= 10;  // a clearly bent odometry
+  sim.odometry.heading_sigma *= 3;
+  const Scans truth = simulate(sim).scans;
+  Scans raw = truth;
+  for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
+  const Relations relations = long_relations(truth);
+
+  SlamConfig config;
+  config.loops.num_threads = 2;
+  const SlamResult r = run_slam(raw, config);
+  ASSERT_EQ(r.scans.size(), raw.size());
+  EXPECT_GT(r.accepted, 10u);
+  EXPECT_LT(r.graph.final_cost, r.graph.initial_cost);
+  const RelationsError odometry = relations_error(raw, relations);
+  const RelationsError front_end_only = relations_error(scan_match_log(raw).scans, relations);
+  const RelationsError slam = relations_error(r.scans, relations);
+  EXPECT_EQ(slam.relations, relations.size());
+  EXPECT_LT(slam.translation_mean, front_end_only.translation_mean / 2)
+      << slam.translation_mean << " vs " << front_end_only.translation_mean << " (odometry "
+      << odometry.translation_mean << ")";
+  EXPECT_LT(slam.translation_mean, 0.15);
+}
+
+TEST(Slam, CorrectionsMoveScansWithTheirSubmaps) {
+  Scans scans(30);
+  for (std::size_t i = 0; i < scans.size(); ++i) scans[i].T_world_laser = {0.1 * static_cast<double>(i), 0, 0};
+  Submaps before(3);
+  for (std::size_t k = 0; k < 3; ++k) {
+    before[k].anchor_scan = static_cast<std::int64_t>(10 * k);
+    before[k].T_world_map = scans[10 * k].T_world_laser;
+  }
+  Submaps after = before;
+  after[1].T_world_map.y += 1.0;  // the middle submap moves 1 m sideways
+  const Scans out = corrected_scans(scans, before, after);
+  EXPECT_NEAR(out[0].T_world_laser.y, 0.0, 1e-12);  // anchor 0 did not move
+  EXPECT_NEAR(out[5].T_world_laser.y, 0.5, 1e-9);   // half way to anchor 1
+  EXPECT_NEAR(out[10].T_world_laser.y, 1.0, 1e-9);
+  EXPECT_NEAR(out[29].T_world_laser.y, 0.0, 1e-9);  // after the last anchor: its correction
+  EXPECT_THROW(corrected_scans(scans, before, {}), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
