@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Regenerates the raw-log figures of docs/NOTES.md ("Front end for raw logs", "Loop closures", "SLAM"): for
+# fr079, intel and aces, the raw log scan-matched into submaps (partslam submaps --scan-match), loop closures
+# among them checked against the corrected twin (partslam loops --truth) -> docs/results/loops_LOG.{json,png};
+# and the whole chain (partslam slam --relations) -> docs/results/slam_LOG.json (relation errors) and
+# slam_LOG.png (the corrected map).
+# Usage: scripts/make-raw-logs.sh [THREADS=2]. Needs ../shared/data and build/partslam (about 2 min).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+THREADS=${1:-2}
+DATA=../shared/data
+OUT=docs/results
+[ -d "$DATA" ] || { echo "make-raw-logs: $DATA not found (the real data sets are needed)" >&2; exit 1; }
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+mkdir -p "$OUT"
+for log in fr079 intel aces; do
+  echo "== $log"
+  build/partslam submaps "$DATA/$log/$log.clf.gz" --scan-match --quiet --db "$TMP/$log.db"
+  build/partslam loops "$TMP/$log.db" --truth "$DATA/$log/$log-corrected.log.gz" --threads "$THREADS" --quiet \
+    --json "$OUT/loops_$log.json" --plot "$OUT/loops_$log.png"
+  build/partslam slam "$DATA/$log/$log.clf.gz" --out "$TMP/slam_$log" --relations "$DATA/$log/$log.relations" \
+    --threads "$THREADS" --quiet
+  cp "$TMP/slam_$log/relations_error.json" "$OUT/slam_$log.json"
+  cp "$TMP/slam_$log/map.png" "$OUT/slam_$log.png"
+done
