@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 WERROR ?= $(if $(PARTSLAM_WERROR),$(PARTSLAM_WERROR),OFF)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPARTSLAM_WERROR=$(WERROR)
 
-.PHONY: all deps build demo test bench results clean
+.PHONY: all deps build demo test bench results raw-logs clean
 
 all: build
 
@@ -26,6 +26,9 @@ bench: build
 
 results: build
 	bash scripts/make-results.sh
+
+raw-logs: build
+	bash scripts/make-raw-logs.sh
 
 clean:
 	rm -rf $(BUILD)
