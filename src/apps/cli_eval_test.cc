@@ -153,10 +153,11 @@ TEST_F(CliEvalTest, EvaluatesARawLogAgainstItsTwin) {
   const CliRun run = run_partslam("eval --input sim:1 --dict sim:2 --tasks 12 --db-size 20 --methods dmm "
                                   "--scan-match --truth sim:1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_THAT(run.output, HasSubstr("ground truth from sim:1; 0 without an associated scan left out"));
+  EXPECT_THAT(run.output, HasSubstr("ground truth: corrected twin sim:1"));
+  EXPECT_THAT(run.output, HasSubstr("0 submaps without a reference scan left out"));
   const CliRun foreign = run_partslam(kEval + "--methods dmm --truth sim:3");
   EXPECT_EQ(foreign.exit_code, 1);
-  EXPECT_THAT(foreign.output, HasSubstr("not its corrected twin"));
+  EXPECT_THAT(foreign.output, HasSubstr("not its ground truth"));
 }
 
 }  // namespace
@@ -192,7 +193,7 @@ TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
   EXPECT_THAT(no_truth.output, HasSubstr("--truth"));
   const CliRun twin = run_partslam("loops " + quoted(raw) + " --truth sim:1 --quiet");
   EXPECT_EQ(twin.exit_code, 0) << twin.output;
-  EXPECT_THAT(twin.output, HasSubstr("submaps have an associated scan"));
+  EXPECT_THAT(twin.output, HasSubstr("submaps have a reference scan"));
   EXPECT_NE(run_partslam("loops " + quoted(raw) + " --method succinct").exit_code, 0);
 }
 

@@ -3,9 +3,9 @@
 // 20 verified by dMM) finds, with the dMM relative pose, score and confidence. Accepted closures (confidence
 // >= --min-confidence) go to --g2o as EDGE_SE2 lines, after a VERTEX_SE2 per submap frame and an EDGE_SE2
 // between consecutive submaps (the front end's). With ground truth — the stored frames of a dataset built from
-// a corrected log, or --truth TWIN for a scan-matched one (the dataset's log is read again and scan-matched
-// with the stored settings, its scans associated with the twin's) — it prints precision-recall, writes the
-// curve to --plot and the figures to --json.
+// a corrected log, or --truth TWIN|F.relations for a scan-matched one (the dataset's log is read again and
+// scan-matched with the stored settings, io/ground_truth.h) — it prints precision-recall, writes the curve to
+// --plot and the figures to --json.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iomanip>
@@ -16,13 +16,13 @@
 #include "apps/commands.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
-#include "core/evaluation/relation_check.h"
 #include "core/evaluation/trajectory_check.h"
 #include "core/maps/submap.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
 #include "core/timing.h"
 #include "io/atomic_file.h"
+#include "io/ground_truth.h"
 #include "io/map_database.h"
 #include "io/scan_source.h"
 #include "plot/line_plot.h"
@@ -81,13 +81,12 @@ std::vector<std::optional<Pose2>> true_frames(const io::DatasetInfo& d, const Su
     throw InputError(d.spec.source + ": rebuilding dataset '" + d.spec.name + "' from it gives other submaps (" +
                      std::to_string(rebuilt.size()) + ", stored " + std::to_string(maps.size()) +
                      "): the log changed since it was stored");
-  const Scans twin = io::load_scan_source(o.truth).scans;
-  std::vector<std::optional<Pose2>> frames = reference_frames(maps, scans, twin, associate_scans(scans, twin));
+  const io::GroundTruth truth = io::load_ground_truth(o.truth, scans);
+  std::vector<std::optional<Pose2>> frames = reference_frames(maps, scans, truth.reference, truth.index);
   std::size_t known = 0;
   for (const auto& f : frames) known += f.has_value();
-  if (known == 0) throw InputError(o.truth + ": no scan of " + d.spec.source + " found in it: not its corrected twin");
-  note = "ground truth: " + o.truth + " (" + std::to_string(known) + " of " + std::to_string(maps.size()) +
-         " submaps have an associated scan)";
+  note = "ground truth: " + truth.description + " (" + std::to_string(known) + " of " + std::to_string(maps.size()) +
+         " submaps have a reference scan)";
   return frames;
 }
 
@@ -212,7 +211,8 @@ void register_loops(CLI::App& app) {
   cmd->add_option("--min-confidence", o->min_confidence, "closures at least this confident are accepted (g2o)")
       ->capture_default_str();
   cmd->add_option("--threads", o->config.num_threads, "threads (results do not depend on it)")->capture_default_str();
-  cmd->add_option("--truth", o->truth, "corrected twin of the dataset's log (ground truth for a scan-matched dataset)");
+  cmd->add_option("--truth", o->truth,
+                  "ground truth for a scan-matched dataset: the corrected twin of its log, or its .relations file");
   cmd->add_option("--radius", o->truth_config.radius, "R: true frames this close are the same place [m]")
       ->capture_default_str();
   cmd->add_option("--json", o->json, "write closures (and precision-recall) as JSON");

@@ -12,10 +12,10 @@
 #include "core/maps/dictionary.h"
 #include "core/matching/ranking.h"
 #include "core/maps/submap.h"
+#include "io/ground_truth.h"
 #include "io/scan_source.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
-#include "core/evaluation/relation_check.h"
 #include "core/evaluation/trajectory_check.h"
 #include "core/slam/front_end.h"
 
@@ -49,8 +49,9 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
       ->capture_default_str();
   cmd.add_flag("--scan-match", o.scan_match, "input poses from scan matching seeded by odometry (raw logs)");
   cmd.add_option("--truth", o.truth,
-                 "corrected twin of the input log: ground truth for submaps of a raw log (scans associated by "
-                 "content; submaps without an associated scan are left out)");
+                 "ground truth for submaps of a raw log: its corrected twin (scans associated by content) or its "
+                 ".relations file (a reference trajectory solved from them); submaps without a reference scan are "
+                 "left out");
   cmd.add_flag("--quiet", o.quiet, "no progress bar");
 }
 
@@ -70,18 +71,18 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   DictionaryConfig dictionary_config;
   dictionary_config.max_range = o.max_range;
   validate(submap_config);
-  const Scans truth = o.truth.empty() ? Scans{} : io::load_scan_source(o.truth).scans;
   ProgressBar bar(!o.quiet);
   const Progress progress = [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); };
   const Scans scans = o.scan_match ? scan_match_log(input.scans, FrontEndConfig{}, progress).scans : input.scans;
   Submaps maps = build_submaps(scans, submap_config);
   std::string truth_note;
   if (!o.truth.empty()) {
+    const io::GroundTruth truth = io::load_ground_truth(o.truth, scans);
     const std::size_t built = maps.size();
-    maps = with_reference_frames(maps, reference_frames(maps, scans, truth, associate_scans(scans, truth)));
-    const std::size_t dropped = built - maps.size();
-    truth_note = " (ground truth from " + o.truth + "; " + std::to_string(dropped) + " without an associated scan left out)";
-    if (maps.empty()) throw InputError(o.truth + ": no scan of " + o.input + " found in it: not its corrected twin");
+    maps = with_reference_frames(maps, reference_frames(maps, scans, truth.reference, truth.index));
+    truth_note = " (ground truth: " + truth.description + "; " + std::to_string(built - maps.size()) +
+                 " submaps without a reference scan left out)";
+    if (maps.empty()) throw InputError(o.truth + ": no submap of " + o.input + " has a reference scan");
   }
   const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);
   if (!o.quiet) {

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/maps/submap.h"
+#include "core/slam/pose_graph.h"
 
 namespace partslam {
 namespace {
@@ -81,15 +82,63 @@ Submaps with_reference_frames(const Submaps& maps, const std::vector<std::option
   return kept;
 }
 
-RelationsError relations_error(const Scans& scans, const Relations& relations) {
-  std::vector<std::pair<double, std::size_t>> by_time;
-  for (std::size_t i = 0; i < scans.size(); ++i) by_time.emplace_back(scans[i].timestamp, i);
-  std::sort(by_time.begin(), by_time.end());
-  const auto find = [&](double t) -> std::optional<std::size_t> {
-    auto it = std::lower_bound(by_time.begin(), by_time.end(), std::pair{t - 1e-3, std::size_t{0}});
-    if (it == by_time.end() || it->first > t + 1e-3) return std::nullopt;
+namespace {
+
+// Finds a scan by timestamp (within 1 ms).
+class ScanByTime {
+ public:
+  explicit ScanByTime(const Scans& scans) {
+    for (std::size_t i = 0; i < scans.size(); ++i) by_time_.emplace_back(scans[i].timestamp, i);
+    std::sort(by_time_.begin(), by_time_.end());
+  }
+  std::optional<std::size_t> operator()(double t) const {
+    auto it = std::lower_bound(by_time_.begin(), by_time_.end(), std::pair{t - 1e-3, std::size_t{0}});
+    if (it == by_time_.end() || it->first > t + 1e-3) return std::nullopt;
     return it->second;
-  };
+  }
+
+ private:
+  std::vector<std::pair<double, std::size_t>> by_time_;
+};
+
+}  // namespace
+
+Scans reference_from_relations(const Scans& estimate, const Relations& relations,
+                               std::vector<std::optional<std::size_t>>& reference_index) {
+  const ScanByTime find(estimate);
+  std::vector<std::pair<std::size_t, std::size_t>> linked;  // scan indices of each usable relation
+  std::vector<const Relation*> used;
+  std::vector<bool> is_node(estimate.size(), false);
+  for (const Relation& r : relations) {
+    const auto a = find(r.t1), b = find(r.t2);
+    if (!a || !b || *a == *b) continue;
+    linked.emplace_back(*a, *b);
+    used.push_back(&r);
+    is_node[*a] = is_node[*b] = true;
+  }
+  if (linked.empty()) throw InputError("relations: no relation names two scans of the log");
+  reference_index.assign(estimate.size(), std::nullopt);
+  Scans nodes;
+  std::vector<Pose2> initial;
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    if (!is_node[i]) continue;
+    reference_index[i] = nodes.size();
+    nodes.push_back(estimate[i]);
+    initial.push_back(estimate[i].T_world_laser);
+  }
+  std::vector<PoseGraphEdge> edges;
+  for (std::size_t k = 0; k < linked.size(); ++k)
+    edges.push_back({*reference_index[linked[k].first], *reference_index[linked[k].second], used[k]->T_1_2, 1e4, 1e4,
+                     false});
+  for (std::size_t n = 1; n < nodes.size(); ++n)
+    edges.push_back({n - 1, n, initial[n - 1].inverse() * initial[n], 1.0, 1.0, false});
+  const std::vector<Pose2> solved = optimize_pose_graph(initial, edges, {1.0, 200});
+  for (std::size_t n = 0; n < nodes.size(); ++n) nodes[n].T_world_laser = solved[n];
+  return nodes;
+}
+
+RelationsError relations_error(const Scans& scans, const Relations& relations) {
+  const ScanByTime find(scans);
   RelationsError e;
   std::vector<double> dt, dr;
   for (const Relation& r : relations) {

@@ -43,6 +43,15 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
 std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
                                                    const std::vector<std::optional<std::size_t>>& reference_index);
 
+/// A reference trajectory from a Freiburg .relations file (issue "raw logs", item 2, when there is no corrected
+/// twin): the scans of `estimate` that a relation names (timestamps within 1 ms) become the nodes of a pose graph
+/// whose edges are the relations (sigma 1 cm, 0.01 rad) and, joining consecutive nodes so that every component
+/// is anchored, the estimate's own relative poses (sigma 1 m, 1 rad); the optimised poses are the reference.
+/// `reference_index` gets, per scan of `estimate`, its node in the returned scans (nullopt for other scans).
+/// Throws InputError when no relation names two scans of the estimate.
+Scans reference_from_relations(const Scans& estimate, const Relations& relations,
+                               std::vector<std::optional<std::size_t>>& reference_index);
+
 /// The submaps that have a reference frame, with T_world_map set to it.
 Submaps with_reference_frames(const Submaps& maps, const std::vector<std::optional<Pose2>>& frames);
 

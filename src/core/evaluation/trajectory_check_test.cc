@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "core/testing/scan_index.h"
 
 namespace partslam {
 namespace {
@@ -18,17 +19,11 @@ Scans straight(int n) {
   return scans;
 }
 
-std::vector<std::optional<std::size_t>> identity(std::size_t n) {
-  std::vector<std::optional<std::size_t>> index(n);
-  for (std::size_t i = 0; i < n; ++i) index[i] = i;
-  return index;
-}
-
 TEST(LocalConsistency, IsZeroForTheSameTrajectoryAndIgnoresAGlobalOffset) {
   const Scans ref = straight(50);
   Scans moved = ref;
   for (Scan& s : moved) s.T_world_laser = Pose2{3.0, -1.0, 0.7} * s.T_world_laser;  // anchors absorb it
-  const Consistency c = local_consistency(moved, ref, identity(ref.size()));
+  const Consistency c = local_consistency(moved, ref, testing::identity_index(ref.size()));
   EXPECT_EQ(c.windows, 10u);  // anchors every 0.5 m over 4.9 m
   EXPECT_GT(c.points, 0u);
   EXPECT_NEAR(c.max, 0.0, 1e-9);
@@ -38,11 +33,11 @@ TEST(LocalConsistency, MeasuresTheEndpointDisplacementOfARelativePoseError) {
   const Scans ref = straight(50);
   Scans est = ref;
   est[25].T_world_laser.y += 0.05;  // one scan off by 5 cm sideways
-  const Consistency c = local_consistency(est, ref, identity(ref.size()));
+  const Consistency c = local_consistency(est, ref, testing::identity_index(ref.size()));
   EXPECT_NEAR(c.max, 0.05, 1e-9);
   EXPECT_NEAR(c.median, 0.0, 1e-9);
   // Scans missing from the reference are skipped, anchors too.
-  auto index = identity(ref.size());
+  auto index = testing::identity_index(ref.size());
   index[25].reset();
   index[0].reset();
   const Consistency skipped = local_consistency(est, ref, index);
@@ -69,7 +64,7 @@ TEST(ReferenceFrames, CarryEachSubmapIntoTheReferenceFrame) {
   m.T_world_map = est[10].T_world_laser * T_anchor_map;
   Submap far = m;
   far.anchor_scan = 20;
-  auto index = identity(est.size());
+  auto index = testing::identity_index(est.size());
   index[10].reset();  // the next scan of the submap stands in for its anchor
   for (std::size_t j = 20; j < 25; ++j) index[j].reset();
   const auto frames = reference_frames({m, far}, est, ref, index);

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/testing/scan_index.h"
 #include "core/evaluation/trajectory_check.h"
 #include "core/sim/simulator.h"
 
@@ -32,12 +33,6 @@ RawLog simulated_raw_log(double odometry_noise_scale) {
   return log;
 }
 
-std::vector<std::optional<std::size_t>> identity_index(std::size_t n) {
-  std::vector<std::optional<std::size_t>> index(n);
-  for (std::size_t i = 0; i < n; ++i) index[i] = i;
-  return index;
-}
-
 TEST(FrontEnd, MakesBadOdometryLocallyConsistent) {
   const RawLog log = simulated_raw_log(5.0);
   const FrontEndResult fe = scan_match_log(log.raw);
@@ -45,7 +40,7 @@ TEST(FrontEnd, MakesBadOdometryLocallyConsistent) {
   EXPECT_TRUE(fe.stats.odometry_moves);
   EXPECT_EQ(fe.stats.time_reversals, 0u);
   EXPECT_LT(fe.stats.rejected, fe.scans.size() / 100);
-  const auto index = identity_index(log.raw.size());
+  const auto index = testing::identity_index(log.raw.size());
   const Consistency odometry = local_consistency(log.raw, log.truth, index);
   const Consistency matched = local_consistency(fe.scans, log.truth, index);
   EXPECT_GT(odometry.median, 0.03) << odometry.median;  // the premise: odometry alone smears a 2 m submap
@@ -85,7 +80,7 @@ TEST(FrontEnd, WorksWithoutOdometry) {
   const FrontEndResult fe = scan_match_log(raw);
   EXPECT_FALSE(fe.stats.odometry_moves);
   const Scans truth(log.truth.begin(), log.truth.begin() + 300);
-  const Consistency matched = local_consistency(fe.scans, truth, identity_index(raw.size()));
+  const Consistency matched = local_consistency(fe.scans, truth, testing::identity_index(raw.size()));
   EXPECT_LT(matched.median, 0.03);  // the robot moves <= 0.1 m per scan: inside the search window
 }
 
