@@ -67,6 +67,16 @@ std::string beam_hint(long n) { return "; does num_readings " + std::to_string(n
 
 Pose2 make_pose(double x, double y, double theta) { return {x, y, wrap_angle(theta)}; }
 
+// Refuses a pose coordinate beyond kMaxCoordinate (a 1e300 pose would otherwise pass as a number and break
+// every later step quietly).
+void check_coordinate(const LineReader& reader, double value, const FieldName& field) {
+  if (std::abs(value) > kMaxCoordinate) {
+    char text[96];
+    std::snprintf(text, sizeof text, "implausible coordinate %g m (beyond +-%g m)", value, kMaxCoordinate);
+    fail_field(reader, field, text);
+  }
+}
+
 }  // namespace
 
 void validate(const LogReadOptions& options) {
@@ -206,6 +216,7 @@ Scan CarmenReader::parse_flaser() {
   double v[7] = {};
   for (std::size_t k = 0; k < 7; ++k) v[k] = parse_number(reader, t[tail + k], {kFlaser, kFlaserTail[k]});
   parse_number(reader, t[tail + 8], {kFlaser, kFlaserTail[8]});
+  for (std::size_t k : {0, 1, 3, 4}) check_coordinate(reader, v[k], {kFlaser, kFlaserTail[k]});
   Scan scan;
   scan.timestamp = v[6];
   scan.T_world_laser = make_pose(v[0], v[1], v[2]);
@@ -259,6 +270,7 @@ Scan CarmenReader::parse_robotlaser() {
   for (std::size_t k = 0; k < std::size(kRobotLaserTail); ++k) {
     if (k != 12) v[k] = parse_number(reader, t[tail + k], {kRobotLaser, kRobotLaserTail[k]});  // 12: hostname
   }
+  for (std::size_t k : {0, 1, 3, 4}) check_coordinate(reader, v[k], {kRobotLaser, kRobotLaserTail[k]});
   Scan scan;
   scan.timestamp = v[11];
   scan.T_world_laser = make_pose(v[0], v[1], v[2]);
@@ -279,6 +291,7 @@ void CarmenReader::parse_odom() {
   for (std::size_t k = 0; k < std::size(kOdomFields); ++k) {
     if (k != 7) v[k] = parse_number(reader, t[1 + k], {kOdom, kOdomFields[k]});  // 7: hostname
   }
+  for (std::size_t k : {0, 1}) check_coordinate(reader, v[k], {kOdom, kOdomFields[k]});
   odometry_.push_back({v[6], make_pose(v[0], v[1], v[2]), v[3], v[4], v[5]});
 }
 

@@ -31,6 +31,10 @@ inline Points2 points_world(const Scan& scan, double max_range) {
   return out;
 }
 
+/// Plausibility limit of a pose coordinate [m]: readers refuse poses farther than this from the log's origin
+/// (a building, or a campus, is far smaller), naming the file, line and field (docs/NOTES.md, "Limits").
+inline constexpr double kMaxCoordinate = 1e5;
+
 /// The usable-range cap of submaps and dictionaries unless told otherwise [m] (docs/NOTES.md, "Usable range").
 inline constexpr double kDefaultMaxRange = 8.0;
 
