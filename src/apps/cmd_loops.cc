@@ -35,7 +35,7 @@ struct LoopsOptions {
   std::string dataset;
   LoopClosureConfig config;
   LoopTruthConfig truth_config;
-  double min_confidence = 0.5;
+  double min_confidence = 0.2;
   std::string truth;
   std::string json;
   std::string g2o;
@@ -218,6 +218,8 @@ void register_loops(CLI::App& app) {
   cmd->add_option("--json", o->json, "write closures (and precision-recall) as JSON");
   cmd->add_option("--g2o", o->g2o, "write the pose graph: submap vertices, consecutive and accepted loop edges");
   cmd->add_option("--plot", o->plot, "write the precision-recall curve as PNG (needs ground truth)");
+  cmd->add_flag("--no-graph-check", [o](std::int64_t) { o->config.graph_check = false; },
+                "keep hypotheses that disagree with a robust pose graph of all of them at full confidence");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->callback([o] {
     o->truth_config.min_travel_gap = o->config.min_travel_gap;

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/matching/ranking.h"
+#include "core/slam/pose_graph.h"
 #include "core/slam/scan_matcher.h"
 
 namespace partslam {
@@ -67,6 +68,28 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
   return out;
 }
 
+// Consistency among the hypotheses: a pose graph of the stored frames (consecutive submaps joined by their
+// stored relative pose) and every hypothesis of positive confidence (Cauchy loss) is optimised; hypotheses
+// whose pose the optimised frames disagree with by more than 0.5 m or 0.1 rad lose 1 of confidence (they stay
+// listed, below every consistent one).
+void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
+  if (maps.size() < 2) return;
+  std::vector<Pose2> initial;
+  for (const Submap& m : maps) initial.push_back(m.T_world_map);
+  std::vector<PoseGraphEdge> edges;
+  for (std::size_t i = 1; i < maps.size(); ++i)
+    edges.push_back({i - 1, i, initial[i - 1].inverse() * initial[i], 400, 2500, false});
+  for (const LoopClosure& l : closures)
+    if (l.confidence > 0) edges.push_back({l.match, l.query, l.T_match_query, 25, 100, true});
+  const std::vector<Pose2> solved = optimize_pose_graph(initial, edges);
+  for (LoopClosure& l : closures) {
+    const Pose2 T = solved[l.match].inverse() * solved[l.query];
+    const bool consistent = (T.translation() - l.T_match_query.translation()).norm() <= 0.5 &&
+                            std::abs(wrap_angle(T.theta - l.T_match_query.theta)) <= 0.1;
+    if (!consistent) l.confidence -= 1.0;
+  }
+}
+
 }  // namespace
 
 void validate(const LoopClosureConfig& c) {
@@ -110,6 +133,7 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
       "loop closures", progress);
   std::vector<LoopClosure> out;
   for (auto& h : per_query) out.insert(out.end(), h.begin(), h.end());
+  if (config.graph_check) check_in_graph(maps, out);
   return out;
 }
 

@@ -40,6 +40,9 @@ struct LoopClosureConfig {
   double drift_rate = 0.05;
   double drift_turn = 0.3;
   double drift_turn_rate = 0.01;
+  /// Consistency among hypotheses: those that disagree with a robust pose graph of all of them lose 1 of
+  /// confidence (see loop_closure.cc).
+  bool graph_check = true;
   int num_threads = 1;               ///< results do not depend on it
 };
 

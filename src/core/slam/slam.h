@@ -16,7 +16,7 @@ struct SlamConfig {
   FrontEndConfig front_end;
   SubmapConfig submaps;
   LoopClosureConfig loops;
-  double min_confidence = 0.5;  ///< closures at least this confident join the graph
+  double min_confidence = 0.2;  ///< closures at least this confident join the graph
   PoseGraphConfig graph;
   double chain_translation_weight = 400;  ///< consecutive submaps: information of x, y [1/m^2] (sigma 5 cm)
   double chain_rotation_weight = 2500;    ///< consecutive submaps: information of theta [1/rad^2] (0.02 rad)
