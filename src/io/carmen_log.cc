@@ -80,6 +80,7 @@ void check_coordinate(const LineReader& reader, double value, const FieldName& f
 }  // namespace
 
 void validate(const LogReadOptions& options) {
+  if (options.max_points < 1) throw InputError("LogReadOptions.max_points: must be >= 1");
   if (!std::isfinite(options.min_range) || options.min_range < 0.0) {
     throw InputError("LogReadOptions.min_range: must be finite and >= 0, got " +
                      std::to_string(options.min_range));
@@ -197,6 +198,10 @@ void CarmenReader::add_points(Scan& scan, std::size_t first, int n, double start
   }
   stats_.beams += static_cast<std::size_t>(n);
   stats_.valid_beams += scan.points_laser.size();
+  if (stats_.valid_beams > options_.max_points) {
+    lines_->fail("the log holds more than " + std::to_string(options_.max_points) +
+                 " valid beams (LogReadOptions.max_points); split it or raise the limit");
+  }
 }
 
 Scan CarmenReader::parse_flaser() {

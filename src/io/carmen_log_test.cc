@@ -131,6 +131,19 @@ TEST(CarmenLog, SpacingConventionsAndRangeOptions) {
   const CarmenLog log2 = read_carmen_log(dir / "tiny.log", options);
   ASSERT_EQ(log2.scans[0].points_laser.size(), 1u);
   expect_near(log2.scans[0].points_laser[0], 2.0 * std::cos(-kPi / 6), 2.0 * std::sin(-kPi / 6));
+
+  // A cap on the points of a whole log (decompression amplification), named in the message.
+  options = {};
+  options.max_points = 1;
+  try {
+    read_carmen_log(dir / "tiny.log", options);
+    FAIL() << "a log over max_points was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_points"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tiny.log"), std::string::npos) << e.what();
+  }
+  options.max_points = 0;
+  EXPECT_THROW(validate(options), InputError);
 }
 
 TEST(CarmenLog, ValidatesOptions) {
