@@ -34,6 +34,9 @@ inline Points2 points_world(const Scan& scan, double max_range) {
 /// Plausibility limit of a pose coordinate [m]: readers refuse poses farther than this from the log's origin
 /// (a building, or a campus, is far smaller), naming the file, line and field (docs/NOTES.md, "Limits").
 inline constexpr double kMaxCoordinate = 1e5;
+/// Plausibility limit of one map's extent [m]: the exact matcher (dMM) refuses a map whose points span more
+/// (its grid pyramid grows with the area: one stray scan 3 km away took a dictionary from 26 MB to 4.8 GB).
+inline constexpr double kMaxMapExtent = 1000.0;
 
 /// The usable-range cap of submaps and dictionaries unless told otherwise [m] (docs/NOTES.md, "Usable range").
 inline constexpr double kDefaultMaxRange = 8.0;

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <queue>
@@ -11,6 +12,7 @@
 
 #include "core/matching/dmm_bounds.h"
 #include "core/error.h"
+#include "core/maps/scan.h"
 
 namespace partslam {
 namespace {
@@ -347,6 +349,12 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
 
 PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
   validate(config);
+  if (const Box2 box = bounding_box(points_map); box.width() > kMaxMapExtent || box.height() > kMaxMapExtent) {
+    char text[160];
+    std::snprintf(text, sizeof text, "dMM: the map's points span %.0f x %.0f m, more than the %.0f m limit "
+                  "(a stray scan far from the rest?)", box.width(), box.height(), kMaxMapExtent);
+    throw InputError(text);
+  }
   PreparedMap map;
   map.config = config;
   map.num_points = static_cast<int>(points_map.size());

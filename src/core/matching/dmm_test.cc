@@ -24,6 +24,18 @@ DmmConfig small_config() {
   return config;
 }
 
+TEST(Dmm, RefusesAMapSpreadOverKilometres) {
+  Points2 points = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
+  EXPECT_NO_THROW(prepare_map(points, DmmConfig{}));
+  points.emplace_back(3000.0, 5.0);  // one stray point 3 km away
+  try {
+    prepare_map(points, DmmConfig{});
+    FAIL() << "a 3 km map was prepared";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("3000 x 5 m"), std::string::npos) << e.what();
+  }
+}
+
 TEST(DmmConfig, ValidateNamesTheField) {
   const auto message = [](DmmConfig c) {
     try {
