@@ -86,6 +86,16 @@ Submap read_submap(const Statement& q, const std::string& file) {
   m.travel = q.real(3);
   m.alignment_angle = q.real(4);
   m.T_world_map = Pose2{q.real(5), q.real(6), q.real(7)};
+  try {  // written finite (add_submaps checks), so anything else was edited in
+    require_finite(m.anchor_timestamp, context, "anchor_timestamp");
+    require_finite(m.travel, context, "travel");
+    require_finite(m.alignment_angle, context, "alignment_angle");
+    require_finite(m.T_world_map.x, context, "world_x");
+    require_finite(m.T_world_map.y, context, "world_y");
+    require_finite(m.T_world_map.theta, context, "world_theta");
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (corrupt database)");
+  }
   const std::int64_t count = q.int64(8);
   if (count < 0) throw InputError(context + ": negative point count (corrupt database)");
   m.points = decode_points_f32(q.blob(9), static_cast<std::size_t>(count), context);
