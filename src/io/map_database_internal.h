@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/maps/scan.h"
 #include "io/map_database.h"
 #include "io/sqlite.h"
 
@@ -31,6 +32,19 @@ void migrate_to_current(sqlite::Connection& db);
 inline void require_finite(double value, const std::string& context, const char* field) {
   if (!std::isfinite(value)) {
     throw InputError(context + ": " + field + " must be finite, got " + std::to_string(value));
+  }
+}
+
+/// Throws InputError "<context>: point i (x, y) lies beyond +-kMaxCoordinate (corrupt database)": stored points are
+/// written from logs whose coordinates are bounded, so larger ones were edited in (and would overflow cell
+/// indices downstream).
+inline void require_plausible(const Points2& points, const std::string& context) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!(std::abs(points[i].x()) <= kMaxCoordinate && std::abs(points[i].y()) <= kMaxCoordinate)) {
+      throw InputError(context + ": point " + std::to_string(i) + " (" + std::to_string(points[i].x()) + ", " +
+                       std::to_string(points[i].y()) + ") lies beyond +-" +
+                       std::to_string(static_cast<long>(kMaxCoordinate)) + " m (corrupt database)");
+    }
   }
 }
 

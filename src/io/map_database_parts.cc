@@ -98,7 +98,9 @@ Points2 stored_dictionary_points(const sqlite::Connection& db, const std::string
   if (!q.bind_text(1, dictionary).step()) return {};
   const std::string context = db.path().string() + ": dictionary '" + dictionary + "'";
   if (q.int64(0) < 0) throw InputError(context + ": negative point count (corrupt database)");
-  return decode_points_f32(q.blob(1), static_cast<std::size_t>(q.int64(0)), context);
+  Points2 points = decode_points_f32(q.blob(1), static_cast<std::size_t>(q.int64(0)), context);
+  internal::require_plausible(points, context);
+  return points;
 }
 
 PackedDescriptor read_descriptor(const Statement& q, int bits_column, const std::string& context) {
@@ -169,6 +171,7 @@ Dictionary MapDatabase::load_dictionary(const std::string& name) const {
   const std::int64_t count = q.int64(6);
   if (count < 0) throw InputError(context + ": negative point count (corrupt database)");
   d.points = decode_points_f32(q.blob(7), static_cast<std::size_t>(count), context);
+  internal::require_plausible(d.points, context);
   d.metadata = q.text(8);
   return d;
 }

@@ -99,6 +99,7 @@ Submap read_submap(const Statement& q, const std::string& file) {
   const std::int64_t count = q.int64(8);
   if (count < 0) throw InputError(context + ": negative point count (corrupt database)");
   m.points = decode_points_f32(q.blob(9), static_cast<std::size_t>(count), context);
+  internal::require_plausible(m.points, context);
   m.scan_timestamps = decode_f64(q.blob(10), context + " scan_timestamps");
   return m;
 }

@@ -503,15 +503,25 @@ TEST(BlobCodec, LittleEndianAndLengthChecked) {
   EXPECT_THROW(decode_points_f32(Bytes{0, 0, 0xc0, 0x7f, 0, 0, 0, 0}, 1, "test"), InputError);  // NaN
 }
 
-TEST_F(MapDatabaseTest, EditedNonFinitePosesAreRefusedOnRead) {
+TEST_F(MapDatabaseTest, EditedPosesAndPointsAreRefusedOnRead) {
   const fs::path path = dir_ / "maps.db";
   std::int64_t id = 0;
   {
     MapDatabase db = MapDatabase::open(path, Mode::kCreate);
     id = db.map_ids(db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(2, 10, 1)))[1];
   }
-  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
-      .exec("UPDATE submaps SET world_x = 9e999 WHERE id = " + std::to_string(id));
+  {  // a point edited to FLT_MAX (little-endian float32 0x7f7fffff at the first x)
+    auto c = sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite);
+    c.exec("UPDATE submaps SET points = CAST(X'ffff7f7f' || substr(points, 5) AS BLOB) WHERE id = " + std::to_string(id - 1));
+    c.exec("UPDATE submaps SET world_x = 9e999 WHERE id = " + std::to_string(id));
+  }
+  try {
+    MapDatabase::open(path, Mode::kReadOnly).load_submap(id - 1);
+    FAIL() << "a FLT_MAX point was read";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("point 0"));
+    EXPECT_THAT(e.what(), HasSubstr("corrupt database"));
+  }
   try {
     MapDatabase::open(path, Mode::kReadOnly).load_submap(id);
     FAIL() << "an infinite pose was read";
