@@ -73,6 +73,16 @@ DatasetInfo read_dataset(const Statement& q, const std::string& file) {
   return info;
 }
 
+// The submap's stored numbers must be finite (SQLite would store NaN as NULL; inf breaks every later step).
+void require_finite_numbers(const Submap& m, const std::string& context) {
+  require_finite(m.anchor_timestamp, context, "anchor_timestamp");
+  require_finite(m.travel, context, "travel");
+  require_finite(m.alignment_angle, context, "alignment_angle");
+  require_finite(m.T_world_map.x, context, "T_world_map.x");
+  require_finite(m.T_world_map.y, context, "T_world_map.y");
+  require_finite(m.T_world_map.theta, context, "T_world_map.theta");
+}
+
 constexpr const char* kSubmapColumns =
     "id, anchor_scan, anchor_timestamp, travel, alignment_angle, world_x, world_y, world_theta, point_count,"
     " points, scan_timestamps";
@@ -87,12 +97,7 @@ Submap read_submap(const Statement& q, const std::string& file) {
   m.alignment_angle = q.real(4);
   m.T_world_map = Pose2{q.real(5), q.real(6), q.real(7)};
   try {  // written finite (add_submaps checks), so anything else was edited in
-    require_finite(m.anchor_timestamp, context, "anchor_timestamp");
-    require_finite(m.travel, context, "travel");
-    require_finite(m.alignment_angle, context, "alignment_angle");
-    require_finite(m.T_world_map.x, context, "world_x");
-    require_finite(m.T_world_map.y, context, "world_y");
-    require_finite(m.T_world_map.theta, context, "world_theta");
+    require_finite_numbers(m, context);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + " (corrupt database)");
   }
@@ -144,13 +149,7 @@ std::vector<std::int64_t> MapDatabase::add_submaps(std::int64_t dataset_id, cons
   ids.reserve(submaps.size());
   for (std::size_t i = 0; i < submaps.size(); ++i) {
     const Submap& m = submaps[i];
-    const std::string context = "dataset '" + info.spec.name + "' submap " + std::to_string(i);
-    require_finite(m.anchor_timestamp, context, "anchor_timestamp");
-    require_finite(m.travel, context, "travel");
-    require_finite(m.alignment_angle, context, "alignment_angle");
-    require_finite(m.T_world_map.x, context, "T_world_map.x");
-    require_finite(m.T_world_map.y, context, "T_world_map.y");
-    require_finite(m.T_world_map.theta, context, "T_world_map.theta");
+    require_finite_numbers(m, "dataset '" + info.spec.name + "' submap " + std::to_string(i));
     insert.reset();
     insert.bind_int(1, dataset_id).bind_int(2, index++).bind_int(3, m.anchor_scan);
     insert.bind_real(4, m.anchor_timestamp).bind_real(5, m.travel).bind_real(6, m.alignment_angle);

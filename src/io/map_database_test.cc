@@ -527,7 +527,7 @@ TEST_F(MapDatabaseTest, EditedPosesAndPointsAreRefusedOnRead) {
     FAIL() << "an infinite pose was read";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("map " + std::to_string(id)));
-    EXPECT_THAT(e.what(), HasSubstr("world_x"));
+    EXPECT_THAT(e.what(), HasSubstr("T_world_map.x"));
     EXPECT_THAT(e.what(), HasSubstr("corrupt database"));
   }
 }
