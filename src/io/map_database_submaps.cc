@@ -149,7 +149,8 @@ std::vector<std::int64_t> MapDatabase::add_submaps(std::int64_t dataset_id, cons
   ids.reserve(submaps.size());
   for (std::size_t i = 0; i < submaps.size(); ++i) {
     const Submap& m = submaps[i];
-    require_finite_numbers(m, "dataset '" + info.spec.name + "' submap " + std::to_string(i));
+    const std::string context = "dataset '" + info.spec.name + "' submap " + std::to_string(i);
+    require_finite_numbers(m, context);
     insert.reset();
     insert.bind_int(1, dataset_id).bind_int(2, index++).bind_int(3, m.anchor_scan);
     insert.bind_real(4, m.anchor_timestamp).bind_real(5, m.travel).bind_real(6, m.alignment_angle);
