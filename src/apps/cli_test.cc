@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/cli_testing.h"
+#include "io/sqlite.h"
 #include "io/map_database.h"
 
 namespace partslam {
@@ -68,6 +69,13 @@ TEST_F(CliTest, InfoCountsSubmaps) {
   const CliRun json = run_partslam("info --json --check " + quoted(db_));
   EXPECT_EQ(json.exit_code, 0) << json.output;
   EXPECT_THAT(json.output, HasSubstr("\"submaps\": 9"));
+
+  // A name that is not UTF-8 (stored before names were checked) no longer breaks --json for good.
+  io::sqlite::Connection::open(db_, io::sqlite::Connection::Access::kReadWrite)
+      .exec("UPDATE datasets SET name = CAST(X'626164ff' AS TEXT) WHERE name = 'sim-other'");
+  const CliRun odd = run_partslam("info --json " + quoted(db_));
+  EXPECT_EQ(odd.exit_code, 0) << odd.output;
+  EXPECT_THAT(odd.output, HasSubstr("bad\xef\xbf\xbd"));  // U+FFFD
 }
 
 TEST_F(CliTest, ExportWritesCsvAndPly) {

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/json_text.h"
 #include "apps/eval_run.h"
 #include "io/atomic_file.h"
 #include "plot/rank_plot.h"
@@ -58,7 +59,7 @@ void run_demo(const DemoOptions& d) {
   print_table(run, std::cout);
   const std::filesystem::path json = std::filesystem::path(d.out) / "demo.json";
   const std::filesystem::path plot = std::filesystem::path(d.out) / "demo_fig_d.png";
-  io::write_atomically(json, [&](std::ostream& out) { out << to_json(run).dump(2) << "\n"; });
+  io::write_atomically(json, [&](std::ostream& out) { out << json_text(to_json(run)); });
   std::vector<plot::RankCurve> curves;
   for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label(), m.normalized_ranks});
   plot::write_rank_plot(plot, run.input_name + " / dictionary " + run.dictionary_name, curves);

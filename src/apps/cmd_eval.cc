@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/json_text.h"
 #include "apps/eval_run.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -28,7 +29,7 @@ void run_eval(const EvalOptions& o) {
   print_table(run, std::cout);
   if (!o.json.empty()) {
     const nlohmann::json j = to_json(run);
-    io::write_atomically(o.json, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(j); });
     std::cout << "wrote " << o.json << "\n";
   }
   if (!o.plot.empty()) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/json_text.h"
 #include "io/map_database.h"
 
 namespace partslam::apps {
@@ -94,7 +95,7 @@ void run_info(const InfoOptions& options, std::ostream& out) {
   if (options.check) db.check_integrity();
   const io::DatabaseSummary summary = db.summary();
   if (options.json) {
-    out << to_json(summary, options.file).dump(2) << "\n";
+    out << json_text(to_json(summary, options.file));
   } else {
     print_text(summary, options.file, out);
     if (options.check) out << "integrity: ok\n";

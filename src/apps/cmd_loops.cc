@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/json_text.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
@@ -185,7 +186,7 @@ void run_loops(const LoopsOptions& o) {
       plot::write_line_plot(o.plot, {"loop closures: " + dataset.spec.name, "recall", "precision", 1.0, 1}, {curve});
     }
   }
-  if (!o.json.empty()) io::write_atomically(o.json, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+  if (!o.json.empty()) io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(j); });
   if (!o.g2o.empty()) io::write_atomically(o.g2o, [&](std::ostream& out) { write_g2o(out, maps, accepted); });
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/json_text.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
@@ -90,14 +91,14 @@ void run_slam_command(const SlamOptions& o) {
                      {"pose", {{"x", l.T_match_query.x}, {"y", l.T_match_query.y}, {"theta", l.T_match_query.theta}}}});
   }
   io::write_atomically(dir / "loops.json", [&](std::ostream& out) {
-    out << nlohmann::json{{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}}.dump(2) << "\n";
+    out << json_text({{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}});
   });
   std::cout << "wrote " << (dir / "corrected.log").string() << ", map.png, loops.json";
   if (!o.relations.empty()) {
     const RelationsError before = relations_error(source.scans, relations);
     const RelationsError after = relations_error(r.scans, relations);
     io::write_atomically(dir / "relations_error.json",
-                         [&](std::ostream& out) { out << relations_json(after).dump(2) << "\n"; });
+                         [&](std::ostream& out) { out << json_text(relations_json(after)); });
     std::cout << ", relations_error.json\n"
               << std::setprecision(3) << "relations (" << after.relations << " of " << relations.size()
               << "): translation " << after.translation_mean << " +- " << after.translation_std << " m, rotation "

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "core/error.h"
@@ -48,8 +49,30 @@ inline void require_plausible(const Points2& points, const std::string& context)
   }
 }
 
+/// True when `text` is valid UTF-8 (no overlong forms, no surrogates) without control characters.
+inline bool is_clean_utf8(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    if (n == 0 || i + n > text.size() || (n == 1 && (c < 0x20 || c == 0x7F))) return false;
+    std::uint32_t cp = n == 1 ? c : c & (0x7F >> n);
+    for (std::size_t k = 1; k < n; ++k) {
+      const auto d = static_cast<unsigned char>(text[i + k]);
+      if ((d >> 6) != 0x2) return false;
+      cp = (cp << 6) | (d & 0x3F);
+    }
+    const std::uint32_t min[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (cp < min[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
+    i += n;
+  }
+  return true;
+}
+
+/// Names are non-empty UTF-8 text without control characters (they go to JSON and terminals).
 inline void require_name(const std::string& name, const std::string& what) {
   if (name.empty()) throw InputError(what + " name must not be empty");
+  if (!is_clean_utf8(name))
+    throw InputError(what + " name must be UTF-8 text without control characters (it has other bytes)");
 }
 
 }  // namespace internal

@@ -532,5 +532,19 @@ TEST_F(MapDatabaseTest, EditedPosesAndPointsAreRefusedOnRead) {
   }
 }
 
+TEST_F(MapDatabaseTest, NamesMustBeCleanUtf8) {
+  MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
+  EXPECT_NO_THROW(db.add_dataset({"Gebäude 079 – Flur", "a.log", DatasetKind::kSubmaps, {}}));
+  for (const std::string& bad : {std::string("bad\xffname"), std::string("a\tb"), std::string("\xc0\xaf"),
+                                std::string("\xed\xa0\x80"), std::string("cut\xe2\x82")}) {
+    EXPECT_THROW(db.add_dataset({bad, "a.log", DatasetKind::kSubmaps, {}}), InputError) << bad;
+  }
+  Dictionary d;
+  d.name = "x\x01";
+  d.resolution = 0.1;
+  d.points = {{0, 0}};
+  EXPECT_THROW(db.add_dictionary(d), InputError);
+}
+
 }  // namespace
 }  // namespace partslam::io
