@@ -5,6 +5,7 @@ PACKAGES=(
   g++ make cmake pkg-config
   libeigen3-dev        # 2D geometry
   libceres-dev         # pose-graph optimisation (partslam slam)
+  librosbag-dev libsensor-msgs-dev libnav-msgs-dev  # ROS 1 bags (io/ros_bag.h)
   libcli11-dev         # command-line parsing
   libsqlite3-dev       # map database
   zlib1g-dev           # gzip CARMEN logs

@@ -107,6 +107,9 @@ void run_slam_command(const SlamOptions& o) {
               << " rad)";
   }
   std::cout << "\n";
+  if (!o.relations.empty() && relations_error(r.scans, relations).relations == 0)
+    std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
+              << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
 }
 
 }  // namespace

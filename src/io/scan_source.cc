@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/sim/simulator.h"
+#include "io/ros_bag.h"
 
 namespace partslam::io {
 
@@ -26,6 +27,11 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
     return out;
   }
   std::string name = std::filesystem::path(spec).filename().string();
+  if (is_ros_bag(spec)) {
+    out.name = std::filesystem::path(spec).stem().string();
+    out.scans = read_ros_bag(spec, options).scans;
+    return out;
+  }
   for (const char* ext : {".gz", ".log", ".clf"}) {
     const std::string e(ext);
     if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0)

@@ -1,5 +1,6 @@
-// Where scans come from on the command line: a CARMEN log (plain or gzip), or "sim[:SEED]" for the built-in
-// simulated building (docs/DESIGN.md, "Embedded default"), so every command also runs without ../shared/data.
+// Where scans come from on the command line: a CARMEN log (plain or gzip), a ROS 1 bag (*.bag, io/ros_bag.h), or
+// "sim[:SEED]" for the built-in simulated building (docs/DESIGN.md, "Embedded default"), so every command also
+// runs without ../shared/data.
 #pragma once
 
 #include <string>

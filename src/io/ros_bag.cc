@@ -1,0 +1,92 @@
+#include "io/ros_bag.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/error.h"
+#include "io/ros_bag_messages.h"
+
+namespace partslam::io {
+namespace {
+
+using rosbag_messages::LaserScanMessage;
+using rosbag_messages::OdometryMessage;
+
+struct Stamped {
+  double t;
+  Pose2 pose;
+};
+
+Pose2 odometry_at(const std::vector<Stamped>& odom, double t) {
+  if (odom.empty()) return {};
+  auto after = std::lower_bound(odom.begin(), odom.end(), t, [](const Stamped& s, double v) { return s.t < v; });
+  if (after == odom.begin()) return odom.front().pose;
+  if (after == odom.end()) return odom.back().pose;
+  const Stamped& a = *(after - 1);
+  const Stamped& b = *after;
+  const double f = b.t > a.t ? (t - a.t) / (b.t - a.t) : 0.0;
+  return {a.pose.x + f * (b.pose.x - a.pose.x), a.pose.y + f * (b.pose.y - a.pose.y),
+          wrap_angle(a.pose.theta + f * wrap_angle(b.pose.theta - a.pose.theta))};
+}
+
+Scan to_scan(const LaserScanMessage& msg, const LogReadOptions& o, const std::string& where) {
+  if (!std::isfinite(msg.stamp) || !std::isfinite(msg.angle_min) || !std::isfinite(msg.angle_increment) ||
+      std::isnan(msg.range_max) || std::isnan(msg.range_min))
+    throw InputError(where + ": a non-finite stamp, angle_min, angle_increment or range limit");
+  if (msg.ranges.size() > 100000) throw InputError(where + ": more than 100000 ranges");
+  Scan scan;
+  scan.timestamp = msg.stamp;
+  scan.num_beams = static_cast<int>(msg.ranges.size());
+  const double lo = std::max(o.min_range, msg.range_min);
+  const double hi = std::min({o.max_usable_range, o.no_return_range, msg.range_max});
+  for (std::size_t i = 0; i < msg.ranges.size(); ++i) {
+    const double r = msg.ranges[i];
+    if (!(r > lo && r < hi)) continue;  // NaN and inf (no return in ROS) fail too
+    const double a = msg.angle_min + static_cast<double>(i) * msg.angle_increment;
+    scan.points_laser.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return scan;
+}
+
+Stamped to_pose(const OdometryMessage& m, const std::string& where) {
+  const double yaw = std::atan2(2.0 * (m.qw * m.qz + m.qx * m.qy), 1.0 - 2.0 * (m.qy * m.qy + m.qz * m.qz));
+  const Stamped s{m.stamp, {m.x, m.y, wrap_angle(yaw)}};
+  if (!std::isfinite(s.t) || !std::isfinite(s.pose.x) || !std::isfinite(s.pose.y) || !std::isfinite(yaw) ||
+      std::abs(s.pose.x) > kMaxCoordinate || std::abs(s.pose.y) > kMaxCoordinate)
+    throw InputError(where + ": a non-finite or implausible pose (beyond +-100 km)");
+  return s;
+}
+
+}  // namespace
+
+bool is_ros_bag(const std::filesystem::path& path) { return path.extension() == ".bag"; }
+
+RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& options) {
+  validate(options);
+  const std::string name = path.string();
+  if (!std::filesystem::is_regular_file(path)) throw InputError(name + ": no such file");
+  rosbag_messages::BagMessages messages;
+  try {
+    messages = rosbag_messages::read_bag_messages(name, options.max_points);
+  } catch (const rosbag_messages::BagError& e) {
+    throw InputError(name + ": " + e.what());
+  }
+  if (messages.scans.empty()) throw InputError(name + ": the bag holds no sensor_msgs/LaserScan messages");
+  RosBagLog log;
+  log.scan_topic = messages.scan_topic;
+  log.odometry_topic = messages.odometry_topic;
+  log.odometry_messages = messages.odometry.size();
+  std::vector<Stamped> odom;
+  for (std::size_t i = 0; i < messages.odometry.size(); ++i)
+    odom.push_back(to_pose(messages.odometry[i], name + ": " + log.odometry_topic + " message " + std::to_string(i)));
+  std::stable_sort(odom.begin(), odom.end(), [](const Stamped& a, const Stamped& b) { return a.t < b.t; });
+  for (std::size_t i = 0; i < messages.scans.size(); ++i) {
+    Scan s = to_scan(messages.scans[i], options, name + ": " + log.scan_topic + " message " + std::to_string(i));
+    s.T_world_laser = s.T_world_odom = odometry_at(odom, s.timestamp);
+    log.scans.push_back(std::move(s));
+  }
+  return log;
+}
+
+}  // namespace partslam::io

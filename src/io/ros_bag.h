@@ -1,0 +1,32 @@
+// ROS 1 bags (issue "use from outside", item 2) as a scan source, read with Debian's rosbag_storage library:
+// sensor_msgs/LaserScan messages become Scans (points of the beams with range_min < r < min(range_max,
+// LogReadOptions::max_usable_range); num_beams = ranges.size(); timestamp = header.stamp), posed by the
+// nav_msgs/Odometry messages interpolated at each scan's stamp (linear in x, y, the short way in theta) in both
+// pose slots, as the benchmark's .clf files were made from these bags (they do not apply the base_link -> laser
+// offset either). Scans outside the odometry's time span take the nearest odometry; a bag without odometry
+// gives every scan the identity pose (the front end then predicts a standing robot).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "core/maps/scan.h"
+#include "io/carmen_log.h"
+
+namespace partslam::io {
+
+/// True for a path ending in ".bag".
+bool is_ros_bag(const std::filesystem::path& path);
+
+struct RosBagLog {
+  Scans scans;
+  std::string scan_topic;      ///< the LaserScan topic read (the first one when there are several)
+  std::string odometry_topic;  ///< the Odometry topic read; empty when the bag has none
+  std::size_t odometry_messages = 0;
+};
+
+/// Throws InputError naming the file for a missing, truncated or foreign file, a bag without LaserScan messages,
+/// a scan with non-finite fields, or more than options.max_points valid beams.
+RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& options = {});
+
+}  // namespace partslam::io

@@ -1,0 +1,40 @@
+// The raw messages of a ROS 1 bag that io/ros_bag.h turns into scans, read by the one translation unit that
+// includes ROS headers (compiled as C++17: ROS 1's generated messages use std::allocator<void>::rebind, which
+// C++20 removed). Plain standard-library types only, so this header compiles in both.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace partslam::io::rosbag_messages {
+
+struct LaserScanMessage {
+  double stamp = 0.0;  ///< header.stamp [s]
+  double angle_min = 0.0, angle_increment = 0.0, range_min = 0.0, range_max = 0.0;
+  std::vector<float> ranges;
+};
+
+struct OdometryMessage {
+  double stamp = 0.0;
+  double x = 0.0, y = 0.0;
+  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
+};
+
+struct BagMessages {
+  std::string scan_topic;      ///< the first sensor_msgs/LaserScan topic; only its messages are kept
+  std::string odometry_topic;  ///< the first nav_msgs/Odometry topic; empty when there is none
+  std::vector<LaserScanMessage> scans;
+  std::vector<OdometryMessage> odometry;
+};
+
+/// Why a bag could not be read (the caller names the file).
+struct BagError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read.
+BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges);
+
+}  // namespace partslam::io::rosbag_messages

@@ -1,0 +1,128 @@
+#include "io/ros_bag.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <optional>
+
+#include "core/error.h"
+#include "core/maps/submap.h"
+#include "io/scan_source.h"
+#include "io/test_files.h"
+
+namespace partslam::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+// The benchmark bags of ../shared/data/bags against the .clf.gz files made from them: the same scans, the same
+// points (ranges printed to 1 mm in the .clf; the bags' beams are pi/(n-1) apart), the same odometry poses, and
+// so the same submaps.
+struct BagCase {
+  const char* log;
+  bool same_order;  ///< whether the two files list the scans in the same order (intel's do not)
+};
+
+class RosBagRealData : public ::testing::TestWithParam<BagCase> {};
+
+TEST_P(RosBagRealData, AgreesWithTheClfMadeFromIt) {
+  const std::filesystem::path data = testing::shared_data();
+  const std::string log = GetParam().log;
+  const std::filesystem::path bag = data / "bags" / (log + ".clf2bag.bag");
+  if (!std::filesystem::exists(bag)) GTEST_SKIP() << bag << " is absent";
+  const RosBagLog from_bag = read_ros_bag(bag);
+  EXPECT_EQ(from_bag.scan_topic, "/scan");
+  EXPECT_EQ(from_bag.odometry_topic, "/odom");
+  LogReadOptions clf_options;
+  clf_options.flaser_spacing = FlaserSpacing::kPiOverNMinus1;
+  clf_options.min_range = 0.1;  // the bags' range_min: shorter beams are invalid in ROS
+  const Scans clf = read_carmen_log(data / log / (log + ".clf.gz"), clf_options).scans;
+  ASSERT_EQ(from_bag.scans.size(), clf.size());
+  // The two files do not list every scan in the same order (intel: runs of scans are permuted), so each bag
+  // scan is paired with the clf scan within 50 places of it whose points are the same to 1.5 mm.
+  std::vector<std::optional<std::size_t>> index(clf.size());
+  for (std::size_t i = 0; i < clf.size(); ++i) {
+    const Points2& a = from_bag.scans[i].points_laser;
+    for (std::size_t j = i > 50 ? i - 50 : 0; j < std::min(clf.size(), i + 51) && !index[i]; ++j) {
+      const Points2& b = clf[j].points_laser;
+      bool same = a.size() == b.size();
+      for (std::size_t k = 0; same && k < a.size(); ++k) same = (a[k] - b[k]).norm() < 1.5e-3;
+      if (same) index[i] = j;
+    }
+  }
+  double worst_point = 0;
+  std::vector<double> pose_error;
+  for (std::size_t i = 0; i < index.size(); ++i) {
+    if (!index[i]) continue;
+    const Scan& a = from_bag.scans[i];
+    const Scan& b = clf[*index[i]];
+    ASSERT_EQ(a.num_beams, b.num_beams) << i;
+    ASSERT_EQ(a.points_laser.size(), b.points_laser.size()) << i;
+    for (std::size_t k = 0; k < a.points_laser.size(); ++k)
+      worst_point = std::max(worst_point, (a.points_laser[k] - b.points_laser[k]).norm());
+    pose_error.push_back((a.T_world_laser.translation() - b.T_world_laser.translation()).norm());
+  }
+  ASSERT_EQ(pose_error.size(), clf.size());  // every scan paired, one to one
+  EXPECT_LT(worst_point, 1e-3);
+  // The .clf interpolated the odometry at the original scan times, the bag carries it at re-timed stamps (the
+  // original times are not in the bag): the poses agree to millimetres (fr079, intel) or a centimetre or two
+  // (aces), with outliers where the robot moved fast between odometry messages.
+  std::sort(pose_error.begin(), pose_error.end());
+  std::printf("%s: %zu of %zu scans paired; pose difference bag vs clf: median %.4f m, 99th percentile %.4f m\n",
+              log.c_str(), pose_error.size(), clf.size(), pose_error[pose_error.size() / 2],
+              pose_error[pose_error.size() * 99 / 100]);
+  EXPECT_LT(pose_error[pose_error.size() / 2], 0.02);
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < index.size(); ++i) moved += *index[i] != i;
+  std::printf("%s: %zu scans at another place in the clf's order\n", log.c_str(), moved);
+  if (!GetParam().same_order) {
+    // intel's bag lists 2591 scans at other places than its clf, each with the odometry of its own place in
+    // time, so the two trajectories (and submaps, which follow the scan order) differ there by construction.
+    EXPECT_GT(moved, 0u);
+    return;
+  }
+  EXPECT_EQ(moved, 0u);
+  // So the submaps agree up to those millimetres: as many within 2 %, as many points (one per occupied 0.1 m
+  // cell) within 2 %.
+  const Submaps sa = build_submaps(from_bag.scans), sb = build_submaps(clf);
+  ASSERT_NEAR(static_cast<double>(sa.size()), static_cast<double>(sb.size()), 0.02 * static_cast<double>(sb.size()));
+  double points_a = 0, points_b = 0;
+  for (const Submap& m : sa) points_a += static_cast<double>(m.points.size());
+  for (const Submap& m : sb) points_b += static_cast<double>(m.points.size());
+  EXPECT_NEAR(points_a / points_b, 1.0, 0.02);
+}
+
+INSTANTIATE_TEST_SUITE_P(Bags, RosBagRealData,
+                         ::testing::Values(BagCase{"fr079", true}, BagCase{"intel", false}, BagCase{"aces", true}),
+                         [](const auto& info) { return std::string(info.param.log); });
+
+TEST(RosBag, BadFilesAreNamedInTheError) {
+  testing::TempDir dir;
+  const auto message = [](const std::filesystem::path& p) {
+    try {
+      load_scan_source(p.string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(message(dir / "missing.bag"), HasSubstr("missing.bag: no such file"));
+  {
+    std::ofstream(dir / "text.bag") << "FLASER 4 1 2 3 4 0 0 0 0 0 0 1 h 1\n";
+  }
+  EXPECT_THAT(message(dir / "text.bag"), HasSubstr("text.bag: not a readable ROS 1 bag"));
+  const std::filesystem::path real = testing::shared_data() / "bags" / "fr079.clf2bag.bag";
+  if (std::filesystem::exists(real)) {  // a bag cut short
+    std::ifstream in(real, std::ios::binary);
+    std::string head(20000, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    std::ofstream(dir / "cut.bag", std::ios::binary) << head;
+    EXPECT_THAT(message(dir / "cut.bag"), HasSubstr("cut.bag: "));
+  }
+}
+
+}  // namespace
+}  // namespace partslam::io
