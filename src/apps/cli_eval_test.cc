@@ -227,3 +227,35 @@ TEST_F(CliEvalTest, SlamWritesTheCorrectedLogMapLoopsAndRelationErrors) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
+  const fs::path db = dir_ / "q.db", json = dir_ / "ranking.json";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
+  // The local map over 10..12 m of travel is, point for point, the stored submap anchored at 10 m.
+  const CliRun run = run_partslam("match " + quoted(db) + " --query-log sim:1 --from 10 --to 12 --method dmm --top 3 --json " +
+                                  quoted(json));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("local map of sim:1 (10.0 .. 12.0 m of travel"));
+  EXPECT_THAT(run.output, HasSubstr("confidence"));
+  const nlohmann::json j = read_json(json);
+  ASSERT_EQ(j["ranking"].size(), 3u);
+  EXPECT_DOUBLE_EQ(j["ranking"][0]["inlier_fraction"].get<double>(), 1.0);
+  EXPECT_NEAR(j["ranking"][0]["T_map_query"]["x"].get<double>(), 0.0, 0.1);
+  EXPECT_EQ(j["method"], "dmm");
+  // --at: a log time instead of travel.
+  EXPECT_EQ(run_partslam("match " + quoted(db) + " --query-log sim:1 --at 30 --method succinct").exit_code, 0);
+  for (const std::string& bad : {std::string(" --query 3 --query-log sim:1 --from 1 --to 3"), std::string(" --query-log sim:1"),
+                                std::string(" --query-log sim:1 --from 5 --to 4"),
+                                std::string(" --query-log sim:1 --at 1e9"),
+                                std::string(" --query-log sim:1 --at 3 --from 1 --to 2")}) {
+    const CliRun r = run_partslam("match " + quoted(db) + bad);
+    EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr("partslam: error:")) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace partslam

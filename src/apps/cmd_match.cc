@@ -8,6 +8,7 @@
 // For a pose, the implied world offset compares where the match puts the query (T_world_map * T_map_query)
 // with the query's own stored pose; "dist" is the stored distance between the two maps' centres.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include <set>
 
 #include "apps/commands.h"
+#include "apps/json_text.h"
 #include "apps/cpd_options.h"
 #include "io/descriptor_store.h"
 #include "core/matching/ranking.h"
@@ -25,7 +27,10 @@
 #include "core/error.h"
 #include "core/timing.h"
 #include "core/matching/method_spec.h"
+#include "io/atomic_file.h"
 #include "io/map_database.h"
+#include "io/scan_source.h"
+#include "core/slam/front_end.h"
 
 namespace partslam::apps {
 namespace {
@@ -33,6 +38,10 @@ namespace {
 struct MatchOptions {
   std::string db;
   std::int64_t query = -1;
+  std::string query_log;  ///< a new local map from a log, instead of a stored one
+  double from = -1, to = -1, at = -1;
+  bool scan_match = false;
+  std::string json;
   std::string method = "dmm";
   int top = 10;
   std::string dictionary;
@@ -164,6 +173,71 @@ void print_row(std::size_t rank, const Row& row, const Candidate& c, const Subma
   std::cout << buf << "\n";
 }
 
+// The query's local map from a log, built with the stored maps' submap settings (the first submaps dataset's).
+Submap local_map(const io::MapDatabase& db, const MatchOptions& o, std::string& label) {
+  std::optional<io::DatasetInfo> dataset;
+  for (const io::DatasetInfo& d : db.datasets())
+    if (d.spec.kind == io::DatasetKind::kSubmaps && !dataset) dataset = d;
+  if (!dataset) throw InputError(db.path().string() + ": no submaps stored to match against");
+  Scans scans = io::load_scan_source(o.query_log).scans;
+  if (o.scan_match) scans = scan_match_log(scans, dataset->spec.front_end).scans;
+  double from = o.from, to = o.to;
+  if (o.at >= 0) {
+    if (o.from >= 0 || o.to >= 0) throw InputError("give either --at TIME or --from M --to M, not both");
+    const std::vector<double> s = travel_distances(scans);
+    std::size_t i = 0;
+    while (i < scans.size() && scans[i].timestamp < o.at) ++i;
+    if (i == scans.size()) throw InputError(o.query_log + ": no scan at or after time " + std::to_string(o.at));
+    from = s[i], to = s[i] + dataset->spec.config.window_length;
+  } else if (o.from < 0 || o.to < 0) {
+    throw InputError("--query-log needs --from M --to M (travel along the log) or --at TIME");
+  }
+  const Submap m = build_local_map(scans, from, to, dataset->spec.config);
+  char text[200];
+  std::snprintf(text, sizeof text, "local map of %s (%.1f .. %.1f m of travel, %zu scans, %zu points, settings of '%s')",
+                o.query_log.c_str(), from, to, m.scan_timestamps.size(), m.points.size(), dataset->spec.name.c_str());
+  label = text;
+  return m;
+}
+
+// How far the best dMM match beats the best one elsewhere: its inlier share minus the best inlier share among
+// the dMM-verified candidates whose frames lie more than 4 m from its own (same dataset); nullopt without dMM.
+std::optional<double> match_confidence(const std::vector<Row>& rows, const std::vector<Candidate>& candidates) {
+  if (rows.empty() || !rows.front().dmm) return std::nullopt;
+  const Candidate& best = candidates[rows.front().candidate];
+  double elsewhere = 0.0;
+  for (const Row& r : rows) {
+    if (!r.dmm) continue;
+    const Candidate& c = candidates[r.candidate];
+    const bool far = c.dataset != best.dataset ||
+                     (c.map->T_world_map.translation() - best.map->T_world_map.translation()).norm() > 4.0;
+    if (far) elsewhere = std::max(elsewhere, r.dmm->inlier_fraction);
+  }
+  return rows.front().dmm->inlier_fraction - elsewhere;
+}
+
+nlohmann::json ranking_json(const std::string& query, const MethodSpec& method, const std::vector<Row>& rows,
+                            const std::vector<Candidate>& candidates, std::size_t shown,
+                            const std::optional<double>& confidence) {
+  nlohmann::json out = {{"query", query}, {"method", method.spec}, {"candidates", candidates.size()}};
+  if (confidence) out["confidence"] = *confidence;
+  out["ranking"] = nlohmann::json::array();
+  for (std::size_t r = 0; r < shown; ++r) {
+    const Row& row = rows[r];
+    const Candidate& c = candidates[row.candidate];
+    nlohmann::json j = {{"rank", r + 1}, {"map", c.map->id}, {"dataset", c.dataset}};
+    if (row.descriptor_score) j["descriptor_score"] = *row.descriptor_score;
+    if (row.dmm) {
+      const Pose2& T = row.dmm->T_map_query;
+      j["inliers"] = row.dmm->inliers;
+      j["inlier_fraction"] = row.dmm->inlier_fraction;
+      j["T_map_query"] = {{"x", T.x}, {"y", T.y}, {"theta", T.theta}};
+    }
+    out["ranking"].push_back(j);
+  }
+  return out;
+}
+
 void run_match(const MatchOptions& o) {
   const MethodSpec method = parse_method_spec(o.method);
   if (o.top < 1) throw InputError("--top must be >= 1, got " + std::to_string(o.top));
@@ -175,15 +249,25 @@ void run_match(const MatchOptions& o) {
                      std::to_string(o.query_parts));
   validate(o.dmm);
   validate(o.ransac);
+  if ((o.query >= 0) == !o.query_log.empty())
+    throw InputError("give either --query ID (a stored map) or --query-log LOG (a new local map)");
+  if (!o.json.empty()) io::check_writable(o.json);
   const auto t_start = Clock::now();
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
-  const io::MapLocation where = db.locate(o.query);
-  const Submap query = db.load_submap(o.query);
+  io::MapLocation where;
+  std::string query_label;
+  const Submap query = o.query_log.empty() ? db.load_submap(o.query) : local_map(db, o, query_label);
+  if (o.query_log.empty()) {
+    where = db.locate(o.query);
+    query_label = "query map " + std::to_string(query.id) + " (dataset '" + where.dataset_name + "', submap " +
+                  std::to_string(where.index) + ", " + std::to_string(query.points.size()) + " points)";
+  }
 
   // The candidates: the query's dataset, or every submaps dataset.
   std::vector<std::pair<std::string, Submaps>> loaded;
   for (const io::DatasetInfo& d : db.datasets()) {
-    if (d.id == where.dataset_id || (o.all && d.spec.kind == io::DatasetKind::kSubmaps))
+    const bool every = o.all || !o.query_log.empty();  // a new local map is ranked against every dataset
+    if (d.id == where.dataset_id || (every && d.spec.kind == io::DatasetKind::kSubmaps))
       loaded.emplace_back(d.spec.name, db.load_submaps(d.id));
   }
   std::vector<Candidate> candidates;
@@ -240,14 +324,14 @@ void run_match(const MatchOptions& o) {
   }
   std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
 
-  std::cout << "query map " << query.id << " (dataset '" << where.dataset_name << "', submap " << where.index
-            << ", " << query.points.size() << " points); " << method.label() << " over " << candidates.size()
-            << " maps" << (o.all ? " of every dataset" : " of its dataset");
+  const bool all = o.all || !o.query_log.empty();
+  std::cout << query_label << "; " << method.label() << " over " << candidates.size() << " maps"
+            << (all ? " of every dataset" : " of its dataset");
   if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
   std::cout << "\n";
   const bool pose = method.needs_points;
   std::string header = " rank     map";
-  if (o.all) header += "      dataset";
+  if (all) header += "      dataset";
   if (!method.needs_points || !method.stages.empty()) {
     const MethodSpec& first = method.stages.empty() ? method : method.stages.front();
     char score[32];
@@ -265,8 +349,14 @@ void run_match(const MatchOptions& o) {
   std::cout << header << "\n";
   const std::size_t shown = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(o.top));
   for (std::size_t r = 0; r < shown; ++r)
-    print_row(r + 1, rows[r], candidates[rows[r].candidate], query, where.dataset_name, o.all, pose);
+    print_row(r + 1, rows[r], candidates[rows[r].candidate], query, where.dataset_name, all, pose);
+  const std::optional<double> confidence = match_confidence(rows, candidates);
+  if (confidence) std::printf("confidence %.3f (the best dMM inlier share minus the best one more than 4 m away)\n", *confidence);
   std::cout << "time: load " << static_cast<long>(load_ms) << " ms; " << timing << "\n";
+  if (!o.json.empty())
+    io::write_atomically(o.json, [&](std::ostream& out) {
+      out << json_text(ranking_json(query_label, method, rows, candidates, shown, confidence));
+    });
 }
 
 }  // namespace
@@ -276,7 +366,14 @@ void register_match(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("match", "Rank the stored maps for one query map (dMM, iMM, hMM, rerank)");
   cmd->add_option("db", o->db, "map database file")->required();
-  cmd->add_option("--query", o->query, "global map id of the query (see 'partslam info')")->required();
+  cmd->add_option("--query", o->query, "global map id of a stored query map (see 'partslam info')");
+  cmd->add_option("--query-log", o->query_log,
+                  "a log (CARMEN, ROS bag, sim[:SEED]) to build a new local map from, as the stored maps were built");
+  cmd->add_option("--from", o->from, "--query-log: travel along the log where the local map starts [m]");
+  cmd->add_option("--to", o->to, "--query-log: travel along the log where the local map ends [m]");
+  cmd->add_option("--at", o->at, "--query-log: the local map starts at the first scan at or after this log time [s]");
+  cmd->add_flag("--scan-match", o->scan_match, "--query-log: poses from scan matching (raw logs)");
+  cmd->add_option("--json", o->json, "write the ranking (map, dataset, scores, pose, confidence) as JSON");
   cmd->add_option(
          "--method", o->method, method_syntax_list())
       ->capture_default_str();

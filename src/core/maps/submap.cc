@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -56,6 +57,46 @@ Points2 voxel_downsample(const Points2& points, double resolution) {
   return out;
 }
 
+namespace {
+
+// The submap of scans [first, end): their points within max_range, one per cell, centred, aligned and cropped;
+// nullopt when fewer than min_points remain.
+std::optional<Submap> build_one(const Scans& scans, const std::vector<double>& s, std::size_t first, std::size_t end,
+                                const SubmapConfig& config) {
+  Submap m;
+  m.anchor_scan = static_cast<std::int64_t>(first);
+  m.anchor_timestamp = scans[first].timestamp;
+  m.travel = s[first];
+  Points2 world;
+  for (std::size_t j = first; j < end; ++j) {
+    const Points2 pts = points_world(scans[j], config.max_range);
+    world.insert(world.end(), pts.begin(), pts.end());
+    m.scan_timestamps.push_back(scans[j].timestamp);
+  }
+  world = voxel_downsample(world, config.resolution);
+  const Vec2 c = centroid(world);
+  const double half = config.crop_size / 2.0;
+  // The alignment angle comes from the points within the crop's inscribed circle (a rotation-invariant
+  // region); the square crop is then taken in the canonical frame, so points stay inside +-crop_size / 2.
+  Points2 centred, disc;
+  centred.reserve(world.size());
+  for (const Vec2& p : world) {
+    centred.push_back(p - c);
+    if (centred.back().norm() < half) disc.push_back(centred.back());
+  }
+  m.alignment_angle = config.align ? manhattan_angle(disc) : 0.0;
+  const Pose2 T_map_centred{0.0, 0.0, m.alignment_angle};
+  for (const Vec2& p : centred) {
+    const Vec2 q = T_map_centred * p;
+    if (std::abs(q.x()) < half && std::abs(q.y()) < half) m.points.push_back(q);
+  }
+  if (static_cast<int>(m.points.size()) < config.min_points) return std::nullopt;
+  m.T_world_map = Pose2{c.x(), c.y(), 0.0} * T_map_centred.inverse();
+  return m;
+}
+
+}  // namespace
+
 Submaps build_submaps(const Scans& scans, const SubmapConfig& config) {
   validate(config);
   const std::vector<double> s = travel_distances(scans);
@@ -69,39 +110,34 @@ Submaps build_submaps(const Scans& scans, const SubmapConfig& config) {
   for (std::size_t i = 0; i < scans.size(); ++i) {
     if (s[i] < next_anchor - tolerance) continue;
     next_anchor = (std::floor((s[i] + tolerance) / config.spacing) + 1.0) * config.spacing;
-    Submap m;
-    m.anchor_scan = static_cast<std::int64_t>(i);
-    m.anchor_timestamp = scans[i].timestamp;
-    m.travel = s[i];
-    Points2 world;
-    for (std::size_t j = i; j < scans.size() && s[j] < s[i] + config.window_length; ++j) {
-      const Points2 pts = points_world(scans[j], config.max_range);
-      world.insert(world.end(), pts.begin(), pts.end());
-      m.scan_timestamps.push_back(scans[j].timestamp);
-    }
-    world = voxel_downsample(world, config.resolution);
-    const Vec2 c = centroid(world);
-    const double half = config.crop_size / 2.0;
-    // The alignment angle comes from the points within the crop's inscribed circle (a rotation-invariant
-    // region); the square crop is then taken in the canonical frame, so points stay inside +-crop_size / 2.
-    Points2 centred, disc;
-    centred.reserve(world.size());
-    for (const Vec2& p : world) {
-      centred.push_back(p - c);
-      if (centred.back().norm() < half) disc.push_back(centred.back());
-    }
-    m.alignment_angle = config.align ? manhattan_angle(disc) : 0.0;
-    const Pose2 T_map_centred{0.0, 0.0, m.alignment_angle};
-    for (const Vec2& p : centred) {
-      const Vec2 q = T_map_centred * p;
-      if (std::abs(q.x()) < half && std::abs(q.y()) < half) m.points.push_back(q);
-    }
-    if (static_cast<int>(m.points.size()) < config.min_points) continue;
-    m.T_world_map = Pose2{c.x(), c.y(), 0.0} * T_map_centred.inverse();
-    m.id = static_cast<std::int64_t>(submaps.size());
-    submaps.push_back(std::move(m));
+    std::size_t end = i;
+    while (end < scans.size() && s[end] < s[i] + config.window_length) ++end;
+    std::optional<Submap> m = build_one(scans, s, i, end, config);
+    if (!m) continue;
+    m->id = static_cast<std::int64_t>(submaps.size());
+    submaps.push_back(std::move(*m));
   }
   return submaps;
+}
+
+Submap build_local_map(const Scans& scans, double from, double to, const SubmapConfig& config) {
+  validate(config);
+  if (!(from >= 0.0) || !(to > from) || !std::isfinite(to))
+    throw InputError("local map: need 0 <= from < to [m of travel], got from " + std::to_string(from) + ", to " +
+                     std::to_string(to));
+  const std::vector<double> s = travel_distances(scans);
+  std::size_t first = 0;
+  while (first < scans.size() && s[first] < from) ++first;
+  std::size_t end = first;
+  while (end < scans.size() && s[end] < to) ++end;
+  if (first == end)
+    throw InputError("local map: no scan between " + std::to_string(from) + " and " + std::to_string(to) +
+                     " m of travel (the log covers " + std::to_string(s.empty() ? 0.0 : s.back()) + " m)");
+  std::optional<Submap> m = build_one(scans, s, first, end, config);
+  if (!m)
+    throw InputError("local map: fewer than " + std::to_string(config.min_points) + " points between " +
+                     std::to_string(from) + " and " + std::to_string(to) + " m of travel");
+  return *m;
 }
 
 }  // namespace partslam

@@ -41,6 +41,11 @@ std::vector<double> travel_distances(const Scans& scans);
 /// Builds all submaps of a scan stream (docs/DESIGN.md, "Submap").
 Submaps build_submaps(const Scans& scans, const SubmapConfig& config = {});
 
+/// A query's local map, built exactly as build_submaps builds a stored one, over the scans whose travel along
+/// the log lies in [from, to) [m] (not anchored on the spacing grid). Throws InputError when no scan lies there or
+/// fewer than min_points remain.
+Submap build_local_map(const Scans& scans, double from, double to, const SubmapConfig& config = {});
+
 /// One point per occupied cell of the given size (the mean of the points that fall in it), in a fixed order.
 Points2 voxel_downsample(const Points2& points, double resolution);
 

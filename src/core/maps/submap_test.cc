@@ -162,3 +162,26 @@ TEST_F(SimulatedSubmaps, PoseIsTheCentroidOfTheWindowPoints) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+TEST(BuildLocalMap, IsTheStoredSubmapOverTheSameScans) {
+  const Scans scans = simulate().scans;
+  const Submaps stored = build_submaps(scans);
+  const Submap& m = stored.at(20);
+  const std::vector<double> s = travel_distances(scans);
+  const Submap local = build_local_map(scans, s[static_cast<std::size_t>(m.anchor_scan)], m.travel + 2.0);
+  EXPECT_EQ(local.anchor_scan, m.anchor_scan);
+  EXPECT_EQ(local.scan_timestamps, m.scan_timestamps);
+  EXPECT_EQ(local.points, m.points);
+  EXPECT_EQ(local.T_world_map.x, m.T_world_map.x);
+  EXPECT_THROW(build_local_map(scans, 5.0, 4.0), InputError);
+  EXPECT_THROW(build_local_map(scans, 1e6, 1e6 + 2), InputError);  // beyond the log
+  SubmapConfig c;
+  c.min_points = 100000;
+  EXPECT_THROW(build_local_map(scans, 0.0, 2.0, c), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
