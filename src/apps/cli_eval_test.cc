@@ -250,7 +250,8 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
   for (const std::string& bad : {std::string(" --query 3 --query-log sim:1 --from 1 --to 3"), std::string(" --query-log sim:1"),
                                 std::string(" --query-log sim:1 --from 5 --to 4"),
                                 std::string(" --query-log sim:1 --at 1e9"),
-                                std::string(" --query-log sim:1 --at 3 --from 1 --to 2")}) {
+                                std::string(" --query-log sim:1 --at 3 --from 1 --to 2"),
+                                std::string(" --query-log sim:1 --from 1 --to 3 --method hmm:3")}) {
     const CliRun r = run_partslam("match " + quoted(db) + bad);
     EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.output;
     EXPECT_THAT(r.output, HasSubstr("partslam: error:")) << bad;

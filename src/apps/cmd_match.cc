@@ -1,6 +1,8 @@
 // partslam match DB --query ID --method SPEC: the online half of PartSLAM (docs/DESIGN.md, "Schemes"). Ranks every
-// other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map through
-// the library's one ranking entry point (core/matching/ranking.h), for any registered method:
+// other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map — or, with
+// --query-log LOG --from/--to|--at, for a new local map built from a log as the stored ones were, against every
+// submaps dataset — through the library's one ranking entry point (core/matching/ranking.h), for any registered
+// method (a new local map: the point-based ones):
 //   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
 //   succinct, grid, sc               built from the stored points at run time
 //   imm:K, hmm:K                     the stored K-part descriptors (the query's stored P-part list for hMM)
@@ -251,6 +253,9 @@ void run_match(const MatchOptions& o) {
   validate(o.ransac);
   if ((o.query >= 0) == !o.query_log.empty())
     throw InputError("give either --query ID (a stored map) or --query-log LOG (a new local map)");
+  if (!o.query_log.empty() && method.needs_parts)
+    throw InputError("--query-log: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
+                     "(dmm, succinct, grid, sc, rerank:R)");
   if (!o.json.empty()) io::check_writable(o.json);
   const auto t_start = Clock::now();
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
