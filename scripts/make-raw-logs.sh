@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the raw-log figures of docs/NOTES.md ("Front end for raw logs", "Loop closures", "SLAM"): for
 # fr079, intel and aces, the raw log scan-matched into submaps (partslam submaps --scan-match), loop closures
-# among them checked against the corrected twin (partslam loops --truth) -> docs/results/loops_LOG.{json,png};
+# among them checked against the corrected twin (partslam loops --truth) -> docs/results/loops_LOG.{json,png}
+# (the JSON without the hypothesis list, the curve thinned to 200 points);
 # and the whole chain (partslam slam --relations) -> docs/results/slam_LOG.json (relation errors) and
 # slam_LOG.png (the corrected map).
 # Usage: scripts/make-raw-logs.sh [THREADS=2]. Needs ../shared/data and build/partslam (about 2 min).
@@ -18,7 +19,19 @@ for log in fr079 intel aces; do
   echo "== $log"
   build/partslam submaps "$DATA/$log/$log.clf.gz" --scan-match --quiet --db "$TMP/$log.db"
   build/partslam loops "$TMP/$log.db" --truth "$DATA/$log/$log-corrected.log.gz" --threads "$THREADS" --quiet \
-    --json "$OUT/loops_$log.json" --plot "$OUT/loops_$log.png"
+    --json "$TMP/loops_$log.json" --plot "$OUT/loops_$log.png"
+  # The full JSON lists every hypothesis (megabytes); docs keep the figures and the curve at <= 200 points.
+  /usr/bin/python3 - "$TMP/loops_$log.json" "$OUT/loops_$log.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+e = j.get("evaluation", {})
+curve = e.get("curve", [])
+step = max(1, -(-len(curve) // 200))
+e["curve"] = curve[::step] + ([curve[-1]] if curve and (len(curve) - 1) % step else [])
+out = {k: v for k, v in j.items() if k != "closures"}
+out["hypotheses_listed"] = len(j.get("closures", []))
+json.dump(out, open(sys.argv[2], "w"), indent=2)
+PY
   build/partslam slam "$DATA/$log/$log.clf.gz" --out "$TMP/slam_$log" --relations "$DATA/$log/$log.relations" \
     --threads "$THREADS" --quiet
   cp "$TMP/slam_$log/relations_error.json" "$OUT/slam_$log.json"
