@@ -5,7 +5,6 @@
 
 #include "core/error.h"
 #include "core/matching/ranking.h"
-#include "core/slam/pose_graph.h"
 #include "core/slam/scan_matcher.h"
 
 namespace partslam {
@@ -74,14 +73,10 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
 // listed, below every consistent one).
 void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
   if (maps.size() < 2) return;
-  std::vector<Pose2> initial;
-  for (const Submap& m : maps) initial.push_back(m.T_world_map);
-  std::vector<PoseGraphEdge> edges;
-  for (std::size_t i = 1; i < maps.size(); ++i)
-    edges.push_back({i - 1, i, initial[i - 1].inverse() * initial[i], 400, 2500, false});
+  std::vector<LoopClosure> positive;
   for (const LoopClosure& l : closures)
-    if (l.confidence > 0) edges.push_back({l.match, l.query, l.T_match_query, 25, 100, true});
-  const std::vector<Pose2> solved = optimize_pose_graph(initial, edges);
+    if (l.confidence > 0) positive.push_back(l);
+  const std::vector<Pose2> solved = optimize_submap_graph(maps, positive);
   for (LoopClosure& l : closures) {
     const Pose2 T = solved[l.match].inverse() * solved[l.query];
     const bool consistent = (T.translation() - l.T_match_query.translation()).norm() <= 0.5 &&
@@ -91,6 +86,19 @@ void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
 }
 
 }  // namespace
+
+std::vector<Pose2> optimize_submap_graph(const Submaps& maps, const std::vector<LoopClosure>& closures,
+                                         const SubmapGraphWeights& w, const PoseGraphConfig& graph,
+                                         PoseGraphSummary* summary) {
+  std::vector<Pose2> initial;
+  for (const Submap& m : maps) initial.push_back(m.T_world_map);
+  std::vector<PoseGraphEdge> edges;
+  for (std::size_t i = 1; i < maps.size(); ++i)
+    edges.push_back({i - 1, i, initial[i - 1].inverse() * initial[i], w.chain_translation, w.chain_rotation, false});
+  for (const LoopClosure& l : closures)
+    edges.push_back({l.match, l.query, l.T_match_query, w.loop_translation, w.loop_rotation, true});
+  return optimize_pose_graph(initial, edges, graph, summary);
+}
 
 void validate(const LoopClosureConfig& c) {
   if (!(c.min_travel_gap >= 0.0) || !std::isfinite(c.min_travel_gap))

@@ -19,6 +19,7 @@
 
 #include "core/maps/submap.h"
 #include "core/parallel.h"
+#include "core/slam/pose_graph.h"
 
 namespace partslam {
 
@@ -57,6 +58,20 @@ struct LoopClosure {
   double context_score = 0.0;  ///< mean likelihood of the match's context on the query's (0 without context)
   double confidence = 0.0;  ///< context score (dMM score without context) minus the best one at another place
 };
+
+/// Information of a submap pose graph's edges: consecutive submaps joined by their stored relative pose (the
+/// front end's; sigma 5 cm, 0.02 rad) and loop closures (sigma 0.2 m, 0.1 rad, under a Cauchy loss).
+struct SubmapGraphWeights {
+  double chain_translation = 400;  ///< [1/m^2]
+  double chain_rotation = 2500;    ///< [1/rad^2]
+  double loop_translation = 25;    ///< [1/m^2]
+  double loop_rotation = 100;      ///< [1/rad^2]
+};
+
+/// The submap frames (T_world_map) optimised over that graph, the first held fixed.
+std::vector<Pose2> optimize_submap_graph(const Submaps& maps, const std::vector<LoopClosure>& closures,
+                                         const SubmapGraphWeights& weights = {}, const PoseGraphConfig& graph = {},
+                                         PoseGraphSummary* summary = nullptr);
 
 /// Hypotheses of every query, in query order, each query's by decreasing score.
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config = {},

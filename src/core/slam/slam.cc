@@ -13,17 +13,6 @@ Pose2 interpolate(const Pose2& a, const Pose2& b, double t) {
   return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), wrap_angle(a.theta + t * wrap_angle(b.theta - a.theta))};
 }
 
-std::vector<PoseGraphEdge> graph_edges(const Submaps& maps, const std::vector<LoopClosure>& accepted,
-                                       const SlamConfig& c) {
-  std::vector<PoseGraphEdge> edges;
-  for (std::size_t i = 1; i < maps.size(); ++i)
-    edges.push_back({i - 1, i, maps[i - 1].T_world_map.inverse() * maps[i].T_world_map, c.chain_translation_weight,
-                     c.chain_rotation_weight, false});
-  for (const LoopClosure& l : accepted)
-    edges.push_back({l.match, l.query, l.T_match_query, c.loop_translation_weight, c.loop_rotation_weight, true});
-  return edges;
-}
-
 }  // namespace
 
 Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps& new_maps) {
@@ -68,10 +57,7 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   r.loops_s = ms_since(t0) / 1e3;
 
   t0 = Clock::now();
-  std::vector<Pose2> initial;
-  for (const Submap& m : maps) initial.push_back(m.T_world_map);
-  const std::vector<Pose2> optimised = optimize_pose_graph(initial, graph_edges(maps, accepted, config), config.graph,
-                                                           &r.graph);
+  const std::vector<Pose2> optimised = optimize_submap_graph(maps, accepted, config.weights, config.graph, &r.graph);
   r.submaps = maps;
   for (std::size_t k = 0; k < maps.size(); ++k) r.submaps[k].T_world_map = optimised[k];
   r.scans = corrected_scans(fe.scans, maps, r.submaps);

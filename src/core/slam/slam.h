@@ -18,10 +18,7 @@ struct SlamConfig {
   LoopClosureConfig loops;
   double min_confidence = 0.2;  ///< closures at least this confident join the graph
   PoseGraphConfig graph;
-  double chain_translation_weight = 400;  ///< consecutive submaps: information of x, y [1/m^2] (sigma 5 cm)
-  double chain_rotation_weight = 2500;    ///< consecutive submaps: information of theta [1/rad^2] (0.02 rad)
-  double loop_translation_weight = 25;    ///< loop closures (sigma 0.2 m)
-  double loop_rotation_weight = 100;      ///< loop closures (sigma 0.1 rad)
+  SubmapGraphWeights weights;  ///< of the consecutive-submap and loop-closure edges
 };
 
 struct SlamResult {
