@@ -1,8 +1,9 @@
 // Private to the map database's .cc files: the state behind MapDatabase and shared checks.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
-#include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/error.h"
@@ -49,21 +50,14 @@ inline void require_plausible(const Points2& points, const std::string& context)
   }
 }
 
-/// True when `text` is valid UTF-8 (no overlong forms, no surrogates) without control characters.
+/// True when `text` is valid UTF-8 (nlohmann's strict decoder: no overlong forms, no surrogates) without control
+/// characters.
 inline bool is_clean_utf8(const std::string& text) {
-  for (std::size_t i = 0; i < text.size();) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
-    if (n == 0 || i + n > text.size() || (n == 1 && (c < 0x20 || c == 0x7F))) return false;
-    std::uint32_t cp = n == 1 ? c : c & (0x7F >> n);
-    for (std::size_t k = 1; k < n; ++k) {
-      const auto d = static_cast<unsigned char>(text[i + k]);
-      if ((d >> 6) != 0x2) return false;
-      cp = (cp << 6) | (d & 0x3F);
-    }
-    const std::uint32_t min[] = {0, 0, 0x80, 0x800, 0x10000};
-    if (cp < min[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
-    i += n;
+  if (std::any_of(text.begin(), text.end(), [](char c) { return (c >= 0 && c < 0x20) || c == 0x7F; })) return false;
+  try {
+    (void)nlohmann::json(text).dump();  // throws type_error 316 on invalid UTF-8
+  } catch (const nlohmann::json::type_error&) {
+    return false;
   }
   return true;
 }
