@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parts/descriptor_layout.h"
+#include "io/map_database_internal.h"
 
 namespace partslam::io {
 
@@ -27,17 +28,12 @@ std::string describe_hint(const MapDatabase& db, const std::string& dictionary, 
 
 namespace {
 
-std::string descriptor_context(const MapDatabase& db, const std::string& dictionary, int k, std::int64_t map_id) {
-  return db.path().string() + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
-         "', K=" + std::to_string(k) + ")";
-}
-
 MapDescriptor decode_record(const MapDatabase& db, const std::string& dictionary, int k, std::int64_t map_id,
                             const PackedDescriptor& packed, const CodecConfig& codec) {
   try {
     return decode_stored(packed, k, codec);
   } catch (const InputError& e) {
-    throw InputError(descriptor_context(db, dictionary, k, map_id) + ": " + e.what());
+    throw InputError(internal::descriptor_context(db.path().string(), map_id, dictionary, k) + ": " + e.what());
   }
 }
 

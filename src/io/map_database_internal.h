@@ -1,8 +1,10 @@
-// Private to the map database's .cc files: the state behind MapDatabase and shared checks.
+// Private to io (the map database's .cc files and io/descriptor_store): the state behind MapDatabase, shared
+// checks and message wording.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -60,6 +62,13 @@ inline bool is_clean_utf8(const std::string& text) {
     return false;
   }
   return true;
+}
+
+/// "<file>: descriptor of map <id> (dictionary '<name>', K=<k>)": how errors name one stored descriptor.
+inline std::string descriptor_context(const std::string& file, std::int64_t map_id, const std::string& dictionary,
+                                      int k) {
+  return file + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
+         "', K=" + std::to_string(k) + ")";
 }
 
 /// Names are non-empty UTF-8 text without control characters (they go to JSON and terminals).

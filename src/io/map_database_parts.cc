@@ -10,6 +10,7 @@
 namespace partslam::io {
 namespace {
 
+using internal::descriptor_context;
 using internal::require_finite;
 using sqlite::Statement;
 
@@ -19,12 +20,6 @@ void check_descriptor(const PackedDescriptor& d, const std::string& context) {
                      std::to_string(d.bits < 0 ? 0 : (d.bits + 7) / 8) + " bytes, has " +
                      std::to_string(d.bytes.size()));
   }
-}
-
-std::string descriptor_context(const std::string& file, std::int64_t map_id, const std::string& dictionary,
-                               int k) {
-  return file + ": descriptor of map " + std::to_string(map_id) + " (dictionary '" + dictionary +
-         "', K=" + std::to_string(k) + ")";
 }
 
 void check_fits_codec(const PackedDescriptor& d, int k, const CodecConfig& codec, const std::string& context) {
