@@ -107,10 +107,18 @@ struct Candidate {
 // bounded in one pass over the node's query cells with the packed pyramid level 2 (d - 1) (dmm_bounds.h).
 // Depth-0 nodes are single translations, scored exactly. The roots (depth = search depth) tile the search
 // range and are not bounded themselves. A node's cells are those of its parent that can score in it.
+// Candidates a search skips (match_dmm_elsewhere): translations within `radius` cells of (i, j) at the
+// rotations flagged `near`.
+struct Exclusion {
+  std::vector<bool> near;  // per rotation of the query
+  double i = 0, j = 0, radius = 0;  // [cells]
+};
+
 class BranchAndBound {
  public:
-  BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges, int bar)
-      : query_(query), map_(map), ranges_(ranges), best_(Candidate{-1, 0, 0, bar, 0, 0}) {}
+  BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges, int bar,
+                 const Exclusion* exclusion = nullptr)
+      : query_(query), map_(map), ranges_(ranges), best_(Candidate{-1, 0, 0, bar, 0, 0}), exclusion_(exclusion) {}
 
   // Searches with candidates whose score does not exceed the bar pruned; returns the best candidate found
   // above the bar (rotation -1 when none).
@@ -167,6 +175,21 @@ class BranchAndBound {
     std::unique_ptr<std::uint16_t[]> values;
   };
 
+  // True when every translation of node c (a block of 4^d x 4^d at depth d) is excluded: the disc is convex,
+  // so the block lies inside it when its four corners do.
+  bool excluded(const Candidate& c, int d) const {
+    if (exclusion_ == nullptr || !exclusion_->near[static_cast<std::size_t>(c.rotation)]) return false;
+    const int side = (1 << (2 * d)) - 1;
+    const double r2 = exclusion_->radius * exclusion_->radius;
+    for (const int a : {0, side}) {
+      for (const int b : {0, side}) {
+        const double di = c.i + a - exclusion_->i, dj = c.j + b - exclusion_->j;
+        if (di * di + dj * dj >= r2) return false;
+      }
+    }
+    return true;
+  }
+
   CellList full_cells(int rotation) const {
     const RotatedQuery& r = query_.rotations[static_cast<std::size_t>(rotation)];
     return {r.x.data(), r.y.data(), r.x.size()};
@@ -205,6 +228,7 @@ class BranchAndBound {
     const auto depth = static_cast<int>(buffers_.size());
     for (const Candidate& c : candidates) {
       if (c.score <= best_.score) break;  // sorted: no later candidate can beat the bar either
+      if (excluded(c, d)) continue;
       if (d == 0) {
         best_ = c;
         break;  // the rest score no more than c
@@ -245,6 +269,7 @@ class BranchAndBound {
   const PreparedMap& map_;
   const std::vector<Range>& ranges_;
   Candidate best_;
+  const Exclusion* exclusion_;
   std::int64_t scored_ = 0;
   std::vector<Buffers> buffers_;              // index: depth
   std::array<CellList, 16> lists_{};          // cells of the node being expanded at depth d
@@ -258,12 +283,14 @@ std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& 
   return ranges;
 }
 
-// match_dmm with a bar: only candidates scoring above `bar` are reported (exact = false otherwise).
-DmmResult match_dmm_above(const PreparedQuery& query, const PreparedMap& map, int bar) {
+// match_dmm with a bar: only candidates scoring above `bar` are reported (exact = false otherwise), and none
+// that `exclusion` (when given) excludes.
+DmmResult match_dmm_above(const PreparedQuery& query, const PreparedMap& map, int bar,
+                          const Exclusion* exclusion = nullptr) {
   check_compatible(query, map);
   const DmmConfig& config = map.config;
   const std::vector<Range> ranges = search_ranges(query, map);
-  BranchAndBound search(query, map, ranges, bar);
+  BranchAndBound search(query, map, ranges, bar, exclusion);
   const Candidate best = search.run();
   DmmResult result;
   if (best.rotation >= 0) {
@@ -377,6 +404,20 @@ PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
 }
 
 DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return match_dmm_above(query, map, -1); }
+
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
+                              double min_distance, double min_angle) {
+  if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
+    throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
+  if (!std::isfinite(avoid.x) || !std::isfinite(avoid.y) || !std::isfinite(avoid.theta))
+    throw InputError("dmm: the pose to avoid must be finite");
+  Exclusion exclusion;
+  const double r = map.config.resolution;
+  exclusion.i = avoid.x / r, exclusion.j = avoid.y / r, exclusion.radius = min_distance / r;
+  for (const RotatedQuery& q : query.rotations)
+    exclusion.near.push_back(std::abs(wrap_angle(q.angle - avoid.theta)) <= min_angle);
+  return match_dmm_above(query, map, -1, &exclusion);
+}
 
 DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map) {
   check_compatible(query, map);

@@ -102,6 +102,13 @@ struct DmmResult {
 /// prepared on different lattices or rotation searches.
 DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map);
 
+/// The best match elsewhere than `avoid` (how unique a match is: the confidence of a localisation): the exact
+/// maximum of Eq. 1 over the candidates whose translation lies at least min_distance [m] from avoid's or whose
+/// rotation differs from avoid's by more than min_angle [rad]. Same search, excluded candidates skipped (a block
+/// wholly inside the excluded disc is never expanded). inliers 0 and exact = true when every candidate is excluded.
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
+                              double min_distance, double min_angle);
+
 /// The same maximum by scoring every (rotation, translation) of the discretisation; first maximum in the order
 /// rotation, y, x. The reference for tests and the speed baseline.
 DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map);

@@ -234,6 +234,48 @@ TEST(MatchDmm, SmallCropOnLargeDictionary) {
   }
 }
 
+// The best match elsewhere equals a brute-force maximum over the candidates outside the excluded disc (at
+// the rotations near the avoided one), and never lies inside it.
+TEST(MatchDmm, ElsewhereEqualsBruteForceOutsideTheExcludedDisc) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> offset(-1.5, 1.5);
+  for (int p = 0; p < 6; ++p) {
+    const testing::SyntheticWorld world = testing::random_world(rng, 20.0, 20);
+    const testing::SyntheticPair pair = testing::make_pair(world, rng, {offset(rng), offset(rng)},
+                                                           {offset(rng), offset(rng)}, (p % 4) * std::numbers::pi / 2);
+    DmmConfig config = small_config();
+    config.search_depth = p % 2 == 0 ? 0 : 2;
+    const PreparedQuery q = prepare_query(pair.query, config);
+    const PreparedMap m = prepare_map(pair.map, config);
+    const DmmResult best = match_dmm(q, m);
+    const double min_distance = 0.25 + 0.25 * p, min_angle = 10 * kDeg;
+    const DmmResult other = match_dmm_elsewhere(q, m, best.T_map_query, min_distance, min_angle);
+    const double r = config.resolution;
+    const auto outside = [&](double angle, int i, int j) {
+      return std::hypot(i * r - best.T_map_query.x, j * r - best.T_map_query.y) >= min_distance - 1e-9 ||
+             angle_error(angle, best.T_map_query.theta) > min_angle;
+    };
+    int brute = 0;
+    const int w = static_cast<int>(std::floor(config.linear_window / r + 1e-9));
+    for (const RotatedQuery& rq : q.rotations) {
+      for (int j = -w; j <= w; ++j) {
+        for (int i = -w; i <= w; ++i) {
+          if (!outside(rq.angle, i, j)) continue;
+          int score = 0;
+          for (std::size_t k = 0; k < rq.x.size(); ++k) score += m.grid.at(rq.x[k] + i, rq.y[k] + j);
+          brute = std::max(brute, score);
+        }
+      }
+    }
+    EXPECT_EQ(other.inliers, brute) << "pair " << p;
+    EXPECT_LE(other.inliers, best.inliers);
+    EXPECT_TRUE(outside(other.T_map_query.theta, static_cast<int>(std::lround(other.T_map_query.x / r)),
+                        static_cast<int>(std::lround(other.T_map_query.y / r))));
+  }
+  const PreparedQuery q = prepare_query({{0.0, 0.0}}, small_config());
+  EXPECT_THROW(match_dmm_elsewhere(q, prepare_map({{0.0, 0.0}}, small_config()), Pose2{}, -1.0, 0.1), InputError);
+}
+
 class MatchDmmMany : public ::testing::Test {
  protected:
   void SetUp() override {
