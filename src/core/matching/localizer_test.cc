@@ -1,0 +1,70 @@
+#include "core/matching/localizer.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/maps/grid_map.h"
+#include "core/maps/submap.h"
+#include "core/sim/simulator.h"
+
+namespace partslam {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+const Scans& building_scans() {
+  static const Scans scans = simulate(SimulatorConfig{}).scans;
+  return scans;
+}
+
+// The simulated building mapped from its exact poses; local maps of the same log found in it.
+TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
+  const Scans& scans = building_scans();
+  const Localizer localizer(occupied_points(build_grid_map(scans)));
+  const std::vector<double> travel = travel_distances(scans);
+  int tried = 0, correct = 0;
+  double confidence_correct = 0;
+  for (double s = 5.0; s + 2.0 < travel.back(); s += 0.2 * travel.back()) {
+    const Submap query = build_local_map(scans, s, s + 2.0);
+    const Localization l = localizer.locate(query.points);
+    const Pose2 error = query.T_world_map.inverse() * l.T_map_query;  // map frame = the log's world frame
+    ++tried;
+    if (std::hypot(error.x, error.y) < 0.3 && std::abs(error.theta) < 3 * kDeg) {
+      ++correct;
+      confidence_correct += l.confidence;
+    }
+    EXPECT_GE(l.inlier_fraction, l.elsewhere_fraction);
+    EXPECT_NEAR(l.confidence, l.inlier_fraction - l.elsewhere_fraction, 1e-12);
+    EXPECT_GT((l.T_map_elsewhere.translation() - l.T_map_query.translation()).norm() +
+                  (std::abs(wrap_angle(l.T_map_elsewhere.theta - l.T_map_query.theta)) > 10 * kDeg ? 10.0 : 0.0),
+              2.0 - 1e-9);
+  }
+  EXPECT_EQ(tried, 5);
+  EXPECT_GE(correct, 4);
+  EXPECT_GT(confidence_correct / correct, 0.1);
+}
+
+// A local map of another building fits nowhere in particular: its confidence is below the true matches'.
+TEST(Localizer, AQueryFromElsewhereHasLowConfidence) {
+  const Localizer localizer(occupied_points(build_grid_map(building_scans())));
+  SimulatorConfig other;
+  other.seed = 7;
+  const Scans other_scans = simulate(other).scans;
+  const Submap stranger = build_local_map(other_scans, 10.0, 12.0);
+  const Submap own = build_local_map(building_scans(), 10.0, 12.0);
+  EXPECT_LT(localizer.locate(stranger.points).confidence, localizer.locate(own.points).confidence);
+}
+
+TEST(Localizer, RefusesEmptyOrBadInput) {
+  EXPECT_THROW(Localizer(Points2{}), InputError);
+  EXPECT_THROW(Localizer(Points2{{0.0, 0.0}, {1e9, 0.0}}), InputError);
+  LocalizerConfig c;
+  c.elsewhere_distance = -1;
+  EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
+  const Localizer ok(Points2{{0.0, 0.0}, {1.0, 0.0}});
+  EXPECT_THROW(ok.locate(Points2{}), InputError);
+  EXPECT_THROW(ok.locate(Points2{{NAN, 0.0}}), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
