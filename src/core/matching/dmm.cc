@@ -35,8 +35,8 @@ std::vector<double> search_angles(const DmmConfig& config, double step) {
   std::vector<double> angles;
   if (config.canonical) {
     const int n = static_cast<int>(std::floor(config.angular_window / step + 1e-9));
-    for (int base = 0; base < 4; ++base) {
-      for (int m = -n; m <= n; ++m) angles.push_back(base * kPi / 2 + m * step);
+    for (int base = 0; base < config.canonical_turns; ++base) {
+      for (int m = -n; m <= n; ++m) angles.push_back(base * 2 * kPi / config.canonical_turns + m * step);
     }
   } else {
     const int n = std::max(1, static_cast<int>(std::ceil(2 * kPi / step - 1e-9)));
@@ -107,11 +107,15 @@ struct Candidate {
 // bounded in one pass over the node's query cells with the packed pyramid level 2 (d - 1) (dmm_bounds.h).
 // Depth-0 nodes are single translations, scored exactly. The roots (depth = search depth) tile the search
 // range and are not bounded themselves. A node's cells are those of its parent that can score in it.
-// Candidates a search skips (match_dmm_elsewhere): translations within `radius` cells of (i, j) at the
-// rotations flagged `near`.
+// Candidates a search skips (match_dmm_elsewhere): for each avoided pose, the translations within `radius`
+// cells of its (i, j) at the rotations flagged near it.
 struct Exclusion {
-  std::vector<bool> near;  // per rotation of the query
-  double i = 0, j = 0, radius = 0;  // [cells]
+  struct Disc {
+    std::vector<bool> near;  // per rotation of the query
+    double i = 0, j = 0;     // [cells]
+  };
+  std::vector<Disc> discs;
+  double radius = 0;  // [cells]
 };
 
 class BranchAndBound {
@@ -178,16 +182,20 @@ class BranchAndBound {
   // True when every translation of node c (a block of 4^d x 4^d at depth d) is excluded: the disc is convex,
   // so the block lies inside it when its four corners do.
   bool excluded(const Candidate& c, int d) const {
-    if (exclusion_ == nullptr || !exclusion_->near[static_cast<std::size_t>(c.rotation)]) return false;
+    if (exclusion_ == nullptr) return false;
     const int side = (1 << (2 * d)) - 1;
     const double r2 = exclusion_->radius * exclusion_->radius;
-    for (const int a : {0, side}) {
-      for (const int b : {0, side}) {
-        const double di = c.i + a - exclusion_->i, dj = c.j + b - exclusion_->j;
-        if (di * di + dj * dj >= r2) return false;
+    const auto inside = [&](const Exclusion::Disc& disc) {
+      if (!disc.near[static_cast<std::size_t>(c.rotation)]) return false;
+      for (const int a : {0, side}) {
+        for (const int b : {0, side}) {
+          const double di = c.i + a - disc.i, dj = c.j + b - disc.j;
+          if (di * di + dj * dj >= r2) return false;
+        }
       }
-    }
-    return true;
+      return true;
+    };
+    return std::any_of(exclusion_->discs.begin(), exclusion_->discs.end(), inside);
   }
 
   CellList full_cells(int rotation) const {
@@ -314,6 +322,8 @@ void validate(const DmmConfig& c) {
   require(c.angular_step >= 0.0 && c.angular_step <= kPi / 2 && std::isfinite(c.angular_step),
           "angular_step must be in [0, pi/2] rad (0: automatic), got " + std::to_string(c.angular_step));
   require(c.angular_step == 0.0 || c.angular_step >= 1e-5, "angular_step must be 0 (automatic) or >= 1e-5 rad");
+  require(c.canonical_turns == 4 || c.canonical_turns == 8,
+          "canonical_turns must be 4 or 8, got " + std::to_string(c.canonical_turns));
   require(c.dilation >= 0 && c.dilation <= 100, "dilation must be in [0, 100] cells, got " + std::to_string(c.dilation));
   require(c.search_depth >= 0 && c.search_depth <= 8,
           "search_depth must be in [0, 8] (0: automatic), got " + std::to_string(c.search_depth));
@@ -405,18 +415,28 @@ PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
 
 DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return match_dmm_above(query, map, -1); }
 
-DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
-                              double min_distance, double min_angle) {
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
+                              double min_distance, double min_angle, int bar) {
   if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
     throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
-  if (!std::isfinite(avoid.x) || !std::isfinite(avoid.y) || !std::isfinite(avoid.theta))
-    throw InputError("dmm: the pose to avoid must be finite");
   Exclusion exclusion;
   const double r = map.config.resolution;
-  exclusion.i = avoid.x / r, exclusion.j = avoid.y / r, exclusion.radius = min_distance / r;
-  for (const RotatedQuery& q : query.rotations)
-    exclusion.near.push_back(std::abs(wrap_angle(q.angle - avoid.theta)) <= min_angle);
-  return match_dmm_above(query, map, -1, &exclusion);
+  exclusion.radius = min_distance / r;
+  for (const Pose2& pose : avoid) {
+    if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.theta))
+      throw InputError("dmm: a pose to avoid must be finite");
+    Exclusion::Disc disc;
+    disc.i = pose.x / r, disc.j = pose.y / r;
+    for (const RotatedQuery& q : query.rotations)
+      disc.near.push_back(std::abs(wrap_angle(q.angle - pose.theta)) <= min_angle);
+    exclusion.discs.push_back(std::move(disc));
+  }
+  return match_dmm_above(query, map, bar, &exclusion);
+}
+
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
+                              double min_distance, double min_angle) {
+  return match_dmm_elsewhere(query, map, std::span<const Pose2>(&avoid, 1), min_distance, min_angle);
 }
 
 DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map) {

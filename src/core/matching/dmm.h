@@ -43,6 +43,8 @@ struct DmmConfig {
   double angular_step = 0.0;   ///< rotation step [rad]; 0: the largest step that moves the query point farthest
                                ///< from the origin by at most one cell (Cartographer's choice)
   bool canonical = true;       ///< both maps are in the canonical frame (search 4 x residual); false: full circle
+  int canonical_turns = 4;     ///< canonical: rotation families, 4 (multiples of 90 deg) or 8 (of 45 deg: for a
+                               ///< local map whose own Manhattan alignment may be off by half a quarter turn)
   int dilation = 1;            ///< target cells within this many cells (Euclidean) of a point are occupied [cells]
   int search_depth = 0;        ///< 16-way branch-and-bound steps: root blocks of 4^depth x 4^depth translations;
                                ///< 0: the smallest depth whose roots tile the window about 2 x 2
@@ -108,6 +110,10 @@ DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map);
 /// wholly inside the excluded disc is never expanded). inliers 0 and exact = true when every candidate is excluded.
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
                               double min_distance, double min_angle);
+/// The same, elsewhere than every pose in `avoid` (the next-best distinct candidates, one search each); with
+/// bar >= 0 only a candidate scoring more than `bar` is reported (else exact = false, inliers 0), which prunes.
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
+                              double min_distance, double min_angle, int bar = -1);
 
 /// The same maximum by scoring every (rotation, translation) of the discretisation; first maximum in the order
 /// rotation, y, x. The reference for tests and the speed baseline.

@@ -1,5 +1,6 @@
 #include "core/matching/localizer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -9,12 +10,24 @@
 
 namespace partslam {
 
+DmmConfig localizer_dmm_config() {
+  DmmConfig config = dmm_config_for_dictionary();
+  config.canonical_turns = 8;
+  return config;
+}
+
 void validate(const LocalizerConfig& c) {
   validate(c.dmm);
   if (!(c.elsewhere_distance >= 0.0 && c.elsewhere_distance <= 100.0))
     throw InputError("localizer: elsewhere_distance must be in [0, 100] m");
   if (!(c.elsewhere_angle >= 0.0 && c.elsewhere_angle <= std::numbers::pi))
     throw InputError("localizer: elsewhere_angle must be in [0, pi] rad");
+  if (c.candidates < 2 || c.candidates > 100) throw InputError("localizer: candidates must be in [2, 100]");
+  if (!(c.free_weight >= 0.0 && c.free_weight <= 100.0)) throw InputError("localizer: free_weight must be in [0, 100]");
+}
+
+Localizer::Localizer(const GridMap& map, const LocalizerConfig& config) : Localizer(occupied_points(map), config) {
+  free_space_ = map;
 }
 
 Localizer::Localizer(const Points2& map_points, const LocalizerConfig& config) : config_(config) {
@@ -30,21 +43,74 @@ Localizer::Localizer(const Points2& map_points, const LocalizerConfig& config) :
   prepare_ms_ = ms_since(t0);
 }
 
+// Query points at T_map_query on cells the map saw free that are not inliers (no occupied cell of the dMM grid
+// within its dilation).
+int Localizer::free_conflicts(const Points2& query_points, const Pose2& T_map_query) const {
+  if (!free_space_ || config_.free_weight == 0.0) return 0;
+  const GridMap& m = *free_space_;
+  const Pose2 T_cells_query = m.origin.inverse() * T_map_query;
+  const Pose2 T_canonical_query = T_canonical_map_ * T_map_query;
+  int conflicts = 0;
+  for (const Vec2& p : query_points) {
+    if (map_.grid.at(T_canonical_query * p)) continue;
+    const Vec2 c = T_cells_query * p / m.resolution;
+    const double column = std::floor(c.x()), row = std::floor(c.y());
+    if (column < 0 || row < 0 || column >= m.width || row >= m.height) continue;
+    conflicts += m.at(static_cast<int>(column), static_cast<int>(row)) == CellState::kFree;
+  }
+  return conflicts;
+}
+
 Localization Localizer::locate(const Points2& query_points) const {
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
   const auto t0 = Clock::now();
   const PreparedQuery query = prepare_query(query_points, config_.dmm);
-  const DmmResult best = match_dmm(query, map_);
-  const DmmResult other =
-      match_dmm_elsewhere(query, map_, best.T_map_query, config_.elsewhere_distance, config_.elsewhere_angle);
-  Localization out;
   const Pose2 T_map_canonical = T_canonical_map_.inverse();
-  out.T_map_query = T_map_canonical * best.T_map_query;
-  out.T_map_elsewhere = T_map_canonical * other.T_map_query;
-  out.inliers = best.inliers;
-  out.inlier_fraction = best.inlier_fraction;
-  out.elsewhere_fraction = other.inlier_fraction;
-  out.confidence = std::max(0.0, best.inlier_fraction - other.inlier_fraction);
+  struct Scored {
+    DmmResult dmm;
+    Pose2 T_map_query;
+    int conflicts = 0;
+    double score = 0;
+  };
+  std::vector<Scored> found;
+  std::vector<Pose2> avoid;  // in the canonical frame, as the searches see them
+  const double n = static_cast<double>(query_points.size());
+  // The two best rescored scores so far [points]: a candidate with no more inliers than the second cannot
+  // change the answer or its confidence (rescoring only subtracts), so it is the next search's bar.
+  double first = -1e300, second = -1e300;
+  for (int k = 0; k < config_.candidates; ++k) {
+    Scored s;
+    const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
+    s.dmm = k == 0 ? match_dmm(query, map_)
+                   : match_dmm_elsewhere(query, map_, avoid, config_.elsewhere_distance, config_.elsewhere_angle, bar);
+    if (k > 0 && (!s.dmm.exact || s.dmm.inliers == 0)) break;  // nothing left that could matter
+    avoid.push_back(s.dmm.T_map_query);
+    s.T_map_query = T_map_canonical * s.dmm.T_map_query;
+    s.conflicts = free_conflicts(query_points, s.T_map_query);
+    const double points = s.dmm.inliers - config_.free_weight * s.conflicts;
+    s.score = points / n;
+    if (points > first) {
+      second = first, first = points;
+    } else if (points > second) {
+      second = points;
+    }
+    found.push_back(s);
+  }
+  // Best rescored first; ties keep the search order (the higher dMM score).
+  std::stable_sort(found.begin(), found.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
+  Localization out;
+  const Scored& best = found.front();
+  out.T_map_query = best.T_map_query;
+  out.inliers = best.dmm.inliers;
+  out.inlier_fraction = best.dmm.inlier_fraction;
+  out.free_conflicts = best.conflicts;
+  out.score = best.score;
+  if (found.size() > 1) {
+    out.elsewhere_score = found[1].score;
+    out.T_map_elsewhere = found[1].T_map_query;
+  }
+  out.confidence = std::max(0.0, out.score - out.elsewhere_score);
+  out.candidates = static_cast<int>(found.size());
   out.time_ms = ms_since(t0);
   return out;
 }

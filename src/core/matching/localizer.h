@@ -2,22 +2,33 @@
 // the whole building (a map_server map, a corrected log's map), with no initial pose? The building map is
 // prepared once for dMM over its whole area (the dictionary's set-up: every translation at which the query
 // overlaps it, dmm_config_for_dictionary), in its canonical (Manhattan) frame so that a canonical local map
-// needs four quarter turns plus a small residual; each query is one exact branch-and-bound. How unique the
-// answer is comes from a second exact search that skips every pose near the best (match_dmm_elsewhere):
-// confidence = best inlier share - best inlier share elsewhere, near 0 for a corridor that fits two places
-// or a place the map does not hold.
+// needs a few turns plus a small residual. Each query is a few exact branch-and-bound searches: the best pose,
+// then the best pose elsewhere than the ones found so far (match_dmm_elsewhere), `candidates` in all. With a map
+// that knows its free space (a GridMap), each candidate is rescored by what contradicts it: local map points
+// that land on cells the map saw free (a corridor turned end for end, a room that is not there) cost
+// free_weight inliers each. The best rescored candidate is the answer; how unique it is:
+// confidence = its score - the best other candidate's score (shares of the query's points), near 0 for a
+// corridor that fits two places or a place the map does not hold.
 #pragma once
 
 #include <numbers>
+#include <optional>
 
+#include "core/maps/grid_map.h"
 #include "core/matching/dmm.h"
 
 namespace partslam {
 
+/// The whole-map window, canonical frames, eight rotation families: a 2 m local map's own Manhattan alignment
+/// is off by about 45 degrees often enough in a cluttered lab (intel) to need them (docs/NOTES.md, "Locate").
+DmmConfig localizer_dmm_config();
+
 struct LocalizerConfig {
-  DmmConfig dmm = dmm_config_for_dictionary();  ///< whole-map window; canonical: both maps Manhattan-aligned
+  DmmConfig dmm = localizer_dmm_config();
   double elsewhere_distance = 2.0;  ///< "elsewhere": the local map's centre at least this far away [m] ...
   double elsewhere_angle = 10.0 * std::numbers::pi / 180;  ///< ... or turned by more than this [rad]
+  int candidates = 10;         ///< distinct poses examined (one exact search each), in [2, 100]
+  double free_weight = 1.0;    ///< inliers a point on the map's free space costs (maps with free space only)
 };
 
 /// Throws InputError naming the field.
@@ -27,16 +38,21 @@ struct Localization {
   Pose2 T_map_query;              ///< the local map's frame in the building map's frame
   int inliers = 0;                ///< query points on occupied cells there (Eq. 1)
   double inlier_fraction = 0.0;   ///< inliers / query points
-  double elsewhere_fraction = 0.0;  ///< the best inlier share of a pose elsewhere
-  Pose2 T_map_elsewhere;          ///< that pose
-  double confidence = 0.0;        ///< inlier_fraction - elsewhere_fraction, in [0, 1]
-  double time_ms = 0.0;           ///< both searches [ms]
+  int free_conflicts = 0;         ///< query points on cells the map saw free (not counted as inliers)
+  double score = 0.0;             ///< (inliers - free_weight * free_conflicts) / query points
+  double elsewhere_score = 0.0;   ///< the best score of the other candidates (0 when there is none)
+  Pose2 T_map_elsewhere;          ///< that candidate's pose
+  double confidence = 0.0;        ///< score - elsewhere_score, >= 0
+  int candidates = 0;             ///< candidates examined
+  double time_ms = 0.0;           ///< all searches and rescoring [ms]
 };
 
 class Localizer {
  public:
-  /// map_points: the building map's occupied points in its own frame (occupied_points of a GridMap). Throws
-  /// InputError for an empty map, a bad config or a map beyond the dMM limits.
+  /// A building map with its free space (a map_server map, build_grid_map of a corrected log). Throws
+  /// InputError for a map without an occupied cell, a bad config or a map beyond the dMM limits.
+  explicit Localizer(const GridMap& map, const LocalizerConfig& config = {});
+  /// Occupied points only (in the map's frame): candidates are ranked by inliers alone.
   explicit Localizer(const Points2& map_points, const LocalizerConfig& config = {});
 
   /// query_points: the local map in its own frame, canonical (Manhattan-aligned, as build_local_map returns it)
@@ -50,7 +66,10 @@ class Localizer {
   double prepare_ms() const { return prepare_ms_; }
 
  private:
+  int free_conflicts(const Points2& query_points, const Pose2& T_map_query) const;
+
   LocalizerConfig config_;
+  std::optional<GridMap> free_space_;  ///< the map, when it knows its free cells
   Pose2 T_canonical_map_;
   PreparedMap map_;
   double prepare_ms_ = 0.0;

@@ -20,7 +20,7 @@ const Scans& building_scans() {
 // The simulated building mapped from its exact poses; local maps of the same log found in it.
 TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
   const Scans& scans = building_scans();
-  const Localizer localizer(occupied_points(build_grid_map(scans)));
+  const Localizer localizer(build_grid_map(scans));
   const std::vector<double> travel = travel_distances(scans);
   int tried = 0, correct = 0;
   double confidence_correct = 0;
@@ -33,8 +33,9 @@ TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
       ++correct;
       confidence_correct += l.confidence;
     }
-    EXPECT_GE(l.inlier_fraction, l.elsewhere_fraction);
-    EXPECT_NEAR(l.confidence, l.inlier_fraction - l.elsewhere_fraction, 1e-12);
+    EXPECT_GE(l.score, l.elsewhere_score);
+    EXPECT_NEAR(l.confidence, l.score - l.elsewhere_score, 1e-12);
+    EXPECT_NEAR(l.score, (l.inliers - l.free_conflicts) / static_cast<double>(query.points.size()), 1e-12);
     EXPECT_GT((l.T_map_elsewhere.translation() - l.T_map_query.translation()).norm() +
                   (std::abs(wrap_angle(l.T_map_elsewhere.theta - l.T_map_query.theta)) > 10 * kDeg ? 10.0 : 0.0),
               2.0 - 1e-9);
@@ -46,7 +47,7 @@ TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
 
 // A local map of another building fits nowhere in particular: its confidence is below the true matches'.
 TEST(Localizer, AQueryFromElsewhereHasLowConfidence) {
-  const Localizer localizer(occupied_points(build_grid_map(building_scans())));
+  const Localizer localizer(build_grid_map(building_scans()));
   SimulatorConfig other;
   other.seed = 7;
   const Scans other_scans = simulate(other).scans;
