@@ -59,21 +59,12 @@ Points2 voxel_downsample(const Points2& points, double resolution) {
 
 namespace {
 
-// The submap of scans [first, end): their points within max_range, one per cell, centred, aligned and cropped;
-// nullopt when fewer than min_points remain.
-std::optional<Submap> build_one(const Scans& scans, const std::vector<double>& s, std::size_t first, std::size_t end,
-                                const SubmapConfig& config) {
+// A local map of points in the world frame: one per cell, centred, aligned and cropped; nullopt when fewer
+// than min_points remain. Sets points, alignment_angle and T_world_map.
+std::optional<Submap> shape_local_map(const Points2& points_world, const SubmapConfig& config) {
   Submap m;
-  m.anchor_scan = static_cast<std::int64_t>(first);
-  m.anchor_timestamp = scans[first].timestamp;
-  m.travel = s[first];
-  Points2 world;
-  for (std::size_t j = first; j < end; ++j) {
-    const Points2 pts = points_world(scans[j], config.max_range);
-    world.insert(world.end(), pts.begin(), pts.end());
-    m.scan_timestamps.push_back(scans[j].timestamp);
-  }
-  world = voxel_downsample(world, config.resolution);
+  const Points2 world = voxel_downsample(points_world, config.resolution);
+  if (world.empty()) return std::nullopt;
   const Vec2 c = centroid(world);
   const double half = config.crop_size / 2.0;
   // The alignment angle comes from the points within the crop's inscribed circle (a rotation-invariant
@@ -92,6 +83,25 @@ std::optional<Submap> build_one(const Scans& scans, const std::vector<double>& s
   }
   if (static_cast<int>(m.points.size()) < config.min_points) return std::nullopt;
   m.T_world_map = Pose2{c.x(), c.y(), 0.0} * T_map_centred.inverse();
+  return m;
+}
+
+// The submap of scans [first, end): their points within max_range, shaped as above.
+std::optional<Submap> build_one(const Scans& scans, const std::vector<double>& s, std::size_t first, std::size_t end,
+                                const SubmapConfig& config) {
+  Points2 world;
+  std::vector<double> timestamps;
+  for (std::size_t j = first; j < end; ++j) {
+    const Points2 pts = points_world(scans[j], config.max_range);
+    world.insert(world.end(), pts.begin(), pts.end());
+    timestamps.push_back(scans[j].timestamp);
+  }
+  std::optional<Submap> m = shape_local_map(world, config);
+  if (!m) return std::nullopt;
+  m->anchor_scan = static_cast<std::int64_t>(first);
+  m->anchor_timestamp = scans[first].timestamp;
+  m->travel = s[first];
+  m->scan_timestamps = std::move(timestamps);
   return m;
 }
 
@@ -137,6 +147,19 @@ Submap build_local_map(const Scans& scans, double from, double to, const SubmapC
   if (!m)
     throw InputError("local map: fewer than " + std::to_string(config.min_points) + " points between " +
                      std::to_string(from) + " and " + std::to_string(to) + " m of travel");
+  return *m;
+}
+
+Submap local_map_from_points(const Points2& points, const SubmapConfig& config) {
+  validate(config);
+  for (const Vec2& p : points) {
+    if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw InputError("local map: point coordinates must be finite and within " + std::to_string(kMaxCoordinate) + " m");
+  }
+  std::optional<Submap> m = shape_local_map(points, config);
+  if (!m)
+    throw InputError("local map: " + std::to_string(points.size()) + " points give fewer than " +
+                     std::to_string(config.min_points) + " cells of " + std::to_string(config.resolution) + " m");
   return *m;
 }
 

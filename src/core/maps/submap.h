@@ -46,6 +46,11 @@ Submaps build_submaps(const Scans& scans, const SubmapConfig& config = {});
 /// fewer than min_points remain.
 Submap build_local_map(const Scans& scans, double from, double to, const SubmapConfig& config = {});
 
+/// A local map from points in any frame (a point file, another mapper's output), shaped as submaps are: one
+/// point per cell, centred, canonical, cropped; T_world_map places it in the points' frame. Throws InputError for
+/// non-finite points or fewer than min_points cells.
+Submap local_map_from_points(const Points2& points, const SubmapConfig& config = {});
+
 /// One point per occupied cell of the given size (the mean of the points that fall in it), in a fixed order.
 Points2 voxel_downsample(const Points2& points, double resolution);
 

@@ -183,5 +183,24 @@ TEST(BuildLocalMap, IsTheStoredSubmapOverTheSameScans) {
   EXPECT_THROW(build_local_map(scans, 0.0, 2.0, c), InputError);
 }
 
+// A local map from bare points (a point file) is the submap of the scans those points came from.
+TEST(LocalMapFromPoints, IsTheSubmapOfTheSamePoints) {
+  const Scans scans = simulate().scans;
+  const Submaps stored = build_submaps(scans);
+  const Submap& m = stored.at(20);
+  Points2 world;
+  for (std::size_t j = 0; j < m.scan_timestamps.size(); ++j) {
+    const Points2 p = points_world(scans[static_cast<std::size_t>(m.anchor_scan) + j], kDefaultMaxRange);
+    world.insert(world.end(), p.begin(), p.end());
+  }
+  const Submap local = local_map_from_points(world);
+  EXPECT_EQ(local.points, m.points);
+  EXPECT_DOUBLE_EQ(local.T_world_map.x, m.T_world_map.x);
+  EXPECT_DOUBLE_EQ(local.T_world_map.theta, m.T_world_map.theta);
+  EXPECT_THROW(local_map_from_points(Points2{}), InputError);
+  EXPECT_THROW(local_map_from_points(Points2{{0.0, 0.0}, {NAN, 1.0}}), InputError);
+  EXPECT_THROW(local_map_from_points(Points2(5, Vec2(1.0, 1.0))), InputError);  // one cell
+}
+
 }  // namespace
 }  // namespace partslam
