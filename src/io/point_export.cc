@@ -1,6 +1,11 @@
 #include "io/point_export.h"
 
+#include <charconv>
+#include <cmath>
+#include <fstream>
 #include <iomanip>
+#include <sstream>
+#include <vector>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -25,6 +30,102 @@ void write_points(const std::filesystem::path& path, const Points2& points, Poin
       for (const Vec2& p : points) out << p.x() << ',' << p.y() << '\n';
     }
   });
+}
+
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& path, std::size_t line, const std::string& what) {
+  throw InputError(path.string() + ":" + std::to_string(line) + ": " + what);
+}
+
+double number(const std::filesystem::path& path, std::size_t line, const std::string& token, const char* field) {
+  double v = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (ec != std::errc() || end != token.data() + token.size())
+    fail(path, line, std::string(field) + ": not a number: '" + token.substr(0, 40) + "'");
+  if (!std::isfinite(v)) fail(path, line, std::string(field) + ": not finite: '" + token + "'");
+  return v;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> out;
+  std::string token;
+  std::istringstream in(text);
+  if (separator == ' ') {
+    while (in >> token) out.push_back(token);
+  } else {
+    while (std::getline(in, token, separator)) {
+      const auto b = token.find_first_not_of(" \t\r"), e = token.find_last_not_of(" \t\r");
+      out.push_back(b == std::string::npos ? "" : token.substr(b, e - b + 1));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Points2 read_points(const std::filesystem::path& path, std::size_t max_points) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open the point file");
+  const std::string ext = path.extension().string();
+  if (ext != ".ply" && ext != ".csv")
+    throw InputError(path.string() + ": unknown point file type '" + ext + "' (expected .ply or .csv)");
+  Points2 points;
+  std::string text;
+  std::size_t line = 0;
+  const auto add = [&](double x, double y) {
+    if (points.size() == max_points)
+      fail(path, line, "more than " + std::to_string(max_points) + " points");
+    points.emplace_back(x, y);
+  };
+  if (ext == ".csv") {
+    while (std::getline(in, text)) {
+      ++line;
+      if (!text.empty() && text.back() == '\r') text.pop_back();
+      if (text.empty() || text[0] == '#') continue;
+      const std::vector<std::string> f = split(text, ',');
+      if (f.size() < 2) fail(path, line, "expected x,y");
+      double v = 0;
+      if (line == 1 && std::from_chars(f[0].data(), f[0].data() + f[0].size(), v).ec != std::errc()) continue;  // header
+      add(number(path, line, f[0], "x"), number(path, line, f[1], "y"));
+    }
+  } else {
+    std::getline(in, text), ++line;
+    if (text.rfind("ply", 0) != 0) fail(path, line, "not a PLY file (no 'ply' magic)");
+    long vertices = -1;
+    int x_column = -1, y_column = -1, columns = 0;
+    bool in_vertex = false;
+    for (;;) {
+      if (!std::getline(in, text)) fail(path, line, "truncated PLY header (no end_header)");
+      ++line;
+      const std::vector<std::string> f = split(text, ' ');
+      if (f.empty() || f[0] == "comment" || f[0] == "obj_info") continue;
+      if (f[0] == "end_header") break;
+      if (f[0] == "format" && (f.size() < 2 || f[1] != "ascii"))
+        fail(path, line, "only ASCII PLY is read (this one is '" + (f.size() > 1 ? f[1] : std::string()) + "')");
+      if (f[0] == "element") {
+        in_vertex = f.size() == 3 && f[1] == "vertex";
+        if (in_vertex) vertices = static_cast<long>(number(path, line, f[2], "element vertex"));
+      } else if (f[0] == "property" && in_vertex) {
+        if (f.back() == "x") x_column = columns;
+        if (f.back() == "y") y_column = columns;
+        ++columns;
+      }
+    }
+    if (vertices < 0 || x_column < 0 || y_column < 0) fail(path, line, "PLY header lacks a vertex element with x and y");
+    if (static_cast<unsigned long>(vertices) > max_points)
+      fail(path, line, std::to_string(vertices) + " vertices is more than " + std::to_string(max_points));
+    for (long k = 0; k < vertices; ++k) {
+      if (!std::getline(in, text)) fail(path, line, "truncated: " + std::to_string(k) + " of " + std::to_string(vertices) + " vertices");
+      ++line;
+      const std::vector<std::string> f = split(text, ' ');
+      if (static_cast<int>(f.size()) < columns) fail(path, line, "expected " + std::to_string(columns) + " values");
+      add(number(path, line, f[static_cast<std::size_t>(x_column)], "x"),
+          number(path, line, f[static_cast<std::size_t>(y_column)], "y"));
+    }
+  }
+  if (points.empty()) throw InputError(path.string() + ": no points");
+  return points;
 }
 
 }  // namespace partslam::io

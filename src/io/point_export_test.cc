@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/test_files.h"
 
 namespace partslam::io {
 namespace {
@@ -31,6 +32,45 @@ TEST(PointExport, WritesCsvAndPly) {
 TEST(PointExport, RejectsUnknownFormatAndUnwritablePath) {
   EXPECT_THROW(parse_point_format("xyz"), InputError);
   EXPECT_THROW(write_points("/nonexistent-dir/x.csv", {}, PointFormat::kCsv), InputError);
+}
+
+TEST(PointFiles, ReadBackWhatWasWritten) {
+  testing::TempDir dir;
+  const Points2 pts{{1.0, 2.0}, {-0.5, 0.25}, {3.125, -7.5}};
+  for (const char* name : {"p.csv", "p.ply"}) {
+    write_points(dir / name, pts, std::string(name).ends_with(".ply") ? PointFormat::kPly : PointFormat::kCsv);
+    EXPECT_EQ(read_points(dir / name), pts) << name;
+  }
+  // Another tool's PLY: other properties first, comments, CRLF-free; and a CSV without header, extra columns.
+  testing::write_bytes(dir / "o.ply", "ply\nformat ascii 1.0\ncomment x\nelement vertex 2\nproperty float intensity\n"
+                                      "property float x\nproperty float y\nend_header\n9 1 2\n9 3 4\n");
+  EXPECT_EQ(read_points(dir / "o.ply"), (Points2{{1.0, 2.0}, {3.0, 4.0}}));
+  testing::write_bytes(dir / "o.csv", "1,2,7\n3, 4 ,8\n");
+  EXPECT_EQ(read_points(dir / "o.csv"), (Points2{{1.0, 2.0}, {3.0, 4.0}}));
+}
+
+TEST(PointFiles, BadFilesNameTheFileAndLine) {
+  testing::TempDir dir;
+  const auto error = [&](const std::string& name, const std::string& content) {
+    testing::write_bytes(dir / name, content);
+    try {
+      read_points(dir / name, 10);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("a.csv", "x,y\n").find("a.csv: no points"), std::string::npos);
+  EXPECT_NE(error("b.csv", "x,y\n1,2\nnan,3\n").find("b.csv:3: x: not finite"), std::string::npos);
+  EXPECT_NE(error("c.csv", "1,2\n1;2\n").find("c.csv:2: expected x,y"), std::string::npos);
+  EXPECT_NE(error("d.csv", std::string(11 * 4, ' ').replace(0, 44, "1,1\n1,1\n1,1\n1,1\n1,1\n1,1\n1,1\n1,1\n1,1\n1,1\n1,1\n"))
+                .find("more than 10 points"), std::string::npos);
+  EXPECT_NE(error("e.ply", "ply\nformat binary_little_endian 1.0\n").find("e.ply:2: only ASCII"), std::string::npos);
+  EXPECT_NE(error("f.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n1 2\n")
+                .find("truncated: 1 of 3"), std::string::npos);
+  EXPECT_NE(error("g.ply", "ply\nformat ascii 1.0\nelement vertex 1\n").find("no end_header"), std::string::npos);
+  EXPECT_NE(error("h.txt", "1,2\n").find("unknown point file type"), std::string::npos);
+  EXPECT_THROW(read_points(dir / "missing.csv"), InputError);
 }
 
 }  // namespace
