@@ -1,6 +1,6 @@
 // partslam match DB --query ID --method SPEC: the online half of PartSLAM (docs/DESIGN.md, "Schemes"). Ranks every
 // other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map — or, with
-// --query-log LOG --from/--to|--at, for a new local map built from a log as the stored ones were, against every
+// --query-log LOG --from/--to|--at or --query-points FILE, for a new local map built as the stored ones were, against every
 // submaps dataset — through the library's one ranking entry point (core/matching/ranking.h), for any registered
 // method (a new local map: the point-based ones):
 //   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
@@ -23,6 +23,7 @@
 #include "apps/commands.h"
 #include "apps/json_text.h"
 #include "apps/cpd_options.h"
+#include "apps/query_options.h"
 #include "io/descriptor_store.h"
 #include "core/matching/ranking.h"
 #include "core/parts/descriptor_layout.h"
@@ -31,8 +32,6 @@
 #include "core/matching/method_spec.h"
 #include "io/atomic_file.h"
 #include "io/map_database.h"
-#include "io/scan_source.h"
-#include "core/slam/front_end.h"
 
 namespace partslam::apps {
 namespace {
@@ -40,9 +39,7 @@ namespace {
 struct MatchOptions {
   std::string db;
   std::int64_t query = -1;
-  std::string query_log;  ///< a new local map from a log, instead of a stored one
-  double from = -1, to = -1, at = -1;
-  bool scan_match = false;
+  QueryOptions new_query;  ///< a new local map from a log or a point file, instead of a stored one
   std::string json;
   std::string method = "dmm";
   int top = 10;
@@ -175,30 +172,16 @@ void print_row(std::size_t rank, const Row& row, const Candidate& c, const Subma
   std::cout << buf << "\n";
 }
 
-// The query's local map from a log, built with the stored maps' submap settings (the first submaps dataset's).
+// The query's new local map (a log's stretch or a point file), built with the stored maps' submap settings (the
+// first submaps dataset's).
 Submap local_map(const io::MapDatabase& db, const MatchOptions& o, std::string& label) {
   std::optional<io::DatasetInfo> dataset;
   for (const io::DatasetInfo& d : db.datasets())
     if (d.spec.kind == io::DatasetKind::kSubmaps && !dataset) dataset = d;
   if (!dataset) throw InputError(db.path().string() + ": no submaps stored to match against");
-  Scans scans = io::load_scan_source(o.query_log).scans;
-  if (o.scan_match) scans = scan_match_log(scans, dataset->spec.front_end).scans;
-  double from = o.from, to = o.to;
-  if (o.at >= 0) {
-    if (o.from >= 0 || o.to >= 0) throw InputError("give either --at TIME or --from M --to M, not both");
-    const std::vector<double> s = travel_distances(scans);
-    std::size_t i = 0;
-    while (i < scans.size() && scans[i].timestamp < o.at) ++i;
-    if (i == scans.size()) throw InputError(o.query_log + ": no scan at or after time " + std::to_string(o.at));
-    from = s[i], to = s[i] + dataset->spec.config.window_length;
-  } else if (o.from < 0 || o.to < 0) {
-    throw InputError("--query-log needs --from M --to M (travel along the log) or --at TIME");
-  }
-  const Submap m = build_local_map(scans, from, to, dataset->spec.config);
-  char text[200];
-  std::snprintf(text, sizeof text, "local map of %s (%.1f .. %.1f m of travel, %zu scans, %zu points, settings of '%s')",
-                o.query_log.c_str(), from, to, m.scan_timestamps.size(), m.points.size(), dataset->spec.name.c_str());
-  label = text;
+  const Scans scans = o.new_query.log.empty() ? Scans{} : load_query_scans(o.new_query, dataset->spec.front_end);
+  const Submap m = build_query(o.new_query, scans, dataset->spec.config, label);
+  label += ", settings of '" + dataset->spec.name + "'";
   return m;
 }
 
@@ -251,18 +234,20 @@ void run_match(const MatchOptions& o) {
                      std::to_string(o.query_parts));
   validate(o.dmm);
   validate(o.ransac);
-  if ((o.query >= 0) == !o.query_log.empty())
-    throw InputError("give either --query ID (a stored map) or --query-log LOG (a new local map)");
-  if (!o.query_log.empty() && method.needs_parts)
-    throw InputError("--query-log: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
+  const bool new_map = o.new_query.given();
+  if ((o.query >= 0) == new_map)
+    throw InputError("give either --query ID (a stored map) or --query-log LOG / --query-points FILE (a new local map)");
+  check_query_options(o.new_query);
+  if (new_map && method.needs_parts)
+    throw InputError("a new local map: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
                      "(dmm, succinct, grid, sc, rerank:R)");
   if (!o.json.empty()) io::check_writable(o.json);
   const auto t_start = Clock::now();
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
   io::MapLocation where;
   std::string query_label;
-  const Submap query = o.query_log.empty() ? db.load_submap(o.query) : local_map(db, o, query_label);
-  if (o.query_log.empty()) {
+  const Submap query = new_map ? local_map(db, o, query_label) : db.load_submap(o.query);
+  if (!new_map) {
     where = db.locate(o.query);
     query_label = "query map " + std::to_string(query.id) + " (dataset '" + where.dataset_name + "', submap " +
                   std::to_string(where.index) + ", " + std::to_string(query.points.size()) + " points)";
@@ -271,7 +256,7 @@ void run_match(const MatchOptions& o) {
   // The candidates: the query's dataset, or every submaps dataset.
   std::vector<std::pair<std::string, Submaps>> loaded;
   for (const io::DatasetInfo& d : db.datasets()) {
-    const bool every = o.all || !o.query_log.empty();  // a new local map is ranked against every dataset
+    const bool every = o.all || new_map;  // a new local map is ranked against every dataset
     if (d.id == where.dataset_id || (every && d.spec.kind == io::DatasetKind::kSubmaps))
       loaded.emplace_back(d.spec.name, db.load_submaps(d.id));
   }
@@ -329,7 +314,7 @@ void run_match(const MatchOptions& o) {
   }
   std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
 
-  const bool all = o.all || !o.query_log.empty();
+  const bool all = o.all || new_map;
   std::cout << query_label << "; " << method.label() << " over " << candidates.size() << " maps"
             << (all ? " of every dataset" : " of its dataset");
   if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
@@ -372,12 +357,7 @@ void register_match(CLI::App& app) {
       app.add_subcommand("match", "Rank the stored maps for one query map (dMM, iMM, hMM, rerank)");
   cmd->add_option("db", o->db, "map database file")->required();
   cmd->add_option("--query", o->query, "global map id of a stored query map (see 'partslam info')");
-  cmd->add_option("--query-log", o->query_log,
-                  "a log (CARMEN, ROS bag, sim[:SEED]) to build a new local map from, as the stored maps were built");
-  cmd->add_option("--from", o->from, "--query-log: travel along the log where the local map starts [m]");
-  cmd->add_option("--to", o->to, "--query-log: travel along the log where the local map ends [m]");
-  cmd->add_option("--at", o->at, "--query-log: the local map starts at the first scan at or after this log time [s]");
-  cmd->add_flag("--scan-match", o->scan_match, "--query-log: poses from scan matching (raw logs)");
+  add_query_options(*cmd, o->new_query);
   cmd->add_option("--json", o->json, "write the ranking (map, dataset, scores, pose, confidence) as JSON");
   cmd->add_option(
          "--method", o->method, method_syntax_list())

@@ -17,6 +17,8 @@ void register_match(CLI::App& app);     // cmd_match.cc
 void register_render(CLI::App& app);    // cmd_render.cc
 void register_loops(CLI::App& app);     // cmd_loops.cc
 void register_slam(CLI::App& app);      // cmd_slam.cc
+void register_locate(CLI::App& app);    // cmd_locate.cc
+void register_export_map(CLI::App& app);  // cmd_export_map.cc
 
 // One line per subcommand; keep them in this order: foundation, matching, parts, evaluation.
 
@@ -25,7 +27,9 @@ inline void register_all(CLI::App& app) {
   register_dictionary(app);
   register_info(app);
   register_export(app);
+  register_export_map(app);
   register_match(app);
+  register_locate(app);
   register_loops(app);
   register_slam(app);
   register_describe(app);

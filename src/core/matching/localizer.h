@@ -27,7 +27,7 @@ struct LocalizerConfig {
   DmmConfig dmm = localizer_dmm_config();
   double elsewhere_distance = 2.0;  ///< "elsewhere": the local map's centre at least this far away [m] ...
   double elsewhere_angle = 10.0 * std::numbers::pi / 180;  ///< ... or turned by more than this [rad]
-  int candidates = 10;         ///< distinct poses examined (one exact search each), in [2, 100]
+  int candidates = 15;         ///< distinct poses examined (one exact search each), in [2, 100]
   double free_weight = 1.0;    ///< inliers a point on the map's free space costs (maps with free space only)
 };
 

@@ -1,0 +1,123 @@
+// CLI tests of the outside-world entry points: export-map, locate, match --query-points.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "apps/cli_testing.h"
+#include "core/maps/submap.h"
+#include "io/scan_source.h"
+
+namespace partslam {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::CliRun;
+using testing::quoted;
+using testing::run_partslam;
+
+class CliLocateTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("partslam_cli_locate_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+  nlohmann::json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+  }
+  fs::path dir_;
+};
+
+// The round trip a user makes: the simulated building's map exported as map_server files, then a stretch of the
+// same log located in it: the robot's pose is the log's own (the map frame is the log's world frame).
+TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
+  const fs::path yaml = dir_ / "building.yaml", json = dir_ / "located.json";
+  CliRun run = run_partslam("export-map sim:1 --out " + quoted(yaml));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(fs::exists(dir_ / "building.pgm"));
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --from 30 --to 32 --json " + quoted(json));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("robot in the map"));
+  const Scans scans = io::load_scan_source("sim:1").scans;
+  const std::vector<double> s = travel_distances(scans);
+  std::size_t first = 0;
+  while (s[first] < 30) ++first;
+  const Pose2 truth = scans[first].T_world_laser;
+  const nlohmann::json j = read_json(json);
+  ASSERT_EQ(j["located"].size(), 1u);
+  const nlohmann::json& robot = j["located"][0]["robot_pose"];
+  EXPECT_NEAR(robot["x"].get<double>(), truth.x, 0.3);
+  EXPECT_NEAR(robot["y"].get<double>(), truth.y, 0.3);
+  EXPECT_NEAR(wrap_angle(robot["theta"].get<double>() - truth.theta), 0.0, 0.05);
+  EXPECT_GT(j["located"][0]["confidence"].get<double>(), 0.0);
+  // --every sweeps the log; --until keeps the first scans only.
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("local maps,"));
+  ASSERT_EQ(run_partslam("export-map sim:1 --until 10 --out " + quoted(dir_ / "first.yaml")).exit_code, 0);
+  EXPECT_LT(fs::file_size(dir_ / "first.pgm"), fs::file_size(dir_ / "building.pgm"));
+}
+
+// A stored map exported as a point file (world frame) and queried with --query-points: match ranks that map
+// first, locate puts the file's frame on the map frame.
+TEST_F(CliLocateTest, QueryPointsFromAFile) {
+  const fs::path db = dir_ / "m.db", points = dir_ / "map20.csv", yaml = dir_ / "b.yaml", json = dir_ / "r.json";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
+  ASSERT_EQ(run_partslam("export " + quoted(db) + " --map 20 --frame world --out " + quoted(points)).exit_code, 0);
+  CliRun run = run_partslam("match " + quoted(db) + " --query-points " + quoted(points) + " --method dmm --top 1 --json " +
+                            quoted(json));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  nlohmann::json j = read_json(json);
+  EXPECT_EQ(j["ranking"][0]["map"].get<int>(), 20);
+  EXPECT_GT(j["ranking"][0]["inlier_fraction"].get<double>(), 0.95);
+  ASSERT_EQ(run_partslam("export-map sim:1 --out " + quoted(yaml)).exit_code, 0);
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-points " + quoted(points) + " --json " + quoted(json));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  j = read_json(json);
+  const nlohmann::json& frame = j["located"][0]["T_map_source"];
+  EXPECT_NEAR(frame["x"].get<double>(), 0.0, 0.2);
+  EXPECT_NEAR(frame["y"].get<double>(), 0.0, 0.2);
+  EXPECT_NEAR(frame["theta"].get<double>(), 0.0, 0.05);
+}
+
+// Bad input: a clear message naming the file or field, exit 1, nothing written.
+TEST_F(CliLocateTest, BadInputIsRefusedWithTheFileNamed) {
+  const fs::path yaml = dir_ / "b.yaml", json = dir_ / "out.json";
+  ASSERT_EQ(run_partslam("export-map sim:1 --out " + quoted(yaml)).exit_code, 0);
+  write(dir_ / "noimage.yaml", "image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  write(dir_ / "short.pgm", "P5\n100 100\n255\n" + std::string(10, '\xfe'));
+  write(dir_ / "short.yaml", "image: short.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  write(dir_ / "empty.csv", "x,y\n");
+  write(dir_ / "nan.csv", "1,2\nnan,3\n");
+  const std::string log = " --query-log sim:1 --from 10 --to 12 --json " + quoted(json);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"locate --map " + quoted(dir_ / "noimage.yaml") + log, "noimage.yaml: field 'image'"},
+      {"locate --map " + quoted(dir_ / "short.yaml") + log, "short.pgm: truncated PGM"},
+      {"locate --map " + quoted(dir_ / "none.yaml") + log, "none.yaml: cannot open"},
+      {"locate --map " + quoted(yaml) + " --query-points " + quoted(dir_ / "empty.csv"), "empty.csv: no points"},
+      {"locate --map " + quoted(yaml) + " --query-points " + quoted(dir_ / "nan.csv"), "nan.csv:2: x: not finite"},
+      {"locate --map " + quoted(yaml), "give --query-log LOG or --query-points FILE"},
+      {"locate --map " + quoted(yaml) + " --query-log sim:1 --every 5 --from 1 --to 3", "--every goes with"},
+      {"locate --map " + quoted(yaml) + " --query-log sim:1 --from 1 --to 3 --query-points " + quoted(dir_ / "nan.csv"),
+       "not both"},
+      {"export-map sim:1 --out " + quoted(dir_ / "map.png"), "--out must name the map's YAML"},
+      {"export-map sim:1 --out " + quoted(dir_ / "nowhere" / "m.yaml"), "does not exist"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CliRun r = run_partslam(args);
+    EXPECT_EQ(r.exit_code, 1) << args << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr(message)) << args;
+  }
+  EXPECT_FALSE(fs::exists(json));
+}
+
+}  // namespace
+}  // namespace partslam

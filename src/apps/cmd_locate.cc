@@ -1,0 +1,164 @@
+// partslam locate --map map.yaml --query-log LOG (--from M --to M | --at TIME | --every M) | --query-points FILE:
+// global localisation in a building map (core/matching/localizer.h). The map is a ROS map_server map (map.yaml +
+// PGM, thresholds, negate and origin honoured); the local map is built from a stretch of a log as submaps are, or
+// read from a point file. Prints, per local map, its pose in the map frame, where that puts the robot (the
+// first scan of the stretch) or the point file's frame, the inlier share, the confidence (score minus the best
+// other candidate's; >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate") and the time; --json writes the
+// same. --every M locates a local map every M of travel along the whole log, with a progress bar.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "apps/commands.h"
+#include "apps/json_text.h"
+#include "apps/progress_bar.h"
+#include "apps/query_options.h"
+#include "core/error.h"
+#include "core/maps/grid_map.h"
+#include "core/matching/localizer.h"
+#include "core/timing.h"
+#include "io/atomic_file.h"
+#include "io/map_server.h"
+
+namespace partslam::apps {
+namespace {
+
+constexpr double kConfident = 0.2;  // RelocalisationConfig::min_confidence, chosen on fr079
+
+struct LocateOptions {
+  std::string map;
+  QueryOptions query;
+  double every = 0;
+  SubmapConfig submap;
+  LocalizerConfig localizer;
+  std::string json;
+  bool quiet = false;
+};
+
+nlohmann::json pose_json(const Pose2& p) { return {{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
+
+struct Located {
+  std::string label;
+  Localization result;
+  Pose2 T_map_source;            // the log's world frame or the point file's frame, in the map
+  std::optional<Pose2> robot;    // the stretch's first laser pose in the map (logs)
+};
+
+void print(const Located& l) {
+  const Localization& r = l.result;
+  const Pose2& p = l.robot ? *l.robot : l.T_map_source;
+  std::printf("%s\n  %s in the map: x %.2f m, y %.2f m, theta %.1f deg; inliers %.1f %%, %d on free space; "
+              "confidence %.3f%s; %.1f ms\n",
+              l.label.c_str(), l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
+              100 * r.inlier_fraction, r.free_conflicts, r.confidence, r.confidence >= kConfident ? "" : " (low)",
+              r.time_ms);
+}
+
+nlohmann::json located_json(const Located& l) {
+  const Localization& r = l.result;
+  nlohmann::json j = {{"query", l.label},
+                      {"T_map_query", pose_json(r.T_map_query)},
+                      {"T_map_source", pose_json(l.T_map_source)},
+                      {"inliers", r.inliers},
+                      {"inlier_fraction", r.inlier_fraction},
+                      {"free_conflicts", r.free_conflicts},
+                      {"score", r.score},
+                      {"confidence", r.confidence},
+                      {"confident", r.confidence >= kConfident},
+                      {"elsewhere", {{"score", r.elsewhere_score}, {"T_map_query", pose_json(r.T_map_elsewhere)}}},
+                      {"candidates", r.candidates},
+                      {"time_ms", r.time_ms}};
+  if (l.robot) j["robot_pose"] = pose_json(*l.robot);
+  return j;
+}
+
+Located locate_one(const Localizer& localizer, const Submap& query, const Scans& scans, std::string label) {
+  Located l;
+  l.label = std::move(label);
+  l.result = localizer.locate(query.points);
+  l.T_map_source = l.result.T_map_query * query.T_world_map.inverse();
+  if (!scans.empty()) l.robot = l.T_map_source * scans[static_cast<std::size_t>(query.anchor_scan)].T_world_laser;
+  return l;
+}
+
+void run_locate(const LocateOptions& o) {
+  if (!o.query.given()) throw InputError("locate: give --query-log LOG or --query-points FILE");
+  check_query_options(o.query, /*with_every=*/o.every > 0);
+  if (o.every < 0 || !std::isfinite(o.every)) throw InputError("--every must be a positive number of metres");
+  if (o.every > 0 && (o.query.log.empty() || o.query.at >= 0 || o.query.from >= 0))
+    throw InputError("--every goes with --query-log alone (it sweeps the whole log)");
+  validate(o.submap);
+  validate(o.localizer);
+  if (!o.json.empty()) io::check_writable(o.json);
+
+  auto t0 = Clock::now();
+  const GridMap map = io::read_map_yaml(o.map);
+  const Localizer localizer(map, o.localizer);
+  std::printf("map %s: %d x %d cells at %.3f m; prepared in %.0f ms (read %.0f ms)\n", o.map.c_str(), map.width,
+              map.height, map.resolution, localizer.prepare_ms(), ms_since(t0) - localizer.prepare_ms());
+  const Scans scans = o.query.log.empty() ? Scans{} : load_query_scans(o.query, {});
+  std::vector<Located> located;
+  if (o.every > 0) {
+    const std::vector<double> s = travel_distances(scans);
+    ProgressBar bar(!o.quiet);
+    const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / o.every)) + 1;
+    std::size_t skipped = 0, done = 0;
+    for (double from = 0; !s.empty() && from + o.submap.window_length <= s.back(); from += o.every) {
+      bar("locate", done++, total);
+      Submap query;
+      try {
+        query = build_local_map(scans, from, from + o.submap.window_length, o.submap);
+      } catch (const InputError&) {
+        ++skipped;  // too few points in this stretch
+        continue;
+      }
+      char label[120];
+      std::snprintf(label, sizeof label, "%.1f .. %.1f m", from, from + o.submap.window_length);
+      located.push_back(locate_one(localizer, query, scans, label));
+    }
+    if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
+  } else {
+    std::string label;
+    const Submap query = build_query(o.query, scans, o.submap, label);
+    located.push_back(locate_one(localizer, query, scans, label));
+  }
+  std::vector<double> times;
+  std::size_t confident = 0;
+  for (const Located& l : located) {
+    print(l);
+    times.push_back(l.result.time_ms);
+    confident += l.result.confidence >= kConfident;
+  }
+  if (located.size() > 1) {
+    std::sort(times.begin(), times.end());
+    std::printf("%zu local maps, %zu confident (>= %.1f); time per local map: median %.1f ms, max %.1f ms\n",
+                located.size(), confident, kConfident, times[times.size() / 2], times.back());
+  }
+  if (!o.json.empty()) {
+    nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident}};
+    out["located"] = nlohmann::json::array();
+    for (const Located& l : located) out["located"].push_back(located_json(l));
+    io::write_atomically(o.json, [&](std::ostream& f) { f << json_text(out); });
+  }
+}
+
+}  // namespace
+
+void register_locate(CLI::App& app) {
+  auto o = std::make_shared<LocateOptions>();
+  CLI::App* cmd = app.add_subcommand("locate", "Find where a new local map lies in a building map (map_server)");
+  cmd->add_option("--map", o->map, "the building map: a map_server map.yaml (PGM image)")->required();
+  add_query_options(*cmd, o->query);
+  cmd->add_option("--every", o->every, "--query-log: locate a local map every this much travel along the log [m]");
+  cmd->add_option("--window", o->submap.window_length, "travel a local map covers [m]")->capture_default_str();
+  cmd->add_option("--max-range", o->submap.max_range, "beams longer than this are not used [m]")->capture_default_str();
+  cmd->add_option("--candidates", o->localizer.candidates, "distinct poses examined per local map")
+      ->capture_default_str();
+  cmd->add_option("--json", o->json, "write every localisation (pose, confidence, time) as JSON");
+  cmd->add_flag("--quiet", o->quiet, "no progress bar");
+  cmd->callback([o] { run_locate(*o); });
+}
+
+}  // namespace partslam::apps
