@@ -5,7 +5,7 @@ PACKAGES=(
   g++ make cmake pkg-config
   libeigen3-dev        # 2D geometry
   libceres-dev         # pose-graph optimisation (partslam slam)
-  librosbag-dev libsensor-msgs-dev libnav-msgs-dev  # ROS 1 bags (io/ros_bag.h)
+  librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libconsole-bridge-dev  # ROS 1 bags (io/ros_bag.h)
   libyaml-cpp-dev      # map_server map.yaml (io/map_server.h)
   libcli11-dev         # command-line parsing
   libsqlite3-dev       # map database

@@ -3,8 +3,9 @@
 // LogReadOptions::max_usable_range); num_beams = ranges.size(); timestamp = header.stamp), posed by the
 // nav_msgs/Odometry messages interpolated at each scan's stamp (linear in x, y, the short way in theta) in both
 // pose slots, as the benchmark's .clf files were made from these bags (they do not apply the base_link -> laser
-// offset either). Scans outside the odometry's time span take the nearest odometry; a bag without odometry
-// gives every scan the identity pose (the front end then predicts a standing robot).
+// offset either). A bag without nav_msgs/Odometry is posed by its /tf odom -> base_link (or base_footprint)
+// transforms instead. Scans outside the odometry's time span take the nearest odometry; a bag with neither gives
+// every scan the identity pose (the front end then predicts a standing robot).
 #pragma once
 
 #include <filesystem>
@@ -21,7 +22,7 @@ bool is_ros_bag(const std::filesystem::path& path);
 struct RosBagLog {
   Scans scans;
   std::string scan_topic;      ///< the LaserScan topic read (the first one when there are several)
-  std::string odometry_topic;  ///< the Odometry topic read; empty when the bag has none
+  std::string odometry_topic;  ///< the Odometry topic read, or "TOPIC (odom -> CHILD)" for /tf; empty: neither
   std::size_t odometry_messages = 0;
 };
 

@@ -24,7 +24,9 @@ struct OdometryMessage {
 
 struct BagMessages {
   std::string scan_topic;      ///< the first sensor_msgs/LaserScan topic; only its messages are kept
-  std::string odometry_topic;  ///< the first nav_msgs/Odometry topic; empty when there is none
+  std::string odometry_topic;  ///< the first nav_msgs/Odometry topic; without one, the tf2_msgs/TFMessage topic
+                               ///< (e.g. /tf) whose odom -> base_link (or base_footprint) transforms pose the
+                               ///< scans, named "TOPIC (odom -> CHILD)"; empty when there is neither
   std::vector<LaserScanMessage> scans;
   std::vector<OdometryMessage> odometry;
 };
@@ -36,5 +38,9 @@ struct BagError : std::runtime_error {
 
 /// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read.
 BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges);
+
+/// Writes the scans on /scan and the odometry on /odom (nav_msgs/Odometry, frame odom -> base_link) or, with
+/// as_tf, as /tf transforms odom -> base_link: bags like a robot records them, for tests and conversions.
+void write_bag_messages(const std::string& path, const BagMessages& messages, bool as_tf);
 
 }  // namespace partslam::io::rosbag_messages

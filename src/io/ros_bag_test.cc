@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/maps/submap.h"
+#include "io/ros_bag_messages.h"
 #include "io/scan_source.h"
 #include "io/test_files.h"
 
@@ -122,6 +123,41 @@ TEST(RosBag, BadFilesAreNamedInTheError) {
     std::ofstream(dir / "cut.bag", std::ios::binary) << head;
     EXPECT_THAT(message(dir / "cut.bag"), HasSubstr("cut.bag: "));
   }
+}
+
+// A robot's bag without nav_msgs/Odometry: the scans are posed by the odom -> base_link transforms on /tf, the
+// same poses as the same motion published as Odometry; without either, every scan has the identity pose.
+TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 30; ++k) {
+    const double t = 100.0 + 0.1 * k, yaw = 0.02 * k;
+    m.odometry.push_back({t - 0.05, 0.1 * k, 0.05 * k, 0.0, 0.0, std::sin(yaw / 2), std::cos(yaw / 2)});
+    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}};
+    for (int b = 0; b < 181; ++b) scan.ranges.push_back(2.0f + 0.01f * static_cast<float>(b % 17));
+    m.scans.push_back(scan);
+  }
+  rosbag_messages::write_bag_messages((dir / "odom.bag").string(), m, /*as_tf=*/false);
+  rosbag_messages::write_bag_messages((dir / "tf.bag").string(), m, /*as_tf=*/true);
+  m.odometry.clear();
+  rosbag_messages::write_bag_messages((dir / "bare.bag").string(), m, false);
+  const RosBagLog odom = read_ros_bag(dir / "odom.bag"), tf = read_ros_bag(dir / "tf.bag"),
+                  bare = read_ros_bag(dir / "bare.bag");
+  EXPECT_EQ(odom.odometry_topic, "/odom");
+  EXPECT_EQ(tf.odometry_topic, "/tf (odom -> base_link)");
+  EXPECT_EQ(bare.odometry_topic, "");
+  ASSERT_EQ(tf.scans.size(), 30u);
+  ASSERT_EQ(odom.scans.size(), 30u);
+  for (std::size_t i = 0; i < 30; ++i) {
+    EXPECT_NEAR(tf.scans[i].T_world_laser.x, odom.scans[i].T_world_laser.x, 1e-9);
+    EXPECT_NEAR(tf.scans[i].T_world_laser.y, odom.scans[i].T_world_laser.y, 1e-9);
+    EXPECT_NEAR(tf.scans[i].T_world_laser.theta, odom.scans[i].T_world_laser.theta, 1e-9);
+    EXPECT_EQ(tf.scans[i].points_laser, odom.scans[i].points_laser);
+    EXPECT_EQ(bare.scans[i].T_world_laser.x, 0.0);
+  }
+  // Interpolated between odometry stamps: scan 10 at t = 101.0 lies halfway between odometry 10 and 11.
+  EXPECT_NEAR(tf.scans[10].T_world_laser.x, 1.05, 1e-6);
+  EXPECT_EQ(tf.scans[0].points_laser.size(), 181u);
 }
 
 }  // namespace

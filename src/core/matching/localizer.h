@@ -1,4 +1,4 @@
-// Global localisation in a building map (docs/DESIGN.md, "Locate"): where does a new local map lie in a map of
+// Global localisation in a building map (docs/NOTES.md, "Locate"): where does a new local map lie in a map of
 // the whole building (a map_server map, a corrected log's map), with no initial pose? The building map is
 // prepared once for dMM over its whole area (the dictionary's set-up: every translation at which the query
 // overlaps it, dmm_config_for_dictionary), in its canonical (Manhattan) frame so that a canonical local map
