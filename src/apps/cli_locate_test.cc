@@ -88,6 +88,28 @@ TEST_F(CliLocateTest, QueryPointsFromAFile) {
   EXPECT_NEAR(frame["theta"].get<double>(), 0.0, 0.05);
 }
 
+// --json on the commands that build and store: what they printed, machine-readable; a map_server map as a
+// dictionary source.
+TEST_F(CliLocateTest, JsonOfSubmapsDictionaryAndDescribe) {
+  const fs::path db = dir_ / "j.db", yaml = dir_ / "d.yaml";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db) + " --json " + quoted(dir_ / "s.json")).exit_code, 0);
+  const nlohmann::json s = read_json(dir_ / "s.json");
+  EXPECT_EQ(s["dataset"], "sim-1");
+  EXPECT_GT(s["submaps"].get<int>(), 100);
+  ASSERT_EQ(run_partslam("export-map sim:2 --out " + quoted(yaml)).exit_code, 0);
+  CliRun run = run_partslam("dictionary " + quoted(yaml) + " --db " + quoted(db) + " --json " + quoted(dir_ / "d.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json d = read_json(dir_ / "d.json");
+  EXPECT_EQ(d["dictionary"], "d");
+  EXPECT_GT(d["points"].get<int>(), 500);
+  run = run_partslam("describe " + quoted(db) + " --dict d --k 3 --parts 20 --quiet --json " + quoted(dir_ / "c.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json c = read_json(dir_ / "c.json");
+  EXPECT_EQ(c["maps"], s["submaps"]);
+  ASSERT_EQ(c["sets"].size(), 2u);  // K = 3 and the query list P = 20
+  EXPECT_EQ(c["sets"][0]["k"], 3);
+}
+
 // Bad input: a clear message naming the file or field, exit 1, nothing written.
 TEST_F(CliLocateTest, BadInputIsRefusedWithTheFileNamed) {
   const fs::path yaml = dir_ / "b.yaml", json = dir_ / "out.json";

@@ -15,6 +15,8 @@
 
 #include "apps/commands.h"
 #include "apps/cpd_options.h"
+#include "apps/json_text.h"
+#include "io/atomic_file.h"
 #include "io/descriptor_store.h"
 #include "apps/progress_bar.h"
 #include "core/parts/cpd.h"
@@ -33,6 +35,8 @@ struct DescribeOptions {
   std::vector<int> ks = {1, 2, 3, 4, 5};
   int threads = 1;
   bool verbose = false;
+  bool quiet = false;
+  std::string json;
   CpdConfig cpd;
 };
 
@@ -69,6 +73,7 @@ void run_describe(DescribeOptions o) {
   ks.insert(o.parts);  // the hMM query list
   o.cpd.max_parts = o.parts;
   validate(o.cpd);
+  if (!o.json.empty()) io::check_writable(o.json);
 
   using Clock = std::chrono::steady_clock;
   io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadWrite);
@@ -99,7 +104,7 @@ void run_describe(DescribeOptions o) {
   // on which maps are described together or on the thread count.
   const auto t0 = Clock::now();
   const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
-  ProgressBar bar;
+  ProgressBar bar(!o.quiet);
   std::vector<const Points2*> points;
   std::vector<std::uint64_t> keys;
   for (const MapParts& m : maps) points.push_back(&m.submap->points), keys.push_back(static_cast<std::uint64_t>(m.map_id));
@@ -178,6 +183,24 @@ void run_describe(DescribeOptions o) {
               << "\n";
   }
   std::cout << "stored " << sets.size() * maps.size() << " descriptors in " << o.db << "\n";
+  if (!o.json.empty()) {
+    nlohmann::json j = {{"maps", maps.size()},
+                        {"dictionary", dictionary.name},
+                        {"parts", o.parts},
+                        {"cpd_ms_per_map", mean_ms},
+                        {"cpd_seconds", cpd_s},
+                        {"threads", o.threads},
+                        {"mean_parts", mean_parts},
+                        {"db", o.db}};
+    j["sets"] = nlohmann::json::array();
+    for (const auto& [k, codec, records] : sets) {
+      double bits = 0;
+      for (const io::DescriptorRecord& r : records) bits += r.descriptor.bits;
+      j["sets"].push_back({{"k", k}, {"bits_per_part", bits_per_part(codec)},
+                           {"mean_bits", bits / static_cast<double>(records.size())}});
+    }
+    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(j); });
+  }
 }
 
 }  // namespace
@@ -198,6 +221,8 @@ void register_describe(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   add_cpd_options(*cmd, o->cpd, "");
   cmd->add_flag("--verbose", o->verbose, "print one line per map");
+  cmd->add_flag("--quiet", o->quiet, "no progress bar");
+  cmd->add_option("--json", o->json, "write the summary (CPD time, parts, bits per K) as JSON");
   cmd->callback([o] { run_describe(*o); });
 }
 

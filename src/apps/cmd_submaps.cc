@@ -19,6 +19,8 @@
 #include "io/relations.h"
 #include "io/scan_source.h"
 #include "apps/progress_bar.h"
+#include "apps/json_text.h"
+#include "io/atomic_file.h"
 #include "core/slam/front_end.h"
 
 namespace partslam::apps {
@@ -36,10 +38,11 @@ struct SubmapsOptions {
   bool scan_match = false;
   FrontEndConfig front_end;
   bool quiet = false;
+  std::string json;
 };
 
 // Replaces the scans' poses by the front end's and prints what it did.
-void scan_match(io::ScanSource& source, const SubmapsOptions& o) {
+void scan_match(io::ScanSource& source, const SubmapsOptions& o, nlohmann::json& report) {
   FrontEndResult fe;
   {
     ProgressBar bar(!o.quiet);
@@ -60,6 +63,9 @@ void scan_match(io::ScanSource& source, const SubmapsOptions& o) {
   if (st.rejected * 10 > st.scans)
     std::cerr << "partslam: warning: " << o.log << ": " << st.rejected << " of " << st.scans
               << " scans matched nowhere (score < " << o.front_end.min_score << "): their poses are odometry\n";
+  report["scan_matching"] = {{"scans", st.scans}, {"seconds", st.seconds}, {"log_seconds", st.log_seconds},
+                             {"mean_score", st.mean_score}, {"rejected", st.rejected},
+                             {"time_reversals", st.time_reversals}};
   source.scans = std::move(fe.scans);
 }
 
@@ -69,12 +75,14 @@ void run_submaps(SubmapsOptions o) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   validate(o.front_end);
+  if (!o.json.empty()) io::check_writable(o.json);
+  nlohmann::json report;
   io::ScanSource source = io::load_scan_source(o.log);
   const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();
   // Everything else that is read, before anything is stored.
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
   const Scans raw = o.raw.empty() ? Scans{} : io::load_scan_source(o.raw).scans;
-  if (o.scan_match) scan_match(source, o);
+  if (o.scan_match) scan_match(source, o, report);
   const auto t1 = Clock::now();
   const Submaps submaps = build_submaps(source.scans, o.config);
   const auto t2 = Clock::now();
@@ -107,6 +115,21 @@ void run_submaps(SubmapsOptions o) {
               << o.tasks.min_travel_gap << " m); " << check.with_relation << " linked by a relation, "
               << check.confirmed << " confirmed (" << check.associated_scans << " of " << source.scans.size()
               << " scans found in the raw log)\n";
+    report["relations"] = {{"relevant_pairs", check.relevant_pairs}, {"with_relation", check.with_relation},
+                           {"confirmed", check.confirmed}, {"associated_scans", check.associated_scans},
+                           {"radius", o.tasks.radius}, {"gap", o.tasks.min_travel_gap}};
+  }
+  if (!o.json.empty()) {
+    report["dataset"] = spec.name;
+    report["source"] = o.log;
+    report["submaps"] = submaps.size();
+    report["mean_points"] = points / static_cast<double>(submaps.size());
+    report["scans"] = source.scans.size();
+    report["travel"] = travel_distances(source.scans).back();
+    report["read_ms"] = read_s * 1e3;
+    report["submaps_ms"] = build_s * 1e3;
+    report["db"] = o.db;
+    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(report); });
   }
 }
 
@@ -132,6 +155,7 @@ void register_submaps(CLI::App& app) {
   cmd->add_option("--scan-match-turn", o->front_end.matcher.angular_window,
                   "scan matching: search half-width in rotation [rad]")->capture_default_str();
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
+  cmd->add_option("--json", o->json, "write what was built (counts, travel, times, relations check) as JSON");
   cmd->add_option("--relations", o->relations, "check relevant pairs against this .relations file");
   cmd->add_option("--raw", o->raw, "raw log the relations refer to (when LOG is a re-timed corrected log)");
   cmd->add_option("--radius", o->tasks.radius, "R for the relations check [m]")->capture_default_str();

@@ -14,7 +14,17 @@ Dictionary build_dictionary(const std::string& name, const Scans& scans, const D
     const Points2 pts = points_world(scan, config.max_range);
     world.insert(world.end(), pts.begin(), pts.end());
   }
-  world = voxel_downsample(world, config.resolution);
+  return build_dictionary(name, world, config);
+}
+
+Dictionary build_dictionary(const std::string& name, const Points2& points, const DictionaryConfig& config) {
+  if (!(config.resolution > 0)) throw InputError("dictionary: resolution must be > 0");
+  for (const Vec2& p : points) {
+    if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw InputError("dictionary '" + name + "': point coordinates must be finite and within " +
+                       std::to_string(kMaxCoordinate) + " m");
+  }
+  const Points2 world = voxel_downsample(points, config.resolution);
   if (static_cast<int>(world.size()) < config.min_points) {
     throw InputError("dictionary '" + name + "': only " + std::to_string(world.size()) + " points (need " +
                      std::to_string(config.min_points) + ")");

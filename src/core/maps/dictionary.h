@@ -29,4 +29,7 @@ struct Dictionary {
 /// Builds the dictionary from a scan stream; throws InputError when it has too few points.
 Dictionary build_dictionary(const std::string& name, const Scans& scans, const DictionaryConfig& config = {});
 
+/// The same from a building's points in its world frame (a map_server map's occupied cells); max_range unused.
+Dictionary build_dictionary(const std::string& name, const Points2& points_world, const DictionaryConfig& config = {});
+
 }  // namespace partslam
