@@ -11,6 +11,10 @@ namespace partslam::python {
 
 // core/types.h: the lattice constants, poses and point transforms
 void define_geometry(pybind11::module_& m);
+// core/maps: scans, submaps, Manhattan alignment
+void define_maps(pybind11::module_& m);
+// io: logs, scan sources, the map database, stored descriptors
+void define_io(pybind11::module_& m);
 
 /// Adds __init__(**fields) to a class whose fields are bound as read-write properties: starts from the C++
 /// defaults and sets each field given; an unknown name raises TypeError.

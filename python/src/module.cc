@@ -13,4 +13,6 @@ PYBIND11_MODULE(partslam, m) {
   m.attr("__version__") = PARTSLAM_VERSION;
   pybind11::register_exception<partslam::InputError>(m, "InputError", PyExc_ValueError);
   partslam::python::define_geometry(m);
+  partslam::python::define_maps(m);
+  partslam::python::define_io(m);
 }
