@@ -13,6 +13,8 @@ namespace partslam::python {
 void define_geometry(pybind11::module_& m);
 // core/maps: scans, submaps, Manhattan alignment
 void define_maps(pybind11::module_& m);
+// core/matching: dMM, method specs, ranking
+void define_matching(pybind11::module_& m);
 // io: logs, scan sources, the map database, stored descriptors
 void define_io(pybind11::module_& m);
 

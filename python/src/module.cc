@@ -14,5 +14,6 @@ PYBIND11_MODULE(partslam, m) {
   pybind11::register_exception<partslam::InputError>(m, "InputError", PyExc_ValueError);
   partslam::python::define_geometry(m);
   partslam::python::define_maps(m);
+  partslam::python::define_matching(m);
   partslam::python::define_io(m);
 }
