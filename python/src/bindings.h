@@ -15,6 +15,8 @@ void define_geometry(pybind11::module_& m);
 void define_maps(pybind11::module_& m);
 // core/matching: dMM, method specs, ranking
 void define_matching(pybind11::module_& m);
+// core/parts and the dictionary map: CPD, codec, descriptor matching
+void define_parts(pybind11::module_& m);
 // io: logs, scan sources, the map database, stored descriptors
 void define_io(pybind11::module_& m);
 

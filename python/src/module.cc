@@ -15,5 +15,6 @@ PYBIND11_MODULE(partslam, m) {
   partslam::python::define_geometry(m);
   partslam::python::define_maps(m);
   partslam::python::define_matching(m);
+  partslam::python::define_parts(m);
   partslam::python::define_io(m);
 }
