@@ -20,23 +20,36 @@ void define_parts(pybind11::module_& m);
 // io: logs, scan sources, the map database, stored descriptors
 void define_io(pybind11::module_& m);
 
-/// Adds __init__(**fields) to a class whose fields are bound as read-write properties: starts from the C++
-/// defaults and sets each field given; an unknown name raises TypeError.
+/// Gives a class whose fields are bound as read-write properties a keyword form: __init__(**fields) starts
+/// from the C++ defaults and sets each field given (an unknown name raises TypeError), and, unless the class
+/// has its own, __repr__ prints that form back: SubmapConfig(window_length=2.0, ...).
 template <typename T, typename... Options>
 void def_keyword_init(pybind11::class_<T, Options...>& cls) {
+  namespace py = pybind11;
   const std::string name = cls.attr("__name__").template cast<std::string>();
-  cls.def(pybind11::init([name](const pybind11::kwargs& fields) {
-            pybind11::object object = pybind11::cast(T{});
+  cls.def(py::init([name](const py::kwargs& fields) {
+            py::object object = py::cast(T{});
             for (const auto& [key, value] : fields) {
-              if (!pybind11::hasattr(object, key)) {
-                throw pybind11::type_error(name + "() got an unexpected keyword argument '" +
-                                           pybind11::str(key).template cast<std::string>() + "'");
+              if (!py::hasattr(object, key)) {
+                throw py::type_error(name + "() got an unexpected keyword argument '" +
+                                     py::str(key).template cast<std::string>() + "'");
               }
-              pybind11::setattr(object, key, value);
+              py::setattr(object, key, value);
             }
             return object.template cast<T>();
           }),
           ("A " + name + " with the library's defaults, changed by any fields given as keywords.").c_str());
+  if (cls.attr("__dict__").contains("__repr__")) return;
+  cls.def("__repr__", [name](const py::object& self) {
+    const py::object property = py::module_::import("builtins").attr("property");
+    std::string text = name + "(";
+    for (const auto& [key, value] : py::dict(py::type::of(self).attr("__dict__"))) {
+      if (!py::isinstance(value, property)) continue;
+      text += (text.back() == '(' ? "" : ", ") + py::str(key).template cast<std::string>() + "=" +
+              py::repr(self.attr(key)).template cast<std::string>();
+    }
+    return text + ")";
+  });
 }
 
 }  // namespace partslam::python

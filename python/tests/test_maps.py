@@ -124,6 +124,15 @@ def test_bad_submap_config_names_the_field(sim_scans):
         partslam.SubmapConfig(windw=3.0)
 
 
+def test_configs_print_in_their_keyword_form():
+    config = partslam.SubmapConfig(window_length=3.0, align=False)
+    text = repr(config)
+    assert text.startswith("SubmapConfig(window_length=3.0, spacing=0.5, ") and "align=False" in text
+    again = eval(text, vars(partslam))  # noqa: S307 - the repr of our own config
+    assert (again.window_length, again.spacing, again.align) == (3.0, 0.5, False)
+    assert repr(partslam.DmmConfig(dilation=0)).startswith("DmmConfig(resolution=0.1, ")
+
+
 def test_manhattan_angle_of_an_axis_aligned_rectangle():
     i = np.arange(50)
     points = np.vstack([np.stack([0.1 * i, np.full(50, 0.05)], 1), np.stack([0.1 * i, np.full(50, 3.05)], 1),
