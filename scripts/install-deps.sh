@@ -14,6 +14,7 @@ PACKAGES=(
   nlohmann-json3-dev   # --json output
   libgtest-dev libgmock-dev  # tests
   python3              # scripts/results_table.py (make results)
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   libbenchmark-dev     # benchmarks
 )
 missing=()

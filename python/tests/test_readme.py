@@ -1,0 +1,23 @@
+"""The README's Python example runs as printed and finds the place the simulated robot revisits."""
+import contextlib
+import io
+import math
+import re
+
+from conftest import REPO
+
+
+def test_the_readme_example_matches_the_revisited_map():
+    readme = (REPO / "README.md").read_text()
+    section = readme[readme.index("## Python"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    names = {}
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        exec(compile(code, "README.md", "exec"), names)  # noqa: S102 - our own documentation
+    assert out.getvalue().count("\n") == 3
+    partslam, r, query, stored = names["partslam"], names["r"], names["query"], names["stored"]
+    truth = partslam.compose(partslam.inverse(stored.T_world_map), query.T_world_map)
+    assert r.inlier_fraction > 0.9
+    assert max(abs(r.T_map_query[0] - truth[0]), abs(r.T_map_query[1] - truth[1])) <= 0.1
+    assert abs(partslam.wrap_angle(r.T_map_query[2] - truth[2])) <= 2 * math.pi / 180
+    assert names["ranking"].order[0] == names["maps"].index(stored)
