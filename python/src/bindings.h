@@ -19,6 +19,8 @@ void define_matching(pybind11::module_& m);
 void define_parts(pybind11::module_& m);
 // io: logs, scan sources, the map database, stored descriptors
 void define_io(pybind11::module_& m);
+// building maps (core/maps/grid_map.h, io/map_server.h), point files, global localisation (core/matching/localizer.h)
+void define_localization(pybind11::module_& m);
 
 /// Gives a class whose fields are bound as read-write properties a keyword form: __init__(**fields) starts
 /// from the C++ defaults and sets each field given (an unknown name raises TypeError), and, unless the class

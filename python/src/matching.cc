@@ -102,7 +102,9 @@ void define_dmm(py::module_& m) {
       .def_readwrite("angular_step", &DmmConfig::angular_step,
                      "rotation step [rad]; 0: one cell at the far point")
       .def_readwrite("canonical", &DmmConfig::canonical,
-                     "both maps are in the canonical frame (4 x residual); false: full circle")
+                     "both maps are in the canonical frame (turns x residual); false: full circle")
+      .def_readwrite("canonical_turns", &DmmConfig::canonical_turns,
+                     "canonical: rotation families, 4 (multiples of 90 deg) or 8 (of 45 deg)")
       .def_readwrite("dilation", &DmmConfig::dilation, "target cells within this many cells are occupied")
       .def_readwrite("search_depth", &DmmConfig::search_depth, "branch-and-bound depth; 0: automatic")
       .def("validate", py::overload_cast<const DmmConfig&>(&validate),

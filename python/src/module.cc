@@ -17,4 +17,5 @@ PYBIND11_MODULE(partslam, m) {
   partslam::python::define_matching(m);
   partslam::python::define_parts(m);
   partslam::python::define_io(m);
+  partslam::python::define_localization(m);
 }

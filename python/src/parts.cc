@@ -162,9 +162,14 @@ void define_dictionary(py::module_& m) {
         return "<partslam.Dictionary '" + d.name + "' points=" + std::to_string(d.points.size()) + ">";
       });
   def_keyword_init(dictionary);
-  m.def("build_dictionary", &build_dictionary, "name"_a, "scans"_a, "config"_a = DictionaryConfig{},
-        release_gil(),
+  m.def("build_dictionary",
+        py::overload_cast<const std::string&, const Scans&, const DictionaryConfig&>(&build_dictionary), "name"_a,
+        "scans"_a, "config"_a = DictionaryConfig{}, release_gil(),
         "The dictionary map of a scan stream (every scan, one point per cell, Manhattan-aligned).");
+  m.def("build_dictionary_from_points",
+        py::overload_cast<const std::string&, const Points2&, const DictionaryConfig&>(&build_dictionary), "name"_a,
+        "points"_a, "config"_a = DictionaryConfig{}, release_gil(),
+        "The dictionary map of a building's points in its world frame (a map_server map's occupied cells).");
 }
 
 void define_cpd(py::module_& m) {

@@ -1,0 +1,117 @@
+// Python bindings of global localisation: building maps (GridMap: cells unknown / free / occupied, as ROS
+// map_server holds them; ray-cast from posed scans; read and written as map.yaml + PGM), point files, a local map
+// from bare points, and the Localizer (a local map's pose in a building map, with its confidence). The cells
+// cross as a (height, width) uint8 numpy array of CellState values, row 0 the lowest y. Map building and
+// localisation release the GIL.
+#include "casters.h"
+// (casters.h first: see its header comment)
+#include <pybind11/numpy.h>
+
+#include "bindings.h"
+#include "core/error.h"
+#include "core/maps/grid_map.h"
+#include "core/maps/submap.h"
+#include "core/matching/localizer.h"
+#include "io/map_server.h"
+#include "io/point_export.h"
+
+namespace partslam::python {
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+using release_gil = py::call_guard<py::gil_scoped_release>;
+
+namespace {
+
+py::array_t<std::uint8_t> cells_array(const GridMap& m) {
+  py::array_t<std::uint8_t> out({m.height, m.width});
+  auto v = out.mutable_unchecked<2>();
+  for (int r = 0; r < m.height; ++r)
+    for (int c = 0; c < m.width; ++c) v(r, c) = static_cast<std::uint8_t>(m.at(c, r));
+  return out;
+}
+
+void set_cells(GridMap& m, const py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>& a) {
+  if (a.ndim() != 2) throw InputError("GridMap.cells: expected a (height, width) array");
+  m.height = static_cast<int>(a.shape(0)), m.width = static_cast<int>(a.shape(1));
+  m.cells.resize(static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height));
+  auto v = a.unchecked<2>();
+  for (int r = 0; r < m.height; ++r) {
+    for (int c = 0; c < m.width; ++c) {
+      if (v(r, c) > 2) throw InputError("GridMap.cells: values are 0 (unknown), 1 (free) or 2 (occupied)");
+      m.cells[static_cast<std::size_t>(r) * m.width + c] = static_cast<CellState>(v(r, c));
+    }
+  }
+}
+
+}  // namespace
+
+void define_localization(py::module_& m) {
+  py::enum_<CellState>(m, "CellState")
+      .value("UNKNOWN", CellState::kUnknown)
+      .value("FREE", CellState::kFree)
+      .value("OCCUPIED", CellState::kOccupied);
+  py::class_<GridMap> grid(m, "GridMap", "A building map as map_server holds one (core/maps/grid_map.h)");
+  grid.def_readwrite("resolution", &GridMap::resolution, "cell side [m]")
+      .def_readwrite("origin", &GridMap::origin, "pose of cell (0, 0)'s lower-left corner (x, y, theta)")
+      .def_readonly("width", &GridMap::width)
+      .def_readonly("height", &GridMap::height)
+      .def_property("cells", &cells_array, &set_cells,
+                    "(height, width) uint8 array of CellState values, row 0 the lowest y (a copy)")
+      .def("validate", py::overload_cast<const GridMap&>(&validate), "Raises InputError when inconsistent.")
+      .def("__repr__", [](const GridMap& g) {
+        return "<partslam.GridMap " + std::to_string(g.width) + " x " + std::to_string(g.height) + " at " +
+               std::to_string(g.resolution) + " m>";
+      });
+  grid.def(py::init<>());
+  py::class_<GridMapConfig> grid_config(m, "GridMapConfig", "How build_grid_map ray-casts scans");
+  grid_config.def_readwrite("resolution", &GridMapConfig::resolution, "[m]")
+      .def_readwrite("max_range", &GridMapConfig::max_range, "[m]")
+      .def_readwrite("occupied_ratio", &GridMapConfig::occupied_ratio)
+      .def_readwrite("margin", &GridMapConfig::margin, "[m]");
+  def_keyword_init(grid_config);
+  m.def("build_grid_map", &build_grid_map, "scans"_a, "config"_a = GridMapConfig{}, release_gil(),
+        "The map of scans with known poses (a corrected log), by ray casting.");
+  m.def("occupied_points", &occupied_points, "map"_a, "Centres of the occupied cells in the map frame.");
+  m.def("read_map_yaml", &io::read_map_yaml, "path"_a, release_gil(), "A ROS map_server map (map.yaml + PGM).");
+  m.def("write_map_yaml", &io::write_map_yaml, "path"_a, "map"_a, release_gil(),
+        "Writes map.yaml and map.pgm beside it, atomically.");
+  m.def(
+      "read_points", [](const std::string& path) { return io::read_points(path); }, "path"_a, release_gil(),
+      "A point file (.ply ASCII or .csv) as an (n, 2) array.");
+  m.def("local_map_from_points", &local_map_from_points, "points"_a, "config"_a = SubmapConfig{}, release_gil(),
+        "A local map shaped as submaps are (one point per cell, centred, canonical, cropped) from bare points.");
+
+  py::class_<LocalizerConfig> config(m, "LocalizerConfig", "How the Localizer searches (core/matching/localizer.h)");
+  config.def_readwrite("dmm", &LocalizerConfig::dmm)
+      .def_readwrite("elsewhere_distance", &LocalizerConfig::elsewhere_distance, "[m]")
+      .def_readwrite("elsewhere_angle", &LocalizerConfig::elsewhere_angle, "[rad]")
+      .def_readwrite("candidates", &LocalizerConfig::candidates)
+      .def_readwrite("free_weight", &LocalizerConfig::free_weight);
+  def_keyword_init(config);
+  py::class_<Localization>(m, "Localization", "Where a local map lies in the building map, and how surely")
+      .def_readonly("T_map_query", &Localization::T_map_query)
+      .def_readonly("inliers", &Localization::inliers)
+      .def_readonly("inlier_fraction", &Localization::inlier_fraction)
+      .def_readonly("free_conflicts", &Localization::free_conflicts)
+      .def_readonly("score", &Localization::score)
+      .def_readonly("elsewhere_score", &Localization::elsewhere_score)
+      .def_readonly("T_map_elsewhere", &Localization::T_map_elsewhere)
+      .def_readonly("confidence", &Localization::confidence)
+      .def_readonly("candidates", &Localization::candidates)
+      .def_readonly("time_ms", &Localization::time_ms)
+      .def("__repr__", [](const Localization& l) {
+        return "<partslam.Localization x=" + std::to_string(l.T_map_query.x) + " y=" + std::to_string(l.T_map_query.y) +
+               " confidence=" + std::to_string(l.confidence) + ">";
+      });
+  py::class_<Localizer>(m, "Localizer", "A building map prepared once for global localisation")
+      .def(py::init<const GridMap&, const LocalizerConfig&>(), "map"_a, "config"_a = LocalizerConfig{}, release_gil())
+      .def(py::init<const Points2&, const LocalizerConfig&>(), "points"_a, "config"_a = LocalizerConfig{},
+           release_gil())
+      .def("locate", &Localizer::locate, "query_points"_a, release_gil(),
+           "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives).")
+      .def_property_readonly("prepare_ms", &Localizer::prepare_ms)
+      .def_property_readonly("alignment_angle", &Localizer::alignment_angle);
+}
+
+}  // namespace partslam::python

@@ -1,0 +1,46 @@
+"""Building maps, point files and global localisation from Python: the checks of core/maps/grid_map_test.cc,
+io/map_server_test.cc and core/matching/localizer_test.cc on the built-in simulator."""
+import math
+
+import numpy as np
+import pytest
+
+import partslam
+
+
+def test_grid_map_of_the_simulator_round_trips_through_map_server_files(sim_scans, tmp_path):
+    grid = partslam.build_grid_map(sim_scans)
+    cells = grid.cells
+    assert cells.shape == (grid.height, grid.width)
+    assert (cells == int(partslam.CellState.OCCUPIED)).sum() > 500
+    assert (cells == int(partslam.CellState.FREE)).sum() > (cells == int(partslam.CellState.OCCUPIED)).sum()
+    partslam.write_map_yaml(str(tmp_path / "b.yaml"), grid)
+    back = partslam.read_map_yaml(str(tmp_path / "b.yaml"))
+    np.testing.assert_array_equal(back.cells, cells)
+    assert back.origin == pytest.approx(grid.origin)
+    points = partslam.occupied_points(back)
+    assert points.shape == ((cells == 2).sum(), 2)
+
+
+def test_a_stretch_of_the_log_is_found_in_its_own_map(sim_scans):
+    localizer = partslam.Localizer(partslam.build_grid_map(sim_scans))
+    local = partslam.build_local_map(sim_scans, 30.0, 32.0)
+    found = localizer.locate(local.points)
+    truth = local.T_world_map
+    assert math.hypot(found.T_map_query[0] - truth[0], found.T_map_query[1] - truth[1]) < 0.3
+    assert abs(partslam.wrap_angle(found.T_map_query[2] - truth[2])) < 3 * math.pi / 180
+    assert found.confidence == pytest.approx(found.score - found.elsewhere_score)
+    assert found.candidates >= 2
+
+
+def test_point_files_and_local_maps_from_points(tmp_path):
+    (tmp_path / "p.csv").write_text("x,y\n" + "".join(f"{0.05 * k},{math.sin(k)}\n" for k in range(200)))
+    points = partslam.read_points(str(tmp_path / "p.csv"))
+    assert points.shape == (200, 2)
+    local = partslam.local_map_from_points(points)
+    assert len(local.points) >= 20
+    (tmp_path / "bad.csv").write_text("1,2\nnan,3\n")
+    with pytest.raises(partslam.InputError, match="bad.csv:2"):
+        partslam.read_points(str(tmp_path / "bad.csv"))
+    with pytest.raises(ValueError, match="no occupied cell"):
+        partslam.Localizer(np.zeros((0, 2)))
