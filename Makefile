@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 WERROR ?= $(if $(PARTSLAM_WERROR),$(PARTSLAM_WERROR),OFF)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPARTSLAM_WERROR=$(WERROR)
 
-.PHONY: all deps build demo test bench results raw-logs clean
+.PHONY: all deps build demo test bench results raw-logs relocalisation clean
 
 all: build
 
@@ -29,6 +29,9 @@ results: build
 
 raw-logs: build
 	bash scripts/make-raw-logs.sh
+
+relocalisation: build
+	bash scripts/make-relocalisation.sh
 
 clean:
 	rm -rf $(BUILD)
