@@ -5,7 +5,8 @@
 // built-in simulator. Each benchmark cycles through the pairs and reports, per pair, the median / 90th
 // percentile / mean time (counters median_ms, p90_ms, mean_ms; thread CPU time, so other processes on the
 // machine matter less) besides Google Benchmark's own mean. Also: 1-to-N (one query against 100 maps,
-// every exact score vs top-1 pruning) and CPD's case, a small crop against a whole dictionary map.
+// every exact score vs top-1 pruning), the best of N = 100 and 1000 maps by every search (BM_DmmTop1OfN: exact
+// scores, a carried bar, the joint search, exhaustive) and CPD's case, a small crop against a whole dictionary map.
 // BM_Dmm/0 and BM_Exhaustive cycle through the same pairs in the same order; BM_Dmm/1 and /2 split them into
 // relevant and irrelevant. Run: build/bench_dmm [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <random>
 
 #include "core/maps/dictionary.h"
@@ -165,6 +167,70 @@ void BM_DmmOneToN(benchmark::State& state) {
   state.counters["ms_per_pair"] = state.counters["mean_ms"] / 100.0;
 }
 BENCHMARK(BM_DmmOneToN)->Arg(0)->Arg(1)->Iterations(10)->Unit(benchmark::kMillisecond);
+
+// A database of N real maps and ten queries not in it (issue "scale", joint 1-to-N): N = 100 is every 8th fr079
+// submap, the queries fr079 submaps between them (4, 84, 164, ...); N = 1000 is every fr079 submap but the query
+// and intel submaps after them. Without the data folder, the simulator's submaps (N = 100 only).
+struct Database {
+  std::vector<PreparedQuery> queries;
+  std::vector<std::vector<PreparedMap>> maps;  // per query (the query itself left out)
+};
+
+const Database& database(std::size_t n, int depth) {
+  static std::map<std::pair<std::size_t, int>, Database> cache;
+  if (auto it = cache.find({n, depth}); it != cache.end()) return it->second;
+  DmmConfig config;
+  config.search_depth = depth;
+  static const Submaps others = build_submaps(data().dictionary_scans);
+  const Submaps& own = data().maps;
+  Database d;
+  for (std::size_t q = 4; d.queries.size() < 10 && q < own.size(); q += 80) {
+    d.queries.push_back(prepare_query(own[q].points));
+    std::vector<PreparedMap> maps;
+    for (std::size_t m = 0; m < own.size() && maps.size() < n; m += n <= 100 ? 8 : 1) {
+      if (m != q) maps.push_back(prepare_map(own[m].points, config));
+    }
+    for (std::size_t m = 0; m < others.size() && maps.size() < n; ++m) maps.push_back(prepare_map(others[m].points, config));
+    d.maps.push_back(std::move(maps));
+  }
+  return cache.emplace(std::pair(n, depth), std::move(d)).first->second;
+}
+
+// One query against N maps, the best map with its pose (arg 1: N; arg 2: the search depth, 0 automatic = 3 here,
+// 4 = one root block per rotation). Arg 0 is the search: 0 every map's exact score (what ranking needs), 1 per-map
+// branch-and-bound with the best score so far carried from map to map as the bar (Cartographer's global
+// localiser), 2 the joint search (match_dmm_joint), 3 the exhaustive search (N = 100 only). Every search's best
+// score is checked against the exact one.
+void BM_DmmTop1OfN(benchmark::State& state) {
+  const int mode = static_cast<int>(state.range(0));
+  const auto n = static_cast<std::size_t>(state.range(1));
+  const Database& d = database(n, static_cast<int>(state.range(2)));
+  std::vector<std::vector<const PreparedMap*>> pointers(d.queries.size());
+  std::vector<int> best(d.queries.size(), 0);
+  for (std::size_t q = 0; q < d.queries.size(); ++q) {
+    for (const PreparedMap& m : d.maps[q]) pointers[q].push_back(&m);
+    for (const DmmResult& r : match_dmm_many(d.queries[q], pointers[q])) best[q] = std::max(best[q], r.inliers);
+  }
+  run_cycled(state, d.queries.size(), [&](std::size_t q) {
+    int top = 0;
+    if (mode == 3) {
+      for (const PreparedMap* m : pointers[q]) top = std::max(top, match_exhaustive(d.queries[q], *m).inliers);
+    } else {
+      const std::vector<DmmResult> r = mode == 2 ? match_dmm_joint(d.queries[q], pointers[q], 1)
+                                                 : match_dmm_many(d.queries[q], pointers[q], mode == 1 ? 1 : 0);
+      for (const DmmResult& x : r) top = std::max(top, x.inliers);
+    }
+    if (top != best[q]) state.SkipWithError("the search missed the best score");
+    return top;
+  });
+  state.counters["maps"] = static_cast<double>(d.maps.front().size());
+  state.counters["ms_per_map"] = state.counters["mean_ms"] / static_cast<double>(d.maps.front().size());
+}
+BENCHMARK(BM_DmmTop1OfN)
+    ->Args({0, 100, 0})->Args({1, 100, 0})->Args({2, 100, 0})->Args({3, 100, 0})
+    ->Args({0, 1000, 0})->Args({1, 1000, 0})->Args({2, 1000, 0})
+    ->Args({1, 100, 4})->Args({2, 100, 4})->Args({1, 1000, 4})->Args({2, 1000, 4})
+    ->Iterations(10)->Unit(benchmark::kMillisecond);
 
 std::size_t bytes(const PreparedMap& m);
 

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <memory>
 #include <queue>
+#include <set>
 #include <string>
 
 #include "core/matching/dmm_bounds.h"
@@ -126,7 +128,32 @@ class BranchAndBound {
 
   // Searches with candidates whose score does not exceed the bar pruned; returns the best candidate found
   // above the bar (rotation -1 when none).
-  Candidate run() {
+  Candidate run() { return run_from(root_children()); }
+
+  // The search from root children computed before (root_children), with bar raised to at least `bar`.
+  Candidate run_from(const std::vector<Candidate>& candidates, int bar = -1) {
+    best_.score = std::max(best_.score, bar);
+    const int depth = static_cast<int>(map_.packed.size());
+    // Best bound first (ties: generation order), popped lazily: most are never needed.
+    std::vector<std::pair<Candidate, std::size_t>> heap;
+    heap.reserve(candidates.size());
+    for (std::size_t m = 0; m < candidates.size(); ++m) heap.emplace_back(candidates[m], m);
+    const auto worse = [](const std::pair<Candidate, std::size_t>& a, const std::pair<Candidate, std::size_t>& b) {
+      return a.first.score != b.first.score ? a.first.score < b.first.score : a.second > b.second;
+    };
+    std::make_heap(heap.begin(), heap.end(), worse);
+    while (!heap.empty() && heap.front().first.score > best_.score) {
+      std::pop_heap(heap.begin(), heap.end(), worse);
+      Candidate c = heap.back().first;
+      heap.pop_back();
+      descend(std::span<Candidate>(&c, 1), depth - 1);
+    }
+    return best_;
+  }
+
+  // The children of every root (the roots tile the search range and are not bounded themselves), bounded; their
+  // values stay in root_values_ for descend.
+  std::vector<Candidate> root_children() {
     const int depth = static_cast<int>(map_.packed.size());
     const int block = 1 << (2 * depth);
     const std::size_t n = static_cast<std::size_t>(query_.num_points);
@@ -154,22 +181,9 @@ class BranchAndBound {
         }
       }
     }
-    // Best bound first (ties: generation order), popped lazily: most are never needed.
-    std::vector<std::pair<Candidate, std::size_t>> heap;
-    heap.reserve(candidates.size());
-    for (std::size_t m = 0; m < candidates.size(); ++m) heap.emplace_back(candidates[m], m);
-    const auto worse = [](const std::pair<Candidate, std::size_t>& a, const std::pair<Candidate, std::size_t>& b) {
-      return a.first.score != b.first.score ? a.first.score < b.first.score : a.second > b.second;
-    };
-    std::make_heap(heap.begin(), heap.end(), worse);
-    while (!heap.empty() && heap.front().first.score > best_.score) {
-      std::pop_heap(heap.begin(), heap.end(), worse);
-      Candidate c = heap.back().first;
-      heap.pop_back();
-      descend(std::span<Candidate>(&c, 1), depth - 1);
-    }
-    return best_;
+    return candidates;
   }
+
 
   std::int64_t candidates_scored() const { return scored_; }
 
@@ -437,6 +451,57 @@ DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
                               double min_distance, double min_angle) {
   return match_dmm_elsewhere(query, map, std::span<const Pose2>(&avoid, 1), min_distance, min_angle);
+}
+
+std::vector<DmmResult> match_dmm_joint(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
+                                       int top_k) {
+  if (top_k < 1) throw InputError("dmm: the joint search needs top_k >= 1, got " + std::to_string(top_k));
+  for (const PreparedMap* m : maps) check_compatible(query, *m);
+  const std::size_t n = maps.size();
+  std::vector<std::vector<Range>> ranges(n);
+  std::vector<std::unique_ptr<BranchAndBound>> searches;
+  std::vector<std::vector<Candidate>> roots(n);
+  std::vector<int> bound(n, -1);  // a map's bound: the best bound of its root children
+  for (std::size_t m = 0; m < n; ++m) {
+    ranges[m] = search_ranges(query, *maps[m]);
+    searches.push_back(std::make_unique<BranchAndBound>(query, *maps[m], ranges[m], -1));
+    roots[m] = searches.back()->root_children();
+    for (const Candidate& c : roots[m]) bound[m] = std::max(bound[m], c.score);
+  }
+  // The maps best bound first (ties: the earlier map), each searched with the k-th best exact score so far as its
+  // bar (raised by one for a map earlier than the k-th one's, which wins a tie); once a map's bound cannot beat the
+  // bar, neither can any map after it.
+  std::vector<std::size_t> order(n);
+  for (std::size_t m = 0; m < n; ++m) order[m] = m;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return bound[a] > bound[b]; });
+  std::set<std::pair<int, std::size_t>, std::function<bool(const std::pair<int, std::size_t>&,
+                                                           const std::pair<int, std::size_t>&)>>
+      top([](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
+  const auto bar_for = [&](std::size_t m) {
+    if (top.size() < static_cast<std::size_t>(top_k)) return -1;
+    const auto& [score, worst] = *top.rbegin();
+    return m < worst ? score - 1 : score;
+  };
+  std::vector<DmmResult> results(n);
+  std::vector<Candidate> best(n, Candidate{-1, 0, 0, -1, 0, 0});
+  for (const std::size_t m : order) {
+    if (top.size() == static_cast<std::size_t>(top_k) && bound[m] < top.rbegin()->first) break;
+    const int bar = bar_for(m);
+    if (bound[m] <= bar) continue;
+    best[m] = searches[m]->run_from(roots[m], bar);
+    if (best[m].rotation < 0) continue;  // nothing above the bar
+    top.insert({best[m].score, m});
+    if (top.size() > static_cast<std::size_t>(top_k)) top.erase(std::prev(top.end()));
+  }
+  for (std::size_t m = 0; m < n; ++m) {
+    if (top.count({best[m].score, m})) {
+      results[m] = make_result(query, maps[m]->config, best[m].score, best[m].rotation, best[m].i, best[m].j);
+    } else {
+      results[m].exact = false;
+    }
+    results[m].candidates_scored = searches[m]->candidates_scored();
+  }
+  return results;
 }
 
 DmmResult match_exhaustive(const PreparedQuery& query, const PreparedMap& map) {

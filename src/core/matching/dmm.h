@@ -129,4 +129,12 @@ std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<cons
 std::vector<DmmResult> match_dmm_many(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
                                       int top_k = 0, int num_threads = 1);
 
+/// Joint exact 1-to-N search (after Olson's M3RSM, ICRA 2015): the top level of every map's search is bounded
+/// first, then the maps are searched best bound first with the k-th best score so far as the bar, and the search
+/// stops at the first map whose bound cannot beat it. The k maps with the highest scores (ties: the earlier map)
+/// are exact and equal match_dmm's; every other result has exact = false, inliers 0. Serial. Memory: each map's
+/// root bounds (roots x query points x 2 bytes) during the call.
+std::vector<DmmResult> match_dmm_joint(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
+                                       int top_k = 1);
+
 }  // namespace partslam
