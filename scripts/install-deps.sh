@@ -7,6 +7,7 @@ PACKAGES=(
   libceres-dev         # pose-graph optimisation (partslam slam)
   librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libconsole-bridge-dev  # ROS 1 bags (io/ros_bag.h)
   libyaml-cpp-dev      # map_server map.yaml (io/map_server.h)
+  libopenmpi-dev openmpi-bin  # mpirun -n P partslam eval (apps/mpi_split.h)
   libcli11-dev         # command-line parsing
   libsqlite3-dev       # map database
   zlib1g-dev           # gzip CARMEN logs

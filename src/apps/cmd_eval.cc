@@ -1,6 +1,7 @@
 // partslam eval --input LOG --dict LOG --methods LIST: the paper's evaluation (Table A, Fig. D, time, space).
 // Builds the submaps of the input and the dictionary map, samples ground-truth tasks, runs every method on the
-// same tasks and prints the table; --json and --plot write the figures (atomically).
+// same tasks and prints the table; --json and --plot write the figures (atomically). Under `mpirun -n P` the CPD
+// and the tasks are split over the ranks (apps/mpi_split.h) and rank 0 reports the same figures.
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include "apps/commands.h"
 #include "apps/json_text.h"
 #include "apps/eval_run.h"
+#include "apps/mpi_split.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "plot/rank_plot.h"
@@ -26,6 +28,7 @@ void run_eval(const EvalOptions& o) {
   if (!o.json.empty()) io::check_writable(o.json);
   if (!o.plot.empty()) io::check_writable(o.plot);
   const EvalRun run = run_evaluation(o, std::cerr);
+  if (!is_reporting_process()) return;  // rank > 0 of mpirun: its slices are in rank 0's report
   print_table(run, std::cout);
   if (!o.json.empty()) {
     const nlohmann::json j = to_json(run);

@@ -14,6 +14,7 @@
 #include "core/maps/submap.h"
 #include "io/ground_truth.h"
 #include "io/scan_source.h"
+#include "apps/mpi_split.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
@@ -71,7 +72,7 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   DictionaryConfig dictionary_config;
   dictionary_config.max_range = o.max_range;
   validate(submap_config);
-  ProgressBar bar(!o.quiet);
+  ProgressBar bar(!o.quiet && is_reporting_process());
   const Progress progress = [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); };
   const Scans scans = o.scan_match ? scan_match_log(input.scans, FrontEndConfig{}, progress).scans : input.scans;
   Submaps maps = build_submaps(scans, submap_config);
@@ -85,11 +86,11 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
     if (maps.empty()) throw InputError(o.truth + ": no submap of " + o.input + " has a reference scan");
   }
   const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);
-  if (!o.quiet) {
+  if (!o.quiet && is_reporting_process()) {
     log << run.input_name << ": " << maps.size() << " submaps" << truth_note << "; dictionary "
         << run.dictionary_name << ": " << dictionary.points.size() << " points\n";
   }
-  run.report = evaluate(maps, dictionary.points, methods, run.options.config, progress);
+  run.report = evaluate(maps, dictionary.points, methods, run.options.config, progress, world_split());
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;
 }

@@ -5,8 +5,10 @@
 #include <iostream>
 
 #include "apps/commands.h"
+#include "apps/mpi_split.h"
 
 int main(int argc, char** argv) {
+  const partslam::apps::MpiSession mpi(&argc, &argv);  // MPI only under mpirun (apps/mpi_split.h)
   CLI::App app{"PartSLAM: fast, succinct 1-to-N matching of 2D laser maps"};
   app.set_version_flag("--version", std::string("partslam ") + PARTSLAM_VERSION);
   app.require_subcommand(1);
@@ -25,6 +27,7 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "partslam: error: " << e.what() << "\n";
+    partslam::apps::MpiSession::abort_all(1);
     return 1;
   }
   return 0;

@@ -98,8 +98,81 @@ MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> ou
   return result;
 }
 
+namespace {
+
+// Parts and outcomes as doubles, to gather them over a WorkSplit.
+constexpr std::size_t kPartValues = 10;
+
+void append(std::vector<double>& out, const Part& p) {
+  const Box2& k = p.keypoint_box;
+  const Box2& d = p.descriptor_box;
+  out.insert(out.end(), {k.x_min, k.x_max, k.y_min, k.y_max, d.x_min, d.x_max, d.y_min, d.y_max,
+                         p.appearance_score, static_cast<double>(p.rotation)});
+}
+
+Part part_at(const double* v) {
+  Part p;
+  p.keypoint_box = {v[0], v[1], v[2], v[3]};
+  p.descriptor_box = {v[4], v[5], v[6], v[7]};
+  p.appearance_score = v[8];
+  p.rotation = static_cast<int>(v[9]);
+  return p;
+}
+
+// Every map's CPD, each process describing its slice: per map [cpd_ms, parts, 10 values per part].
+DescribedMaps describe_split(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
+                             const CodecConfig& codec, int num_threads, const Progress& progress,
+                             const WorkSplit& split) {
+  if (split.size() == 1) return describe_maps(maps, dictionary_points, cpd, codec, num_threads, progress);
+  const auto [begin, end] = split.slice(maps.size());
+  const Submaps mine(maps.begin() + static_cast<std::ptrdiff_t>(begin), maps.begin() + static_cast<std::ptrdiff_t>(end));
+  const DescribedMaps local = describe_maps(mine, dictionary_points, cpd, codec, num_threads, progress);
+  std::vector<double> values;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    values.push_back(local.cpd_ms[i]);
+    values.push_back(static_cast<double>(local.parts[i].size()));
+    for (const Part& p : local.parts[i]) append(values, p);
+  }
+  const std::vector<double> all = split.all_gather(values);
+  DescribedMaps d;
+  d.codec = local.codec;
+  for (std::size_t at = 0; at < all.size();) {
+    d.cpd_ms.push_back(all[at]);
+    const auto n = static_cast<std::size_t>(all[at + 1]);
+    at += 2;
+    std::vector<Part> parts;
+    for (std::size_t k = 0; k < n; ++k, at += kPartValues) parts.push_back(part_at(&all[at]));
+    d.parts.push_back(std::move(parts));
+  }
+  if (d.parts.size() != maps.size()) throw InputError("eval: the processes described different maps");
+  if (!maps.empty())
+    d.cpd_ms_per_map = std::accumulate(d.cpd_ms.begin(), d.cpd_ms.end(), 0.0) / static_cast<double>(maps.size());
+  return d;
+}
+
+// The outcomes of every task, each process running its slice.
+std::vector<TaskOutcome> run_split(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
+                                   const DescribedMaps& described, std::span<const Task> tasks,
+                                   const EvalConfig& config, const Progress& progress, const WorkSplit& split) {
+  if (split.size() == 1) return run_tasks(ranker, method, maps, described, tasks, config, progress);
+  const auto [begin, end] = split.slice(tasks.size());
+  const std::vector<TaskOutcome> local =
+      run_tasks(ranker, method, maps, described, tasks.subspan(begin, end - begin), config, progress);
+  std::vector<double> values;
+  for (const TaskOutcome& o : local)
+    values.insert(values.end(), {o.rank, static_cast<double>(o.db_size), static_cast<double>(o.pose), o.match_ms, o.prep_ms});
+  const std::vector<double> all = split.all_gather(values);
+  std::vector<TaskOutcome> out;
+  for (std::size_t at = 0; at + 5 <= all.size(); at += 5)
+    out.push_back({all[at], static_cast<std::size_t>(all[at + 1]), static_cast<int>(all[at + 2]), all[at + 3], all[at + 4]});
+  if (out.size() != tasks.size()) throw InputError("eval: the processes ran different tasks");
+  return out;
+}
+
+}  // namespace
+
 EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
-                    const EvalConfig& config, const EvalProgress& progress) {
+                    const EvalConfig& config, const EvalProgress& progress, const WorkSplit& split) {
   validate(config);
   if (methods.empty()) throw InputError("eval: no method given");
 
@@ -128,7 +201,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
   if (need_parts) {
     CpdConfig cpd = config.cpd;
     cpd.max_parts = std::max(max_parts(methods), need_hmm_query ? config.ranking.hmm_query_parts : 0);
-    described = describe_maps(maps, dictionary_points, cpd, config.codec, config.num_threads, progress);
+    described = describe_split(maps, dictionary_points, cpd, config.codec, config.num_threads, progress, split);
     report.cpd_ms_per_map = described.cpd_ms_per_map;
     ranking.codec = described.codec;
   }
@@ -137,7 +210,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
     const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
     ranker->prepare(views, config.num_threads, progress);
     const std::vector<TaskOutcome> outcomes =
-        run_tasks(*ranker, method, maps, described, tasks, config, progress);
+        run_split(*ranker, method, maps, described, tasks, config, progress, split);
     report.methods.push_back(summarize(method, outcomes, ranker->bits_per_map()));
   }
   return report;

@@ -18,6 +18,7 @@
 #include "core/parts/part_codec.h"
 #include "core/matching/ranking.h"
 #include "core/evaluation/tasks.h"
+#include "core/evaluation/work_split.h"
 
 namespace partslam {
 
@@ -96,7 +97,10 @@ using EvalProgress = Progress;
 
 /// Runs every method on the same tasks. Throws InputError when the maps yield no relevant pair or the
 /// dictionary is empty while a method needs parts.
+/// With a split over several processes, each describes its slice of the maps and runs its slice of the tasks; the
+/// results are gathered, so the report equals one process's (timings apart). Every process prepares every map.
 EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
-                    const EvalConfig& config, const EvalProgress& progress = {});
+                    const EvalConfig& config, const EvalProgress& progress = {},
+                    const WorkSplit& split = local_work());
 
 }  // namespace partslam
