@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# ctest mpi.eval_two_ranks: `mpirun -n 2 partslam eval` gives the JSON of a serial run, timings apart (issue
-# "scale": byte-identical results over MPI ranks). Usage: scripts/check-mpi-eval.sh PARTSLAM_BINARY
+# ctest mpi.eval_two_ranks: `mpirun -n 2 partslam eval` gives the JSON of a serial run, timings apart, and
+# `mpirun -n 2 partslam describe` stores the same descriptors (issue "scale": identical results over MPI ranks).
+# Usage: scripts/check-mpi-eval.sh PARTSLAM_BINARY
 set -euo pipefail
 BIN=$1
 TMP=$(mktemp -d)
@@ -23,4 +24,19 @@ a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
 if a != b:
     sys.exit("the 2-rank JSON differs from the serial one")
 print("2 ranks: same results as 1")
+PY
+# describe: the stored descriptors, byte for byte.
+"$BIN" submaps sim:1 --db "$TMP/a.db" > /dev/null
+"$BIN" dictionary sim:2 --db "$TMP/a.db" > /dev/null
+cp "$TMP/a.db" "$TMP/b.db"
+"$BIN" describe "$TMP/a.db" --dict sim-2 --k 3 --parts 20 --quiet > /dev/null
+mpirun --allow-run-as-root --oversubscribe -n 2 "$BIN" describe "$TMP/b.db" --dict sim-2 --k 3 --parts 20 --quiet \
+  --json "$TMP/d.json" > /dev/null
+/usr/bin/python3 - "$TMP/a.db" "$TMP/b.db" <<'PY'
+import sqlite3, sys
+rows = [sqlite3.connect(p).execute("select map_id, dictionary, k, data from descriptors order by 1, 2, 3").fetchall()
+        for p in sys.argv[1:3]]
+if not rows[0] or rows[0] != rows[1]:
+    sys.exit("describe over 2 ranks stored other descriptors than a serial run")
+print(f"describe over 2 ranks: the same {len(rows[0])} descriptors")
 PY

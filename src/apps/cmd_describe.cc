@@ -16,6 +16,8 @@
 #include "apps/commands.h"
 #include "apps/cpd_options.h"
 #include "apps/json_text.h"
+#include "apps/mpi_split.h"
+#include "core/evaluation/evaluation.h"
 #include "io/atomic_file.h"
 #include "io/descriptor_store.h"
 #include "apps/progress_bar.h"
@@ -76,7 +78,9 @@ void run_describe(DescribeOptions o) {
   if (!o.json.empty()) io::check_writable(o.json);
 
   using Clock = std::chrono::steady_clock;
-  io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadWrite);
+  const bool reporting = is_reporting_process();  // rank 0 of mpirun (or the only process) stores and prints
+  io::MapDatabase db =
+      io::MapDatabase::open(o.db, reporting ? io::MapDatabase::Mode::kReadWrite : io::MapDatabase::Mode::kReadOnly);
   const io::Dictionary dictionary = db.load_dictionary(o.dictionary);
   const std::vector<io::DatasetInfo> datasets = chosen_datasets(db, o.dataset);
   std::vector<Submaps> loaded;
@@ -90,12 +94,12 @@ void run_describe(DescribeOptions o) {
     for (const Submap& m : s) maps.push_back({m.id, &m, {}, 0});
   if (maps.empty())
     throw InputError(o.db + ": no submaps to describe (run 'partslam submaps LOG --db " + o.db + "')");
-  std::cout << "describe " << maps.size() << " maps of " << names << " against dictionary '"
+  if (reporting) std::cout << "describe " << maps.size() << " maps of " << names << " against dictionary '"
             << dictionary.name << "' (" << dictionary.points.size() << " points): P = " << o.parts
             << " parts, K =";
-  for (int k : ks) std::cout << " " << k;
-  std::cout << "\n";
-  if (o.parts <= kMaxUnscoredParts) {
+  for (int k : ks) if (reporting) std::cout << " " << k;
+  if (reporting) std::cout << "\n";
+  if (o.parts <= kMaxUnscoredParts && reporting) {
     std::cout << "note: P <= " << kMaxUnscoredParts << " stores no appearance score; hMM's Sum-Max-Weighted "
               << "then weighs every query part by 1\n";
   }
@@ -104,13 +108,16 @@ void run_describe(DescribeOptions o) {
   // on which maps are described together or on the thread count.
   const auto t0 = Clock::now();
   const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
-  ProgressBar bar(!o.quiet);
+  ProgressBar bar(!o.quiet && is_reporting_process());
   std::vector<const Points2*> points;
   std::vector<std::uint64_t> keys;
   for (const MapParts& m : maps) points.push_back(&m.submap->points), keys.push_back(static_cast<std::uint64_t>(m.map_id));
+  // Under mpirun, each rank describes its slice of the maps (apps/mpi_split.h); rank 0 stores and reports.
   std::vector<CpdResult> results =
-      discover_parts_many(points, keys, prepared, o.cpd, o.threads,
-                          [&bar](const std::string&, std::size_t d, std::size_t n) { bar("CPD", d, n); });
+      discover_parts_split(points, keys, prepared, o.cpd, o.threads,
+                           [&bar](const std::string&, std::size_t d, std::size_t n) { bar("CPD", d, n); },
+                           world_split());
+  if (!reporting) return;
   for (std::size_t i = 0; i < maps.size(); ++i) maps[i].parts = std::move(results[i].parts), maps[i].cpd_ms = results[i].ms;
   const double cpd_s = std::chrono::duration<double>(Clock::now() - t0).count();
 

@@ -119,32 +119,20 @@ Part part_at(const double* v) {
   return p;
 }
 
-// Every map's CPD, each process describing its slice: per map [cpd_ms, parts, 10 values per part].
+// Every map's CPD as describe_maps, each process describing its slice.
 DescribedMaps describe_split(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
                              const CodecConfig& codec, int num_threads, const Progress& progress,
                              const WorkSplit& split) {
   if (split.size() == 1) return describe_maps(maps, dictionary_points, cpd, codec, num_threads, progress);
-  const auto [begin, end] = split.slice(maps.size());
-  const Submaps mine(maps.begin() + static_cast<std::ptrdiff_t>(begin), maps.begin() + static_cast<std::ptrdiff_t>(end));
-  const DescribedMaps local = describe_maps(mine, dictionary_points, cpd, codec, num_threads, progress);
-  std::vector<double> values;
-  for (std::size_t i = 0; i < mine.size(); ++i) {
-    values.push_back(local.cpd_ms[i]);
-    values.push_back(static_cast<double>(local.parts[i].size()));
-    for (const Part& p : local.parts[i]) append(values, p);
-  }
-  const std::vector<double> all = split.all_gather(values);
+  if (dictionary_points.empty()) throw InputError("eval: the dictionary map is empty");
   DescribedMaps d;
-  d.codec = local.codec;
-  for (std::size_t at = 0; at < all.size();) {
-    d.cpd_ms.push_back(all[at]);
-    const auto n = static_cast<std::size_t>(all[at + 1]);
-    at += 2;
-    std::vector<Part> parts;
-    for (std::size_t k = 0; k < n; ++k, at += kPartValues) parts.push_back(part_at(&all[at]));
-    d.parts.push_back(std::move(parts));
-  }
-  if (d.parts.size() != maps.size()) throw InputError("eval: the processes described different maps");
+  const PreparedDictionary dictionary = prepare_dictionary(dictionary_points, cpd);
+  d.codec = dictionary_codec_config(dictionary_points, codec);
+  std::vector<const Points2*> points;
+  std::vector<std::uint64_t> keys;
+  for (const Submap& m : maps) points.push_back(&m.points), keys.push_back(static_cast<std::uint64_t>(m.id));
+  for (CpdResult& r : discover_parts_split(points, keys, dictionary, cpd, num_threads, progress, split))
+    d.parts.push_back(std::move(r.parts)), d.cpd_ms.push_back(r.ms);
   if (!maps.empty())
     d.cpd_ms_per_map = std::accumulate(d.cpd_ms.begin(), d.cpd_ms.end(), 0.0) / static_cast<double>(maps.size());
   return d;
@@ -170,6 +158,38 @@ std::vector<TaskOutcome> run_split(const Ranker& ranker, const MethodSpec& metho
 }
 
 }  // namespace
+
+std::vector<CpdResult> discover_parts_split(const std::vector<const Points2*>& maps,
+                                            const std::vector<std::uint64_t>& map_keys,
+                                            const PreparedDictionary& dictionary, const CpdConfig& cpd,
+                                            int num_threads, const Progress& progress, const WorkSplit& split) {
+  if (split.size() == 1) return discover_parts_many(maps, map_keys, dictionary, cpd, num_threads, progress);
+  if (map_keys.size() != maps.size()) throw InputError("cpd: one key per map is needed");
+  const auto [begin, end] = split.slice(maps.size());
+  const auto b = static_cast<std::ptrdiff_t>(begin), e = static_cast<std::ptrdiff_t>(end);
+  const std::vector<CpdResult> local =
+      discover_parts_many({maps.begin() + b, maps.begin() + e}, {map_keys.begin() + b, map_keys.begin() + e},
+                          dictionary, cpd, num_threads, progress);
+  // Per map: [ms, parts, 10 values per part].
+  std::vector<double> values;
+  for (const CpdResult& r : local) {
+    values.push_back(r.ms);
+    values.push_back(static_cast<double>(r.parts.size()));
+    for (const Part& p : r.parts) append(values, p);
+  }
+  const std::vector<double> all = split.all_gather(values);
+  std::vector<CpdResult> out;
+  for (std::size_t at = 0; at + 2 <= all.size();) {
+    CpdResult r;
+    r.ms = all[at];
+    const auto n = static_cast<std::size_t>(all[at + 1]);
+    at += 2;
+    for (std::size_t k = 0; k < n; ++k, at += kPartValues) r.parts.push_back(part_at(&all[at]));
+    out.push_back(std::move(r));
+  }
+  if (out.size() != maps.size()) throw InputError("cpd: the processes described different maps");
+  return out;
+}
 
 EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
                     const EvalConfig& config, const EvalProgress& progress, const WorkSplit& split) {

@@ -48,6 +48,13 @@ struct DescribedMaps {
 DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
                             const CodecConfig& codec, int num_threads, const Progress& progress = {});
 
+/// discover_parts_many over a WorkSplit: each process finds the parts of its slice of the maps, and every process
+/// gets every map's parts and CPD time, in order (the statistics stay with the process that ran them).
+std::vector<CpdResult> discover_parts_split(const std::vector<const Points2*>& maps,
+                                            const std::vector<std::uint64_t>& map_keys,
+                                            const PreparedDictionary& dictionary, const CpdConfig& cpd,
+                                            int num_threads, const Progress& progress, const WorkSplit& split);
+
 /// The maps as rankers see them (points, and parts when described).
 std::vector<MapView> map_views(const Submaps& maps, const DescribedMaps& described);
 
