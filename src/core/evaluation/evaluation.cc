@@ -18,7 +18,8 @@ void validate(const EvalConfig& config) {
 }
 
 DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
-                            const CodecConfig& codec, int num_threads, const Progress& progress) {
+                            const CodecConfig& codec, int num_threads, const Progress& progress,
+                            const WorkSplit& split) {
   if (dictionary_points.empty()) throw InputError("eval: the dictionary map is empty");
   DescribedMaps d;
   const PreparedDictionary dictionary = prepare_dictionary(dictionary_points, cpd);
@@ -26,7 +27,7 @@ DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_point
   std::vector<const Points2*> points;
   std::vector<std::uint64_t> keys;
   for (const Submap& m : maps) points.push_back(&m.points), keys.push_back(static_cast<std::uint64_t>(m.id));
-  std::vector<CpdResult> results = discover_parts_many(points, keys, dictionary, cpd, num_threads, progress);
+  std::vector<CpdResult> results = discover_parts_split(points, keys, dictionary, cpd, num_threads, progress, split);
   for (CpdResult& r : results) d.parts.push_back(std::move(r.parts)), d.cpd_ms.push_back(r.ms);
   if (!maps.empty())
     d.cpd_ms_per_map = std::accumulate(d.cpd_ms.begin(), d.cpd_ms.end(), 0.0) / static_cast<double>(maps.size());
@@ -119,25 +120,6 @@ Part part_at(const double* v) {
   return p;
 }
 
-// Every map's CPD as describe_maps, each process describing its slice.
-DescribedMaps describe_split(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
-                             const CodecConfig& codec, int num_threads, const Progress& progress,
-                             const WorkSplit& split) {
-  if (split.size() == 1) return describe_maps(maps, dictionary_points, cpd, codec, num_threads, progress);
-  if (dictionary_points.empty()) throw InputError("eval: the dictionary map is empty");
-  DescribedMaps d;
-  const PreparedDictionary dictionary = prepare_dictionary(dictionary_points, cpd);
-  d.codec = dictionary_codec_config(dictionary_points, codec);
-  std::vector<const Points2*> points;
-  std::vector<std::uint64_t> keys;
-  for (const Submap& m : maps) points.push_back(&m.points), keys.push_back(static_cast<std::uint64_t>(m.id));
-  for (CpdResult& r : discover_parts_split(points, keys, dictionary, cpd, num_threads, progress, split))
-    d.parts.push_back(std::move(r.parts)), d.cpd_ms.push_back(r.ms);
-  if (!maps.empty())
-    d.cpd_ms_per_map = std::accumulate(d.cpd_ms.begin(), d.cpd_ms.end(), 0.0) / static_cast<double>(maps.size());
-  return d;
-}
-
 // The outcomes of every task, each process running its slice.
 std::vector<TaskOutcome> run_split(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
                                    const DescribedMaps& described, std::span<const Task> tasks,
@@ -221,7 +203,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
   if (need_parts) {
     CpdConfig cpd = config.cpd;
     cpd.max_parts = std::max(max_parts(methods), need_hmm_query ? config.ranking.hmm_query_parts : 0);
-    described = describe_split(maps, dictionary_points, cpd, config.codec, config.num_threads, progress, split);
+    described = describe_maps(maps, dictionary_points, cpd, config.codec, config.num_threads, progress, split);
     report.cpd_ms_per_map = described.cpd_ms_per_map;
     ranking.codec = described.codec;
   }

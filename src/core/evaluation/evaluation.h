@@ -44,9 +44,11 @@ struct DescribedMaps {
 };
 
 /// CPD of every map against the dictionary, seeded by Submap::id (as `partslam describe` does), keeping up to
-/// max_parts parts. Throws InputError when the dictionary is empty.
+/// max_parts parts; over a split, each process describes its slice (discover_parts_split). Throws InputError
+/// when the dictionary is empty.
 DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
-                            const CodecConfig& codec, int num_threads, const Progress& progress = {});
+                            const CodecConfig& codec, int num_threads, const Progress& progress = {},
+                            const WorkSplit& split = local_work());
 
 /// discover_parts_many over a WorkSplit: each process finds the parts of its slice of the maps, and every process
 /// gets every map's parts and CPD time, in order (the statistics stay with the process that ran them).
