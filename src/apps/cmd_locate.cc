@@ -25,7 +25,7 @@
 namespace partslam::apps {
 namespace {
 
-constexpr double kConfident = 0.2;  // RelocalisationConfig::min_confidence, chosen on fr079
+constexpr double kConfident = kConfidentLocalization;
 
 struct LocateOptions {
   std::string map;

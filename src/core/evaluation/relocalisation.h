@@ -23,7 +23,7 @@ struct RelocalisationConfig {
   double min_overlap = 0.3;      ///< queries at least this much in the map are the ones that must be found
   double max_translation_error = 0.3;                    ///< a pose counts as correct within this [m] ...
   double max_rotation_error = 3.0 * std::numbers::pi / 180;  ///< ... and this [rad]
-  double min_confidence = 0.2;   ///< a localisation at least this confident is "confident" (chosen on fr079)
+  double min_confidence = kConfidentLocalization;  ///< a localisation at least this confident is "confident"
   SubmapConfig submap;           ///< how local maps are built (window_length, range, alignment)
   LocalizerConfig localizer;
 };

@@ -23,6 +23,10 @@ namespace partslam {
 /// is off by about 45 degrees often enough in a cluttered lab (intel) to need them (docs/NOTES.md, "Locate").
 DmmConfig localizer_dmm_config();
 
+/// A localisation at least this confident is reported as found: chosen on fr079 (the lowest threshold with no
+/// wrong answer there; docs/NOTES.md, "Locate").
+inline constexpr double kConfidentLocalization = 0.2;
+
 struct LocalizerConfig {
   DmmConfig dmm = localizer_dmm_config();
   double elsewhere_distance = 2.0;  ///< "elsewhere": the local map's centre at least this far away [m] ...
