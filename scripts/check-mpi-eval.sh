@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# ctest mpi.eval_two_ranks: `mpirun -n 2 partslam eval` gives the JSON of a serial run, timings apart, and
-# `mpirun -n 2 partslam describe` stores the same descriptors (issue "scale": identical results over MPI ranks).
+# ctest mpi.eval_two_ranks: `mpirun -n 2 partslam eval` and `loops` give the JSON of a serial run, timings apart,
+# and `mpirun -n 2 partslam describe` stores the same descriptors (issue "scale": identical results over MPI ranks).
 # Usage: scripts/check-mpi-eval.sh PARTSLAM_BINARY
 set -euo pipefail
 BIN=$1
@@ -24,6 +24,19 @@ a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
 if a != b:
     sys.exit("the 2-rank JSON differs from the serial one")
 print("2 ranks: same results as 1")
+PY
+# loops: the same hypotheses (JSON without timings).
+"$BIN" submaps sim:1 --db "$TMP/l.db" > /dev/null
+"$BIN" loops "$TMP/l.db" --quiet --json "$TMP/l1.json" > /dev/null
+mpirun --allow-run-as-root --oversubscribe -n 2 "$BIN" loops "$TMP/l.db" --quiet --json "$TMP/l2.json" > /dev/null
+/usr/bin/python3 - "$TMP/l1.json" "$TMP/l2.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for j in (a, b):
+    j.pop("seconds", None)
+if not a["closures"] or a != b:
+    sys.exit("loops over 2 ranks found other hypotheses than a serial run")
+print(f"loops over 2 ranks: the same {len(a['closures'])} hypotheses")
 PY
 # describe: the stored descriptors, byte for byte.
 "$BIN" submaps sim:1 --db "$TMP/a.db" > /dev/null

@@ -15,6 +15,7 @@
 
 #include "apps/commands.h"
 #include "apps/json_text.h"
+#include "apps/mpi_split.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
@@ -147,9 +148,12 @@ void run_loops(const LoopsOptions& o) {
   const auto t0 = Clock::now();
   std::vector<LoopClosure> closures;
   {
-    ProgressBar bar(!o.quiet);
-    closures = find_loop_closures(maps, o.config, [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
+    ProgressBar bar(!o.quiet && is_reporting_process());
+    // Under mpirun the queries are split over the ranks (apps/mpi_split.h); rank 0 reports.
+    closures = find_loop_closures(
+        maps, o.config, [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); }, world_split());
   }
+  if (!is_reporting_process()) return;
   const double seconds = ms_since(t0) / 1e3;
   std::vector<LoopClosure> accepted;
   for (const LoopClosure& c : closures)

@@ -3,13 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <condition_variable>
-#include <mutex>
 #include <thread>
 
 #include "core/maps/dictionary.h"
 #include "core/error.h"
 #include "core/sim/simulator.h"
+#include "core/testing/thread_split.h"
 
 namespace partslam {
 namespace {
@@ -102,63 +101,21 @@ TEST(Evaluation, StagesRunASliceOfTasksWithTheSameOutcomes) {
   EXPECT_EQ(summary.bits_per_map, 132.0);
 }
 
-// Two processes played by two threads that exchange their slices like MPI ranks (an in-memory all-gather):
-// each report must equal a single process's (timings apart), and each process ran only its slice of the tasks.
-class ThreadExchange {
- public:
-  explicit ThreadExchange(int size) : slots_(static_cast<std::size_t>(size)) {}
-  std::vector<double> all_gather(int rank, std::span<const double> mine) {
-    std::unique_lock lock(mutex_);
-    const std::size_t round = round_;
-    slots_[static_cast<std::size_t>(rank)].assign(mine.begin(), mine.end());
-    if (++arrived_ == slots_.size()) {
-      gathered_.clear();
-      for (const std::vector<double>& s : slots_) gathered_.insert(gathered_.end(), s.begin(), s.end());
-      arrived_ = 0, ++round_;
-      changed_.notify_all();
-    } else {
-      changed_.wait(lock, [&] { return round_ != round; });
-    }
-    return gathered_;  // read under the lock; the next round cannot start before every thread has left this one
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::vector<std::vector<double>> slots_;
-  std::vector<double> gathered_;
-  std::size_t arrived_ = 0, round_ = 0;
-};
-
-class ThreadSplit : public WorkSplit {
- public:
-  ThreadSplit(int rank, ThreadExchange* exchange, std::size_t* values) : rank_(rank), exchange_(exchange), values_(values) {}
-  int rank() const override { return rank_; }
-  int size() const override { return 2; }
-  std::vector<double> all_gather(std::span<const double> mine) const override {
-    *values_ += mine.size();
-    return exchange_->all_gather(rank_, mine);
-  }
-
- private:
-  int rank_;
-  ThreadExchange* exchange_;
-  std::size_t* values_;
-};
-
+// Two processes played by two threads that exchange their slices like MPI ranks (testing/thread_split.h): each
+// report must equal a single process's (timings apart), and each process ran only its slice of the tasks.
 TEST(Evaluation, SplitOverTwoProcessesGivesTheSameReport) {
   const SimData& d = sim_data();
   const auto methods = parse_method_list("dmm,hmm:3,succinct");
   const EvalConfig config = small_config(1);
   const EvalReport whole = evaluate(d.maps, d.dictionary.points, methods, config);
-  ThreadExchange exchange(2);
+  testing::ThreadExchange exchange(2);
   std::array<EvalReport, 2> reports;
   std::array<std::size_t, 2> values{0, 0};
   std::vector<std::thread> threads;
   for (int r = 0; r < 2; ++r) {
     threads.emplace_back([&, r] {
       reports[static_cast<std::size_t>(r)] =
-          evaluate(d.maps, d.dictionary.points, methods, config, {}, ThreadSplit(r, &exchange, &values[static_cast<std::size_t>(r)]));
+          evaluate(d.maps, d.dictionary.points, methods, config, {}, testing::ThreadSplit(r, &exchange, &values[static_cast<std::size_t>(r)]));
     });
   }
   for (std::thread& t : threads) t.join();
@@ -175,8 +132,8 @@ TEST(Evaluation, SplitOverTwoProcessesGivesTheSameReport) {
   EXPECT_GT(values[0], 3u * 12 * 5);
   EXPECT_GT(values[1], 3u * 12 * 5);
   // Slices: contiguous, the first n % size one longer.
-  EXPECT_EQ(ThreadSplit(1, &exchange, &values[0]).slice(7), (std::pair<std::size_t, std::size_t>(4, 7)));
-  EXPECT_EQ(ThreadSplit(0, &exchange, &values[0]).slice(7), (std::pair<std::size_t, std::size_t>(0, 4)));
+  EXPECT_EQ(testing::ThreadSplit(1, &exchange, &values[0]).slice(7), (std::pair<std::size_t, std::size_t>(4, 7)));
+  EXPECT_EQ(testing::ThreadSplit(0, &exchange, &values[0]).slice(7), (std::pair<std::size_t, std::size_t>(0, 4)));
 }
 
 TEST(Evaluation, NoLoopClosureIsAClearError) {

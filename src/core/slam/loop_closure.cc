@@ -115,8 +115,29 @@ void validate(const LoopClosureConfig& c) {
       throw InputError("loop closure config: drift_offset, drift_rate, drift_turn, drift_turn_rate must be finite and >= 0");
 }
 
+namespace {
+
+// Every process's hypotheses, in query order (each query's as found): 8 values per hypothesis.
+std::vector<LoopClosure> gather_hypotheses(const std::vector<LoopClosure>& mine, const WorkSplit& split) {
+  std::vector<double> values;
+  for (const LoopClosure& h : mine) {
+    values.insert(values.end(), {static_cast<double>(h.query), static_cast<double>(h.match), h.T_match_query.x,
+                                 h.T_match_query.y, h.T_match_query.theta, h.score, h.context_score, h.confidence});
+  }
+  const std::vector<double> all = split.all_gather(values);
+  std::vector<LoopClosure> out;
+  for (std::size_t at = 0; at + 8 <= all.size(); at += 8) {
+    out.push_back({static_cast<std::size_t>(all[at]), static_cast<std::size_t>(all[at + 1]),
+                   {all[at + 2], all[at + 3], all[at + 4]}, all[at + 5], all[at + 6], all[at + 7]});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const LoopClosure& a, const LoopClosure& b) { return a.query < b.query; });
+  return out;
+}
+
+}  // namespace
+
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config,
-                                            const Progress& progress) {
+                                            const Progress& progress, const WorkSplit& split) {
   validate(config);
   const MethodSpec method = parse_method_spec(config.method);
   if (method.name != "dmm" && method.name != "rerank")
@@ -128,9 +149,13 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
   for (const Submap& m : maps) views.push_back({&m.points, nullptr});
   ranker->prepare(views, config.num_threads, progress);
   std::vector<std::vector<LoopClosure>> per_query(maps.size());
+  std::vector<std::size_t> mine;  // this process's queries: every size-th one
+  for (std::size_t q = static_cast<std::size_t>(split.rank()); q < maps.size(); q += static_cast<std::size_t>(split.size()))
+    mine.push_back(q);
   parallel_for(
-      maps.size(), config.num_threads,
-      [&](std::size_t q) {
+      mine.size(), config.num_threads,
+      [&](std::size_t i) {
+        const std::size_t q = mine[i];
         std::vector<std::size_t> candidates;
         for (std::size_t g = 0; g < q; ++g)
           if (maps[g].travel <= maps[q].travel - config.min_travel_gap) candidates.push_back(g);
@@ -141,6 +166,7 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
       "loop closures", progress);
   std::vector<LoopClosure> out;
   for (auto& h : per_query) out.insert(out.end(), h.begin(), h.end());
+  if (split.size() > 1) out = gather_hypotheses(out, split);
   if (config.graph_check) check_in_graph(maps, out);
   return out;
 }

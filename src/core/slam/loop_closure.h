@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/evaluation/work_split.h"
 #include "core/maps/submap.h"
 #include "core/parallel.h"
 #include "core/slam/pose_graph.h"
@@ -73,9 +74,11 @@ std::vector<Pose2> optimize_submap_graph(const Submaps& maps, const std::vector<
                                          const SubmapGraphWeights& weights = {}, const PoseGraphConfig& graph = {},
                                          PoseGraphSummary* summary = nullptr);
 
-/// Hypotheses of every query, in query order, each query's by decreasing score.
+/// Hypotheses of every query, in query order, each query's by decreasing score. Over a split of several
+/// processes (MPI ranks), each takes every size-th query (later queries have more candidates) and the hypotheses
+/// are gathered before the graph check, so every process returns the one-process result.
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config = {},
-                                            const Progress& progress = {});
+                                            const Progress& progress = {}, const WorkSplit& split = local_work());
 
 struct LoopTruthConfig {
   double radius = 2.0;               ///< R: true frames at most this far apart are the same place [m]

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <thread>
+
 #include "core/error.h"
 #include "core/sim/simulator.h"
+#include "core/testing/thread_split.h"
 
 namespace partslam {
 namespace {
@@ -51,6 +55,36 @@ TEST(LoopClosure, FindsTheSecondLapsPlacesWithTheirPoses) {
     EXPECT_EQ(serial[i].match, closures[i].match);
     EXPECT_EQ(serial[i].confidence, closures[i].confidence);
   }
+}
+
+// Split over two processes (threads exchanging like MPI ranks): each gets the one-process hypotheses.
+TEST(LoopClosure, SplitOverTwoProcessesGivesTheSameHypotheses) {
+  const Submaps maps = two_laps();
+  LoopClosureConfig config;
+  const std::vector<LoopClosure> whole = find_loop_closures(maps, config);
+  testing::ThreadExchange exchange(2);
+  std::array<std::vector<LoopClosure>, 2> split;
+  std::array<std::size_t, 2> values{0, 0};
+  std::vector<std::thread> threads;
+  for (int r = 0; r < 2; ++r) {
+    threads.emplace_back([&, r] {
+      const auto i = static_cast<std::size_t>(r);
+      split[i] = find_loop_closures(maps, config, {}, testing::ThreadSplit(r, &exchange, &values[i]));
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  ASSERT_FALSE(whole.empty());
+  for (const std::vector<LoopClosure>& s : split) {
+    ASSERT_EQ(s.size(), whole.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      EXPECT_EQ(s[i].query, whole[i].query);
+      EXPECT_EQ(s[i].match, whole[i].match);
+      EXPECT_EQ(s[i].T_match_query.x, whole[i].T_match_query.x);
+      EXPECT_EQ(s[i].confidence, whole[i].confidence);
+    }
+  }
+  EXPECT_GT(values[0], 0u);  // both processes found hypotheses of their own queries
+  EXPECT_GT(values[1], 0u);
 }
 
 TEST(LoopClosure, EvaluationJudgesPosesAgainstTheTruth) {
