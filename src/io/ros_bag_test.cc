@@ -155,6 +155,16 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
     EXPECT_EQ(tf.scans[i].points_laser, odom.scans[i].points_laser);
     EXPECT_EQ(bare.scans[i].T_world_laser.x, 0.0);
   }
+  // A bag of odometry only: no laser topic, a clear error naming the file.
+  rosbag_messages::BagMessages odometry_only;
+  odometry_only.odometry.push_back({1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0});
+  rosbag_messages::write_bag_messages((dir / "nolaser.bag").string(), odometry_only, false);
+  try {
+    read_ros_bag(dir / "nolaser.bag");
+    ADD_FAILURE() << "a bag without LaserScan was read";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("nolaser.bag: the bag holds no sensor_msgs/LaserScan messages"));
+  }
   // Interpolated between odometry stamps: scan 10 at t = 101.0 lies halfway between odometry 10 and 11.
   EXPECT_NEAR(tf.scans[10].T_world_laser.x, 1.05, 1e-6);
   EXPECT_EQ(tf.scans[0].points_laser.size(), 181u);
