@@ -627,6 +627,33 @@ TEST_F(MapDatabaseTest, CorruptContentGivesInputError) {
   }
 }
 
+// Values edited into a database with SQLite directly, as fuzz_map_database_values makes them: each read that meets
+// one throws InputError (and runs without undefined behaviour under the sanitizers).
+TEST_F(MapDatabaseTest, EditedValuesAreRefusedNotMisread) {
+  const fs::path path = dir_ / "maps.db";
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    const std::int64_t ds = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1));
+    db.put_descriptor(db.map_ids(ds)[0], "fr079", 3, codec42(), {Bytes{0xab, 1, 2, 3, 4, 0x3}, 42});
+  }
+  const auto edited = [&](const std::string& sql) {
+    fs::copy_file(path, dir_ / "edited.db", fs::copy_options::overwrite_existing);
+    sqlite::Connection::open(dir_ / "edited.db", sqlite::Connection::Access::kReadWrite).exec(sql);
+    return MapDatabase::open(dir_ / "edited.db", Mode::kReadOnly);
+  };
+  // Descriptor bit counts beyond int (2^31 - 1 overflowed bits + 7) or negative.
+  for (const char* bits : {"2147483647", "2147483641", "4294967338", "-1", "-9223372036854775808"}) {
+    const MapDatabase db = edited(std::string("UPDATE descriptors SET bits = ") + bits);
+    try {
+      db.load_descriptors("fr079", 3);
+      FAIL() << bits << " bits accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("bits must hold")) << bits;
+      EXPECT_THAT(e.what(), HasSubstr("(corrupt database)")) << bits;
+    }
+  }
+}
+
 TEST(BlobCodec, LittleEndianAndLengthChecked) {
   const Bytes bytes = encode_points_f32({{1.0, -2.0}}, "test");
   EXPECT_EQ(bytes, (Bytes{0x00, 0x00, 0x80, 0x3f, 0x00, 0x00, 0x00, 0xc0}));
