@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cmath>
@@ -442,14 +443,16 @@ TEST_F(MapDatabaseTest, WriterKilledAtAnyMomentLeavesTheLastCommittedState) {
       std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - time_one).count();
   fs::remove(dir_ / "timing.db");
   int next = 0;  // datasets are named d0, d1, ... in commit order
-  for (int round = 0; round < 10; ++round) {
-    // The child appends datasets one transaction each until it is killed, 0.3 .. 3 commits in.
+  // The child appends datasets one transaction each until it is killed, 0.3 .. 3 commits in; on a busy machine
+  // (the suite runs in parallel) more rounds with longer delays, until a commit has survived.
+  for (int round = 0; round < 10 || (next == 0 && round < 20); ++round) {
+    const long delay = round < 10 ? one_us * (round + 1) * 3 / 10 : one_us * 3 * (1L << std::min(round - 9, 5));
     kill_child_after(
         [&] {
           MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
           for (int i = next;; ++i) db.store_dataset({"d" + std::to_string(i), "x.log", DatasetKind::kSubmaps, {}}, submaps);
         },
-        one_us * (round + 1) * 3 / 10);
+        delay);
     const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);  // rolls back a hot journal
     db.check_integrity();
     const std::vector<DatasetInfo> datasets = db.datasets();
@@ -480,10 +483,14 @@ TEST_F(MapDatabaseTest, CreationKilledAtAnyMomentLeavesNoFileOrAValidOneAndNoOrp
   const auto create_us =
       std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start).count();
   fs::remove(dir_ / "timing.db");
-  int none = 0, valid = 0, orphaned = 0;
-  for (int round = 0; round < 24; ++round) {
-    // 0 .. 3 times the time a creation takes.
-    kill_child_after([&] { MapDatabase::open(path, Mode::kCreate); }, create_us * round / 8);
+  int none = 0, valid = 0, orphaned = 0, round = 0;
+  // 0 .. 3 times the time a creation takes; on a busy machine more rounds with longer delays, until both outcomes
+  // were seen.
+  for (; round < 24 || ((none == 0 || valid == 0) && round < 40); ++round) {
+    const long delay = round < 24       ? create_us * round / 8
+                       : round % 2 == 0 ? 0
+                                        : create_us * 3 * (1L << std::min((round - 24) / 2, 6));
+    kill_child_after([&] { MapDatabase::open(path, Mode::kCreate); }, delay);
     if (!others_beside(path).empty()) ++orphaned;
     if (fs::exists(path)) {
       const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
@@ -500,8 +507,8 @@ TEST_F(MapDatabaseTest, CreationKilledAtAnyMomentLeavesNoFileOrAValidOneAndNoOrp
   }
   EXPECT_GT(none, 0);
   EXPECT_GT(valid, 0);
-  std::printf("creation killed 24 times: %d left no file, %d a valid one, %d temporaries beside it\n", none, valid,
-              orphaned);
+  std::printf("creation killed %d times: %d left no file, %d a valid one, %d temporaries beside it\n", round, none,
+              valid, orphaned);
 }
 
 TEST_F(MapDatabaseTest, AbandonedTemporariesAreRemovedButNotOnesBeingBuilt) {
