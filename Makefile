@@ -3,8 +3,26 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 WERROR ?= $(if $(PARTSLAM_WERROR),$(PARTSLAM_WERROR),OFF)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPARTSLAM_WERROR=$(WERROR)
+# make sanitize: ASan + UBSan (float-cast-overflow too, no recovery: any report fails its test) over the whole ctest
+# suite, built with GCC into its own tree at -O1 without debug information (reports name functions) and with
+# assertions on (Eigen's off: EIGEN_NO_DEBUG), without the Python module (it would need the ASan runtime preloaded
+# into the interpreter), the benchmarks and the tools, which the suite does not run.
+SANITIZE_BUILD ?= build-sanitize
+SANITIZE_FLAGS ?= -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -DEIGEN_NO_DEBUG" -DPARTSLAM_SANITIZE=ON \
+  -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF -DPARTSLAM_WERROR=$(WERROR)
+# The one suppression (scripts/lsan.supp): libfontconfig's cache, which cairo's text rendering leaves allocated.
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  LSAN_OPTIONS=suppressions=$(CURDIR)/scripts/lsan.supp:print_suppressions=0
+# make fuzz: the libFuzzer targets of fuzz/, built with clang (coverage, ASan, UBSan) into their own tree with only
+# the libraries they read through, each run FUZZ_SECONDS (fuzz/run.sh).
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 30
+FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-only" -DPARTSLAM_FUZZ=ON \
+  -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
+  -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test bench results raw-logs relocalisation clean
+.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation clean
 
 all: build
 
@@ -21,6 +39,15 @@ demo: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+sanitize: deps
+	@cmake -S . -B $(SANITIZE_BUILD) $(SANITIZE_FLAGS) > /dev/null
+	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
+
+fuzz: deps
+	@CXX=clang++ cmake -S . -B $(FUZZ_BUILD) $(FUZZ_FLAGS) > /dev/null
+	@FUZZ_BUILD=$(FUZZ_BUILD) FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run.sh
+
 bench: build
 	@for b in $(BUILD)/bench_*; do echo "== $$b"; $$b; done
 
@@ -34,4 +61,4 @@ relocalisation: build
 	bash scripts/make-relocalisation.sh
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(SANITIZE_BUILD) $(FUZZ_BUILD)

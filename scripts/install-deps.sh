@@ -17,6 +17,10 @@ PACKAGES=(
   python3              # scripts/results_table.py (make results)
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   libbenchmark-dev     # benchmarks
+  # make fuzz: clang 14 with libFuzzer and its sanitizer runtimes (libclang_rt.fuzzer-x86_64.a and
+  # fuzzer/FuzzedDataProvider.h are in libclang-rt-14-dev, which clang only recommends; Debian's libfuzzer-14-dev
+  # is the standalone library, not needed), and LLVM's OpenMP for clang builds
+  clang libclang-rt-14-dev libomp-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

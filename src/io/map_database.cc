@@ -1,11 +1,19 @@
 #include "io/map_database.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -151,15 +159,88 @@ int check_schema(const Connection& db) {
   return static_cast<int>(version);
 }
 
+// A database being created is built at ".<name>.new-<random>" beside its path, which its creator holds an exclusive
+// flock() on until the file is linked into place; the kernel drops the lock when the creator dies, so a temporary
+// whose lock can be taken was abandoned (a creator killed mid-way) and can go, with its journal.
+std::string creating_prefix(const fs::path& path) { return "." + path.filename().string() + ".new-"; }
+
+fs::path folder_of(const fs::path& path) { return path.parent_path().empty() ? fs::path(".") : path.parent_path(); }
+
+// An open file descriptor, closed on destruction.
+struct FileDescriptor {
+  int fd = -1;
+  FileDescriptor() = default;
+  explicit FileDescriptor(int f) : fd(f) {}
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+  ~FileDescriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+// Removes the abandoned temporaries (and their journals) of databases created at path; best effort, silent.
+void remove_abandoned_temporaries(const fs::path& path) {
+  const std::string prefix = creating_prefix(path);
+  std::error_code ec;
+  std::vector<fs::path> found;
+  for (auto it = fs::directory_iterator(folder_of(path), ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with(prefix)) continue;
+    if (!name.ends_with("-journal")) {
+      found.push_back(it->path());
+    } else if (const std::string main = it->path().string(); !fs::exists(main.substr(0, main.size() - 8), ec)) {
+      fs::remove(it->path(), ec);  // a journal whose temporary is gone
+    }
+  }
+  for (const fs::path& tmp : found) {
+    const FileDescriptor file(::open(tmp.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW));
+    if (file.fd < 0 || ::flock(file.fd, LOCK_EX | LOCK_NB) != 0) continue;  // gone, or still being built
+    fs::remove(tmp.string() + "-journal", ec);
+    fs::remove(tmp, ec);
+  }
+}
+
+// Creates and locks a new empty temporary for a database at path; returns its name.
+fs::path create_locked_temporary(const fs::path& path, FileDescriptor& lock) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::random_device rd;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string suffix;
+    for (int i = 0; i < 12; ++i) suffix.push_back(kDigits[rd() % 16]);
+    const fs::path tmp = folder_of(path) / (creating_prefix(path) + suffix);
+    const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) {
+      if (errno == EEXIST) continue;
+      throw InputError(path.string() + ": cannot create database: " + std::generic_category().message(errno));
+    }
+    FileDescriptor file(fd);
+    if (::flock(fd, LOCK_EX) != 0) {
+      throw InputError(path.string() + ": cannot create database: cannot lock " + tmp.string() + ": " +
+                       std::generic_category().message(errno));
+    }
+    // Another process cleaning up may have taken it for abandoned between open() and flock(): start again.
+    struct stat opened {}, named {};
+    if (::fstat(fd, &opened) != 0 || ::stat(tmp.c_str(), &named) != 0 || opened.st_ino != named.st_ino ||
+        opened.st_dev != named.st_dev)
+      continue;
+    std::swap(lock.fd, file.fd);
+    return tmp;
+  }
+  throw InputError(path.string() + ": cannot create database: no free temporary name beside it");
+}
+
 // Builds an empty database beside path and links it into place without replacing a file that another
-// process may have created meanwhile.
+// process may have created meanwhile. Killed at any moment, it leaves no file at path or a complete empty
+// database, and at most a temporary that the next open of path removes.
 void create_empty(const fs::path& path) {
-  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const fs::path folder = folder_of(path);
   if (!fs::is_directory(folder)) {
     throw InputError(path.string() + ": cannot create database: folder " + folder.string() +
                      " does not exist");
   }
-  const fs::path tmp = temporary_sibling(path);
+  FileDescriptor lock;
+  const fs::path tmp = create_locked_temporary(path, lock);
   std::error_code ec;
   try {
     Connection db = Connection::open(tmp, Connection::Access::kCreate);
@@ -170,6 +251,7 @@ void create_empty(const fs::path& path) {
     db.exec(internal::kCodecsTable);
     db.exec("COMMIT");
   } catch (const InputError& e) {
+    fs::remove(tmp.string() + "-journal", ec);
     fs::remove(tmp, ec);
     throw InputError(path.string() + ": cannot create database (" + e.what() + ")");
   }
@@ -179,6 +261,8 @@ void create_empty(const fs::path& path) {
   } else {
     commit_temporary(tmp, path);  // no hard links on this file system
   }
+  // The lock is released (closing the descriptor) only now: SQLite's connection is closed, so closing another
+  // descriptor of the file cannot drop its POSIX locks.
 }
 
 }  // namespace
@@ -197,6 +281,7 @@ MapDatabase& MapDatabase::operator=(MapDatabase&&) noexcept = default;
 MapDatabase::~MapDatabase() = default;
 
 MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
+  remove_abandoned_temporaries(path);
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) {

@@ -15,10 +15,12 @@
 // Blobs are little-endian (io/blob_codec.h): points are float32 pairs (< 0.4 um rounding in a submap),
 // timestamps float64. Every other number is stored exactly. Map ids are never reused (AUTOINCREMENT).
 //
-// Crash safety: a new file is built (schema and header) at a temporary sibling and renamed into place, so
-// the path never holds a half-initialised database. Every write then runs in a transaction (rollback
-// journal), so an interrupted run leaves the database as it was before the write; store_dataset() writes
-// a dataset and its submaps in one transaction. Callers may group several writes in a Transaction.
+// Crash safety: a new file is built (schema and header) at a temporary sibling (".NAME.new-RANDOM", flock()ed by
+// its creator) and linked into place, so the path never holds a half-initialised database; a creator killed
+// mid-way leaves only that temporary, which the next open of the path removes (its lock is free). Every write then
+// runs in a transaction (rollback journal), so an interrupted run leaves the database as it was before the write;
+// store_dataset() writes a dataset and its submaps in one transaction. Callers may group several writes in a
+// Transaction. (map_database_test.cc kills writers and creators at many moments and checks all of this.)
 //
 // Opening checks the file: missing, not SQLite, empty, truncated, foreign (other application_id), or a
 // newer schema version all throw InputError naming the file and the problem. A version 1 file (no stored

@@ -1,5 +1,6 @@
 // MapDatabase: dictionary maps and packed part descriptors.
 #include <algorithm>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -14,12 +15,18 @@ using internal::descriptor_context;
 using internal::require_finite;
 using sqlite::Statement;
 
-void check_descriptor(const PackedDescriptor& d, const std::string& context) {
-  if (d.bits < 0 || d.bytes.size() != static_cast<std::size_t>((d.bits + 7) / 8)) {
-    throw InputError(context + ": descriptor of " + std::to_string(d.bits) + " bits must hold " +
-                     std::to_string(d.bits < 0 ? 0 : (d.bits + 7) / 8) + " bytes, has " +
-                     std::to_string(d.bytes.size()));
+// bits as stored (64-bit: a database may hold any integer) against the blob's size.
+void check_descriptor_size(std::int64_t bits, std::size_t bytes, const std::string& context) {
+  if (bits < 0 || bits > std::numeric_limits<int>::max() - 7 || bytes != static_cast<std::size_t>((bits + 7) / 8)) {
+    throw InputError(context + ": descriptor of " + std::to_string(bits) + " bits must hold " +
+                     (bits < 0 || bits > std::numeric_limits<int>::max() - 7 ? std::string("a whole number of")
+                                                                               : std::to_string((bits + 7) / 8)) +
+                     " bytes, has " + std::to_string(bytes));
   }
+}
+
+void check_descriptor(const PackedDescriptor& d, const std::string& context) {
+  check_descriptor_size(d.bits, d.bytes.size(), context);
 }
 
 void check_fits_codec(const PackedDescriptor& d, int k, const CodecConfig& codec, const std::string& context) {
@@ -99,15 +106,16 @@ Points2 stored_dictionary_points(const sqlite::Connection& db, const std::string
 }
 
 PackedDescriptor read_descriptor(const Statement& q, int bits_column, const std::string& context) {
-  PackedDescriptor d;
-  d.bits = q.int64(bits_column);
+  const std::int64_t bits = q.int64(bits_column);
   const auto blob = q.blob(bits_column + 1);
-  d.bytes.assign(blob.begin(), blob.end());
-  try {
-    check_descriptor(d, context);
+  try {  // before narrowing bits to int (fuzz_map_database_values: 2^31 - 1 bits overflowed bits + 7)
+    check_descriptor_size(bits, blob.size(), context);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + " (corrupt database)");
   }
+  PackedDescriptor d;
+  d.bits = static_cast<int>(bits);
+  d.bytes.assign(blob.begin(), blob.end());
   return d;
 }
 

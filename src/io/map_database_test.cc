@@ -2,11 +2,18 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 #include <random>
 
 #include "core/error.h"
@@ -395,6 +402,141 @@ TEST_F(MapDatabaseTest, ProcessKilledMidTransactionLeavesNoPartialDataset) {
   EXPECT_EQ(db.summary().submap_count, 2);
 }
 
+// Runs child_work in a child process and SIGKILLs it after delay_us microseconds (it may have finished by then).
+void kill_child_after(const std::function<void()>& child_work, long delay_us) {
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    try {
+      child_work();
+    } catch (...) {
+      ::_exit(2);
+    }
+    ::_exit(0);
+  }
+  ::usleep(static_cast<useconds_t>(delay_us));
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << "the child failed before it was killed";
+}
+
+// The files of a folder other than the database itself (temporaries, journals).
+std::vector<std::string> others_beside(const fs::path& path) {
+  std::vector<std::string> out;
+  for (const auto& entry : fs::directory_iterator(path.parent_path())) {
+    if (entry.path() != path) out.push_back(entry.path().filename().string());
+  }
+  return out;
+}
+
+TEST_F(MapDatabaseTest, WriterKilledAtAnyMomentLeavesTheLastCommittedState) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase::open(path, Mode::kCreate);
+  const Submaps submaps = make_submaps(200, 200, 5);  // ~320 KB a dataset: each commit takes a while
+  const auto time_one = std::chrono::steady_clock::now();
+  {
+    MapDatabase db = MapDatabase::open(dir_ / "timing.db", Mode::kCreate);
+    db.store_dataset({"timing", "t.log", DatasetKind::kSubmaps, {}}, submaps);
+  }
+  const auto one_us =
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - time_one).count();
+  fs::remove(dir_ / "timing.db");
+  int next = 0;  // datasets are named d0, d1, ... in commit order
+  // The child appends datasets one transaction each until it is killed, 0.3 .. 3 commits in; on a busy machine
+  // (the suite runs in parallel) more rounds with longer delays, until a commit has survived.
+  for (int round = 0; round < 10 || (next == 0 && round < 20); ++round) {
+    const long delay = round < 10 ? one_us * (round + 1) * 3 / 10 : one_us * 3 * (1L << std::min(round - 9, 5));
+    kill_child_after(
+        [&] {
+          MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
+          for (int i = next;; ++i) db.store_dataset({"d" + std::to_string(i), "x.log", DatasetKind::kSubmaps, {}}, submaps);
+        },
+        delay);
+    const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);  // rolls back a hot journal
+    db.check_integrity();
+    const std::vector<DatasetInfo> datasets = db.datasets();
+    ASSERT_GE(static_cast<int>(datasets.size()), next) << "a committed dataset was lost";
+    for (int i = 0; i < static_cast<int>(datasets.size()); ++i) {
+      EXPECT_EQ(datasets[static_cast<std::size_t>(i)].spec.name, "d" + std::to_string(i));
+      EXPECT_EQ(datasets[static_cast<std::size_t>(i)].submap_count, 200) << "a dataset was stored in part";
+    }
+    next = static_cast<int>(datasets.size());
+    // Killed before its journal had a header, the writer leaves a journal that is not hot (first byte zero): SQLite
+    // ignores it and the next write replaces it. Anything else beside the database would be an orphan.
+    for (const std::string& name : others_beside(path)) {
+      ASSERT_EQ(name, "maps.db-journal");
+      std::ifstream journal(dir_ / name, std::ios::binary);
+      const int first = journal.get();  // EOF for an empty journal
+      EXPECT_TRUE(first == 0 || first == std::char_traits<char>::eof()) << "a hot journal was left";
+    }
+  }
+  EXPECT_GT(next, 0);
+  MapDatabase::open(path, Mode::kReadWrite).store_dataset({"last", "x.log", DatasetKind::kSubmaps, {}}, submaps);
+  EXPECT_THAT(others_beside(path), ::testing::IsEmpty());
+}
+
+TEST_F(MapDatabaseTest, CreationKilledAtAnyMomentLeavesNoFileOrAValidOneAndNoOrphans) {
+  const fs::path path = dir_ / "maps.db";
+  const auto start = std::chrono::steady_clock::now();
+  MapDatabase::open(dir_ / "timing.db", Mode::kCreate);
+  const auto create_us =
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start).count();
+  fs::remove(dir_ / "timing.db");
+  int none = 0, valid = 0, orphaned = 0, round = 0;
+  // 0 .. 3 times the time a creation takes; on a busy machine more rounds with longer delays, until both outcomes
+  // were seen.
+  for (; round < 24 || ((none == 0 || valid == 0) && round < 40); ++round) {
+    const long delay = round < 24       ? create_us * round / 8
+                       : round % 2 == 0 ? 0
+                                        : create_us * 3 * (1L << std::min((round - 24) / 2, 6));
+    kill_child_after([&] { MapDatabase::open(path, Mode::kCreate); }, delay);
+    if (!others_beside(path).empty()) ++orphaned;
+    if (fs::exists(path)) {
+      const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+      db.check_integrity();
+      EXPECT_TRUE(db.datasets().empty());
+      ++valid;
+    } else {
+      ++none;
+    }
+    // Whatever the killed creator left beside the path is gone once the path is opened again.
+    MapDatabase::open(path, Mode::kCreate);
+    EXPECT_THAT(others_beside(path), ::testing::IsEmpty()) << "round " << round;
+    fs::remove(path);
+  }
+  EXPECT_GT(none, 0);
+  EXPECT_GT(valid, 0);
+  std::printf("creation killed %d times: %d left no file, %d a valid one, %d temporaries beside it\n", round, none,
+              valid, orphaned);
+}
+
+TEST_F(MapDatabaseTest, AbandonedTemporariesAreRemovedButNotOnesBeingBuilt) {
+  const fs::path path = dir_ / "maps.db";
+  // An abandoned creation: its temporary and journal, nobody holding its lock.
+  const fs::path abandoned = dir_ / ".maps.db.new-dead";
+  std::ofstream(abandoned) << "half a database";
+  std::ofstream(abandoned.string() + "-journal") << "its journal";
+  // One being built: locked by its creator (here, this process through another open file).
+  const fs::path building = dir_ / ".maps.db.new-live";
+  std::ofstream(building) << "";
+  const int fd = ::open(building.c_str(), O_RDONLY);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+  // Another database's temporaries and unrelated files are left alone.
+  std::ofstream(dir_ / ".other.db.new-dead") << "";
+  std::ofstream(dir_ / "maps.db.new-notes.txt") << "";
+  MapDatabase::open(path, Mode::kCreate);
+  EXPECT_FALSE(fs::exists(abandoned));
+  EXPECT_FALSE(fs::exists(abandoned.string() + "-journal"));
+  EXPECT_TRUE(fs::exists(building));
+  EXPECT_TRUE(fs::exists(dir_ / ".other.db.new-dead"));
+  EXPECT_TRUE(fs::exists(dir_ / "maps.db.new-notes.txt"));
+  ::close(fd);
+  MapDatabase::open(path, Mode::kReadOnly);  // any open cleans up
+  EXPECT_FALSE(fs::exists(building));
+}
+
 TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
   const fs::path path = dir_ / "maps.db";
   EXPECT_THAT(open_error(path, Mode::kReadOnly), HasSubstr("no such file"));
@@ -489,6 +631,33 @@ TEST_F(MapDatabaseTest, CorruptContentGivesInputError) {
     FAIL() << "corrupt pages accepted";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path.string()));
+  }
+}
+
+// Values edited into a database with SQLite directly, as fuzz_map_database_values makes them: each read that meets
+// one throws InputError (and runs without undefined behaviour under the sanitizers).
+TEST_F(MapDatabaseTest, EditedValuesAreRefusedNotMisread) {
+  const fs::path path = dir_ / "maps.db";
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    const std::int64_t ds = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 10, 1));
+    db.put_descriptor(db.map_ids(ds)[0], "fr079", 3, codec42(), {Bytes{0xab, 1, 2, 3, 4, 0x3}, 42});
+  }
+  const auto edited = [&](const std::string& sql) {
+    fs::copy_file(path, dir_ / "edited.db", fs::copy_options::overwrite_existing);
+    sqlite::Connection::open(dir_ / "edited.db", sqlite::Connection::Access::kReadWrite).exec(sql);
+    return MapDatabase::open(dir_ / "edited.db", Mode::kReadOnly);
+  };
+  // Descriptor bit counts beyond int (2^31 - 1 overflowed bits + 7) or negative.
+  for (const char* bits : {"2147483647", "2147483641", "4294967338", "-1", "-9223372036854775808"}) {
+    const MapDatabase db = edited(std::string("UPDATE descriptors SET bits = ") + bits);
+    try {
+      db.load_descriptors("fr079", 3);
+      FAIL() << bits << " bits accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("bits must hold")) << bits;
+      EXPECT_THAT(e.what(), HasSubstr("(corrupt database)")) << bits;
+    }
   }
 }
 

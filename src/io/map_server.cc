@@ -2,7 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -18,7 +20,7 @@ constexpr long kMaxPixels = 1L << 28;
 
 struct Pgm {
   int width = 0, height = 0, max_value = 255;
-  std::vector<int> pixels;  // row-major, first row on top
+  std::vector<std::uint16_t> pixels;  // row-major, first row on top
 };
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
@@ -66,10 +68,22 @@ Pgm read_pgm(const std::filesystem::path& path) {
     fail(path, std::to_string(pgm.width) + " x " + std::to_string(pgm.height) + " pixels is more than 2^28");
   pgm.max_value = pgm_number(in, path, "max value", 1, 65535);
   const std::size_t n = static_cast<std::size_t>(pgm.width) * static_cast<std::size_t>(pgm.height);
+  const std::size_t bytes = pgm.max_value > 255 ? 2 : 1;
+  // The pixels must be in the file before they are allocated: a 20-byte header claiming 16384 x 16384 pixels made
+  // the reader allocate 1.5 GB before finding the file cut short. P5: one whitespace, then n pixels of `bytes`
+  // bytes; P2: at least one digit and one separator per pixel but the last.
+  const std::streamoff here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff left = in.tellg() - here;
+  in.seekg(here);
+  const std::size_t needed = magic == "P5" ? 1 + n * bytes : 2 * n - 1;
+  if (here < 0 || left < 0 || static_cast<std::size_t>(left) < needed)
+    fail(path, "truncated PGM: the header says " + std::to_string(pgm.width) + " x " + std::to_string(pgm.height) +
+                   " pixels (at least " + std::to_string(needed) + " bytes) but " + std::to_string(std::max<std::streamoff>(left, 0)) +
+                   " bytes follow");
   pgm.pixels.resize(n);
   if (magic == "P5") {
     in.get();  // the single whitespace after the header
-    const std::size_t bytes = pgm.max_value > 255 ? 2 : 1;
     std::vector<unsigned char> raw(n * bytes);
     in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size()));
     if (static_cast<std::size_t>(in.gcount()) != raw.size())
@@ -77,11 +91,12 @@ Pgm read_pgm(const std::filesystem::path& path) {
                      " pixels (" + std::to_string(raw.size()) + " bytes) but " + std::to_string(in.gcount()) +
                      " bytes follow");
     for (std::size_t k = 0; k < n; ++k)
-      pgm.pixels[k] = bytes == 2 ? raw[2 * k] << 8 | raw[2 * k + 1] : raw[k];
+      pgm.pixels[k] = static_cast<std::uint16_t>(bytes == 2 ? raw[2 * k] << 8 | raw[2 * k + 1] : raw[k]);
   } else {
-    for (std::size_t k = 0; k < n; ++k) pgm.pixels[k] = pgm_number(in, path, "pixel", 0, pgm.max_value);
+    for (std::size_t k = 0; k < n; ++k)
+      pgm.pixels[k] = static_cast<std::uint16_t>(pgm_number(in, path, "pixel", 0, pgm.max_value));
   }
-  for (int& p : pgm.pixels) {
+  for (const std::uint16_t p : pgm.pixels) {
     if (p > pgm.max_value) fail(path, "a pixel exceeds the PGM's max value " + std::to_string(pgm.max_value));
   }
   return pgm;
@@ -135,6 +150,8 @@ GridMap read_map_yaml(const std::filesystem::path& yaml_path) {
   if (image_path.is_relative()) image_path = yaml_path.parent_path() / image_path;
   if (!std::filesystem::exists(image_path))
     fail(yaml_path, "field 'image': " + image_path.string() + " does not exist");
+  if (!std::filesystem::is_regular_file(image_path))  // a folder, a FIFO or a device (/dev/zero never ends)
+    fail(yaml_path, "field 'image': " + image_path.string() + " is not a regular file");
   const Pgm pgm = read_pgm(image_path);
 
   GridMap map;

@@ -88,6 +88,18 @@ TEST(MapServer, BadInputNamesTheFileAndField) {
   write_bytes(dir / "map.png", "\x89PNG\r\n");
   write_bytes(yaml, "image: map.png\nresolution: 0.05\norigin: [0, 0, 0]\n");
   EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("not a PGM"), std::string::npos);
+  // Headers claiming far more pixels than the file holds are refused before the pixels are allocated (16384 x 16384
+  // 16-bit pixels allocated 1.5 GB); an image that is not a regular file (a FIFO or /dev/zero would never end).
+  write_bytes(dir / "huge.pgm", "P5 16384 16384 65535\n\x01\x02");
+  write_bytes(yaml, "image: huge.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("huge.pgm: truncated PGM: the header says 16384 x 16384 pixels "
+                                                        "(at least 536870913 bytes) but 3 bytes follow"),
+            std::string::npos);
+  write_bytes(dir / "huge2.pgm", "P2 16384 16384 255\n1 2 3\n");
+  write_bytes(yaml, "image: huge2.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("huge2.pgm: truncated PGM"), std::string::npos);
+  write_bytes(yaml, "image: /dev/zero\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("/dev/zero is not a regular file"), std::string::npos);
   // A map bigger than the extent limit.
   write_bytes(dir / "wide.pgm", "P5\n30000 1\n255\n" + std::string(30000, '\xfe'));
   write_bytes(yaml, "image: wide.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");

@@ -47,6 +47,15 @@ double number(const std::filesystem::path& path, std::size_t line, const std::st
   return v;
 }
 
+// A whole number >= 0 (an element count); anything else, or one beyond 2^62, is refused.
+long count(const std::filesystem::path& path, std::size_t line, const std::string& token, const char* field) {
+  long v = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (ec != std::errc() || end != token.data() + token.size() || v < 0 || v > (1L << 62))
+    fail(path, line, std::string(field) + ": not a whole number >= 0: '" + token.substr(0, 40) + "'");
+  return v;
+}
+
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> out;
   std::string token;
@@ -105,7 +114,7 @@ Points2 read_points(const std::filesystem::path& path, std::size_t max_points) {
         fail(path, line, "only ASCII PLY is read (this one is '" + (f.size() > 1 ? f[1] : std::string()) + "')");
       if (f[0] == "element") {
         in_vertex = f.size() == 3 && f[1] == "vertex";
-        if (in_vertex) vertices = static_cast<long>(number(path, line, f[2], "element vertex"));
+        if (in_vertex) vertices = count(path, line, f[2], "element vertex");
       } else if (f[0] == "property" && in_vertex) {
         if (f.back() == "x") x_column = columns;
         if (f.back() == "y") y_column = columns;

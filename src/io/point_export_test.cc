@@ -70,6 +70,18 @@ TEST(PointFiles, BadFilesNameTheFileAndLine) {
                 .find("truncated: 1 of 3"), std::string::npos);
   EXPECT_NE(error("g.ply", "ply\nformat ascii 1.0\nelement vertex 1\n").find("no end_header"), std::string::npos);
   EXPECT_NE(error("h.txt", "1,2\n").find("unknown point file type"), std::string::npos);
+  // Vertex counts that are not whole numbers (fuzz_points: 1e300 was cast to long, undefined behaviour).
+  for (const char* bad : {"1e300", "-1e300", "2.5", "-3", "nan", "99999999999999999999"}) {
+    EXPECT_NE(error("i.ply", std::string("ply\nformat ascii 1.0\nelement vertex ") + bad +
+                                 "\nproperty float x\nproperty float y\nend_header\n1 2\n")
+                  .find("i.ply:3: element vertex: not a whole number"),
+              std::string::npos)
+        << bad;
+  }
+  EXPECT_NE(error("j.ply", "ply\nformat ascii 1.0\nelement vertex 4611686018427387904\nproperty float x\n"
+                           "property float y\nend_header\n")
+                .find("vertices is more than 10"),
+            std::string::npos);
   EXPECT_THROW(read_points(dir / "missing.csv"), InputError);
 }
 

@@ -6,11 +6,73 @@
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <cstdint>
+#include <cstring>
+
 namespace partslam::io::rosbag_messages {
 
 namespace {
 
 std::string bare_frame(const std::string& frame) { return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame; }
+
+// Walks a message's serialized bytes. ROS's deserializer sizes a vector from its length field before checking that
+// the message holds that much (a 20-byte LaserScan claiming 2^29 ranges allocated 2 GB: fuzz_ros_bag), so the
+// lengths of the messages with arrays are checked here first.
+struct Cursor {
+  const std::uint8_t* p;
+  std::size_t left;
+  bool skip(std::size_t n) {
+    if (n > left) return false;
+    p += n, left -= n;
+    return true;
+  }
+  bool length(std::uint32_t& n) {
+    if (left < 4) return false;
+    std::memcpy(&n, p, 4);  // little-endian, as ROS 1 serializes
+    p += 4, left -= 4;
+    return true;
+  }
+  bool string() {
+    std::uint32_t n = 0;
+    return length(n) && skip(n);
+  }
+  /// An array of n elements of at least element_bytes each: n must fit in what is left; skips it when each element
+  /// is exactly element_bytes (fixed), else only checks n.
+  bool array(std::size_t element_bytes, std::uint32_t& n, bool fixed) {
+    return length(n) && n <= left / element_bytes && (!fixed || skip(n * element_bytes));
+  }
+  bool header() { return skip(12) && string(); }  // seq, stamp, frame_id
+};
+
+bool laser_scan_fits(Cursor c) {
+  std::uint32_t n = 0;
+  return c.header() && c.skip(7 * 4) && c.array(4, n, true) && c.array(4, n, true);  // ranges, intensities
+}
+
+bool tf_message_fits(Cursor c) {
+  std::uint32_t n = 0;
+  constexpr std::size_t kMinTransform = 12 + 4 + 4 + 7 * 8;  // header without frame_id, child_frame_id, transform
+  if (!c.array(kMinTransform, n, false)) return false;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!c.header() || !c.string() || !c.skip(7 * 8)) return false;
+  }
+  return true;
+}
+
+// The message deserialized, after its array lengths were checked against its size; null for another message type.
+template <typename T>
+boost::shared_ptr<T> decode(const rosbag::MessageInstance& m, bool (*fits)(Cursor)) {
+  if (!m.isType<T>()) return {};
+  std::vector<std::uint8_t> bytes(m.size());
+  ros::serialization::OStream out(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  m.write(out);
+  if (!fits(Cursor{bytes.data(), bytes.size()}))
+    throw BagError("a " + m.getDataType() + " message on " + m.getTopic() + " holds an array longer than the message");
+  auto msg = boost::make_shared<T>();
+  ros::serialization::IStream in(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  ros::serialization::deserialize(in, *msg);
+  return msg;
+}
 
 }  // namespace
 
@@ -19,6 +81,7 @@ BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges) {
   std::string tf_topic, tf_child;
   std::vector<OdometryMessage> tf_odometry;  // used when the bag has no Odometry topic
   std::size_t ranges = 0;
+  check_bag_structure(path);
   try {
     rosbag::Bag bag(path, rosbag::bagmode::Read);
     rosbag::View view(bag);
@@ -26,7 +89,7 @@ BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges) {
       if (m.getDataType() == "sensor_msgs/LaserScan") {
         if (out.scan_topic.empty()) out.scan_topic = m.getTopic();
         if (m.getTopic() != out.scan_topic) continue;
-        const auto msg = m.instantiate<sensor_msgs::LaserScan>();
+        const auto msg = decode<sensor_msgs::LaserScan>(m, laser_scan_fits);
         if (!msg) continue;
         ranges += msg->ranges.size();
         if (ranges > max_ranges)
@@ -42,7 +105,7 @@ BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges) {
         out.odometry.push_back({msg->header.stamp.toSec(), p.position.x, p.position.y, p.orientation.x,
                                 p.orientation.y, p.orientation.z, p.orientation.w});
       } else if (m.getDataType() == "tf2_msgs/TFMessage" && (tf_topic.empty() || m.getTopic() == tf_topic)) {
-        const auto msg = m.instantiate<tf2_msgs::TFMessage>();
+        const auto msg = decode<tf2_msgs::TFMessage>(m, tf_message_fits);
         if (!msg) continue;
         for (const geometry_msgs::TransformStamped& t : msg->transforms) {
           const std::string child = bare_frame(t.child_frame_id);

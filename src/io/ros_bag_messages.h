@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -35,6 +36,15 @@ struct BagMessages {
 struct BagError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// Largest chunk of a bag read, compressed or not [bytes] (rosbag record writes 768 KB chunks).
+inline constexpr std::uint32_t kMaxChunkBytes = 256u << 20;
+
+/// Checks the structure of a ROS bag 2.0 file the way librosbag reads it (bag header, index section, chunks, index
+/// entries: every length and offset within the file or its chunk, chunks of at most kMaxChunkBytes, bz2 and lz4
+/// chunks decompressing to their size); throws BagError naming the first problem. read_bag_messages calls it
+/// first: librosbag trusts all of these. (io/ros_bag_check.cc; no ROS headers)
+void check_bag_structure(const std::string& path);
 
 /// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read.
 BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges);

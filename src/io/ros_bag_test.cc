@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
+#include <string_view>
 #include <fstream>
 #include <optional>
 
@@ -168,6 +170,83 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
   // Interpolated between odometry stamps: scan 10 at t = 101.0 lies halfway between odometry 10 and 11.
   EXPECT_NEAR(tf.scans[10].T_world_laser.x, 1.05, 1e-6);
   EXPECT_EQ(tf.scans[0].points_laser.size(), 181u);
+}
+
+// Bags whose lengths and offsets lie, as fuzz_ros_bag made them: librosbag trusted each of them (allocating up to
+// 4 GB, or reading past its buffers); they are refused as not readable bags, naming the file, before it sees them.
+TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 3; ++k) {
+    m.odometry.push_back({10.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
+    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}});
+  }
+  rosbag_messages::write_bag_messages((dir / "good.bag").string(), m, /*as_tf=*/false);
+  rosbag_messages::write_bag_messages((dir / "good-tf.bag").string(), m, /*as_tf=*/true);
+  ASSERT_EQ(read_ros_bag(dir / "good.bag").scans.size(), 3u);
+  ASSERT_EQ(read_ros_bag(dir / "good-tf.bag").scans.size(), 3u);
+  const std::string good = testing::read_bytes(dir / "good.bag"), good_tf = testing::read_bytes(dir / "good-tf.bag");
+  // The bytes of the bag with the 4 bytes after the first occurrence of `after` (plus `skip`) set to value.
+  const auto patched = [&](const std::string& bag, std::string_view after, std::size_t skip, std::uint32_t value) {
+    const std::size_t at = bag.find(after);
+    std::string out = bag;
+    if (at == std::string::npos) {
+      ADD_FAILURE() << "no " << after << " in the bag";
+      return out;
+    }
+    std::memcpy(out.data() + at + after.size() + skip, &value, 4);
+    return out;
+  };
+  const auto error = [&](const std::string& bytes) {
+    testing::write_bytes(dir / "bad.bag", bytes);
+    try {
+      read_ros_bag(dir / "bad.bag");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  using namespace std::string_view_literals;
+  const std::uint32_t many = 0xffffffff;
+  // A LaserScan whose ranges claim 2^29 floats (ROS's deserializer allocated 2 GB before checking).
+  const std::string_view ranges = "\x03\x00\x00\x00\x00\x00\xc0\x3f"sv;  // 3 ranges, the first 1.5f
+  std::string scan = good;
+  ASSERT_NE(scan.find(ranges), std::string::npos);
+  const std::uint32_t floats = 0x20000000;
+  std::memcpy(scan.data() + scan.find(ranges), &floats, 4);
+  EXPECT_THAT(error(scan), HasSubstr("holds an array longer than the message"));
+  // A TFMessage whose transform count is 2^32 - 1 (count, seq, stamp, then frame_id).
+  const std::string_view frames = "\x04\x00\x00\x00odom\x09\x00\x00\x00" "base_link"sv;
+  std::string tf = good_tf;
+  ASSERT_NE(tf.find(frames), std::string::npos);
+  std::memcpy(tf.data() + tf.find(frames) - 16, &many, 4);
+  EXPECT_THAT(error(tf), HasSubstr("holds an array longer than the message"));
+  // The first record of the index section with a header of 2^32 - 1 bytes (librosbag allocated 4 GB).
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, good.data() + good.find("index_pos=") + 10, 8);
+  std::string index = good;
+  std::memcpy(index.data() + index_pos, &many, 4);
+  EXPECT_THAT(error(index), HasSubstr("bad.bag: not a readable ROS 1 bag (connection record at"));
+  // The index section past the end of the file; a chunk claiming 4 GB uncompressed; an index entry past its chunk.
+  EXPECT_THAT(error(patched(good, "index_pos=", 0, 0x7fffffff)), HasSubstr("index position outside the file"));
+  EXPECT_THAT(error(patched(good, "size=", 0, 0xffffffff)), HasSubstr("a chunk of more than"));
+  // The first index data record (op 4), found by walking the records after the chunk: its first entry's offset.
+  std::string offset = good;
+  for (std::size_t pos = 13; pos + 8 <= good.size();) {
+    std::uint32_t header_len = 0, data_len = 0;
+    std::memcpy(&header_len, good.data() + pos, 4);
+    std::memcpy(&data_len, good.data() + pos + 4 + header_len, 4);
+    const std::size_t data = pos + 8 + header_len;
+    if (std::string_view(good.data() + pos + 4, header_len).find("op=\x04"sv) != std::string_view::npos) {
+      std::memcpy(offset.data() + data + 8, &many, 4);  // entry 0: time (8 bytes), offset (4 bytes)
+      break;
+    }
+    pos = data + data_len;
+  }
+  ASSERT_NE(offset, good);
+  EXPECT_THAT(error(offset), HasSubstr("message data record at 4294967295: past the end"));
+  // Another bag format version.
+  EXPECT_THAT(error("#ROSBAG V1.2\n" + good.substr(13)), HasSubstr("only ROS bag format 2.0 is read"));
 }
 
 }  // namespace

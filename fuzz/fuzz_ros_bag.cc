@@ -1,0 +1,26 @@
+// libFuzzer target: ROS 1 bags (io/ros_bag.h, read with Debian's librosbag), the input being the whole file.
+#include <console_bridge/console.h>
+
+#include "fuzz/fuzz_common.h"
+#include "io/ros_bag.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace partslam;
+  // librosbag's own complaints about bad headers go to the console: keep the fuzzer's output (and speed) to itself.
+  static const bool quiet = (console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE), true);
+  (void)quiet;
+  const auto path = fuzz::write_file("log.bag", data, size);
+  io::LogReadOptions options;
+  options.max_points = 200000;
+  fuzz::expect_input_error([&] {
+    const io::RosBagLog log = io::read_ros_bag(path, options);
+    fuzz::check(!log.scans.empty(), "scans not empty");
+    for (const Scan& s : log.scans) {
+      fuzz::check(std::isfinite(s.timestamp), "scan timestamp finite");
+      fuzz::check(fuzz::plausible(s.T_world_laser) && fuzz::plausible(s.T_world_odom), "scan poses plausible");
+      fuzz::check(s.points_laser.size() <= static_cast<std::size_t>(s.num_beams), "beam count");
+      for (const Vec2& p : s.points_laser) fuzz::check(fuzz::finite(p), "scan point finite");
+    }
+  });
+  return 0;
+}

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# make fuzz: builds the libFuzzer targets of fuzz/ in the clang tree $FUZZ_BUILD (default build-fuzz, which
+# `make fuzz` configures), writes their seeds from the shared data (make_fuzz_seeds), and runs each target in turn for FUZZ_SECONDS (default 30) or, when
+# FUZZ_RUNS is set, for that many executions, printing the executions of each. Exits non-zero when any target
+# reports a finding (crash, sanitizer report, exception other than InputError, timeout > 10 s, RSS > 2 GB); the
+# input that caused it is saved as $FUZZ_BUILD/fuzz/findings/<target>-crash-... and the report is printed.
+# FUZZ_TARGETS="fuzz_carmen fuzz_points" runs only those. The corpus each run grows is kept in
+# $FUZZ_BUILD/fuzz/corpus/<target>, so later runs continue from it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${FUZZ_BUILD:-build-fuzz}
+seconds=${FUZZ_SECONDS:-30}
+runs=${FUZZ_RUNS:-}
+jobs=${JOBS:-2}
+shared=${PARTSLAM_SHARED_DATA:-$(pwd)/../shared/data}
+
+if ! grep -q '^PARTSLAM_FUZZ:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+  echo "fuzz: $build is not a clang tree configured with -DPARTSLAM_FUZZ=ON (make fuzz configures it)" >&2
+  exit 2
+fi
+cmake --build "$build" -j "$jobs" --target partslam_fuzz
+
+out=$build/fuzz
+rm -rf "$out/seeds" "$out/logs"
+mkdir -p "$out/corpus" "$out/findings" "$out/logs"
+"$out/make_fuzz_seeds" "$shared" "$out/seeds"
+
+targets=${FUZZ_TARGETS:-$(cd fuzz && ls fuzz_*.cc | sed 's/\.cc$//')}
+failed=()
+total_start=$(date +%s)
+printf '%-26s %14s %10s %8s  %s\n' target executions exec/s seconds result
+for t in $targets; do
+  args=(-rss_limit_mb=2048 -timeout=10 -print_final_stats=1 -close_fd_mask=1 "-artifact_prefix=$out/findings/$t-")
+  if [ -n "$runs" ]; then args+=("-runs=$runs"); else args+=("-max_total_time=$seconds"); fi
+  [ -f "fuzz/dict/$t.dict" ] && args+=("-dict=fuzz/dict/$t.dict")
+  # Options of one target (fuzz/<target>.options, one per line, # comments): see each file for why.
+  [ -f "fuzz/$t.options" ] && args+=($(grep -v '^#' "fuzz/$t.options"))
+  dirs=("$out/corpus/$t")
+  mkdir -p "$out/corpus/$t"
+  [ -d "$out/seeds/$t" ] && dirs+=("$out/seeds/$t")
+  [ -d "fuzz/seeds/$t" ] && dirs+=("fuzz/seeds/$t")
+  log=$out/logs/$t.log
+  start=$(date +%s)
+  if "$out/$t" "${args[@]}" "${dirs[@]}" > "$log" 2>&1; then result=ok; else result=FINDING; failed+=("$t"); fi
+  elapsed=$(( $(date +%s) - start ))
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  printf '%-26s %14s %10s %8s  %s\n' "$t" "${execs:-?}" "${rate:-?}" "$elapsed" "$result"
+  if [ "$result" != ok ]; then
+    echo "---- $t: the end of $log ----"
+    tail -n 60 "$log"
+    echo "----"
+  fi
+done
+echo "fuzz: $(( $(date +%s) - total_start )) s in all"
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzz: findings in ${failed[*]} (inputs in $out/findings)" >&2
+  exit 1
+fi

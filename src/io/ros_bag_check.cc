@@ -1,0 +1,252 @@
+// rosbag_messages::check_bag_structure: the ROS bag 2.0 file format (http://wiki.ros.org/Bags/Format/2.0) walked
+// the way librosbag reads it, before librosbag sees the file. librosbag trusts every length and offset in a bag: a
+// record header of 2^32 - 1 bytes made it allocate 4 GB, and an index entry pointing past its chunk made it read
+// beyond its buffer (fuzz_ros_bag). This walk checks each of them against the file and the chunks' contents. It
+// needs no ROS headers (C++20); it reads the file piecewise and decompresses each chunk (bz2, lz4) once more to check
+// the message offsets, so a bag costs about twice its reading time.
+#include <bzlib.h>
+#include <roslz4/lz4s.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/ros_bag_messages.h"
+
+namespace partslam::io::rosbag_messages {
+namespace {
+
+constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
+constexpr std::uint8_t kOpMessage = 0x02, kOpBagHeader = 0x03, kOpIndex = 0x04, kOpChunk = 0x05,
+                       kOpChunkInfo = 0x06, kOpConnection = 0x07;
+
+[[noreturn]] void fail(const std::string& what) { throw BagError("not a readable ROS 1 bag (" + what + ")"); }
+
+std::uint32_t u32(const std::uint8_t* p) {
+  std::uint32_t v;
+  std::memcpy(&v, p, 4);  // little-endian, as bags are
+  return v;
+}
+
+std::uint64_t u64(const std::uint8_t* p) {
+  std::uint64_t v;
+  std::memcpy(&v, p, 8);
+  return v;
+}
+
+// "name=value" fields of a record header (or of a connection header), each preceded by its length.
+using Fields = std::map<std::string, std::string, std::less<>>;
+
+Fields parse_fields(const std::uint8_t* p, std::size_t size, const char* what) {
+  Fields fields;
+  while (size > 0) {
+    if (size < 4) fail(std::string(what) + ": a field length cut short");
+    const std::uint32_t n = u32(p);
+    p += 4, size -= 4;
+    if (n > size) fail(std::string(what) + ": a field longer than its header");
+    const std::string_view field(reinterpret_cast<const char*>(p), n);
+    const std::size_t eq = field.find('=');
+    if (eq == std::string_view::npos) fail(std::string(what) + ": a field without '='");
+    fields.emplace(std::string(field.substr(0, eq)), std::string(field.substr(eq + 1)));
+    p += n, size -= n;
+  }
+  return fields;
+}
+
+// Where records are read from: the bag file (read piecewise: bags can be gigabytes) or a chunk's contents.
+class Source {
+ public:
+  virtual ~Source() = default;
+  virtual std::uint64_t size() const = 0;
+  /// Bytes [pos, pos + n), which the caller has checked lie within size().
+  virtual std::vector<std::uint8_t> read(std::uint64_t pos, std::size_t n) = 0;
+};
+
+class FileSource : public Source {
+ public:
+  explicit FileSource(const std::string& path) : in_(path, std::ios::binary | std::ios::ate) {
+    if (!in_) throw BagError("cannot open");
+    size_ = static_cast<std::uint64_t>(in_.tellg());
+  }
+  std::uint64_t size() const override { return size_; }
+  std::vector<std::uint8_t> read(std::uint64_t pos, std::size_t n) override {
+    std::vector<std::uint8_t> out(n);
+    in_.seekg(static_cast<std::streamoff>(pos));
+    in_.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(n));
+    if (static_cast<std::size_t>(in_.gcount()) != n) fail("a read error");
+    return out;
+  }
+
+ private:
+  std::ifstream in_;
+  std::uint64_t size_ = 0;
+};
+
+class BufferSource : public Source {
+ public:
+  explicit BufferSource(const std::vector<std::uint8_t>& bytes) : bytes_(bytes) {}
+  std::uint64_t size() const override { return bytes_.size(); }
+  std::vector<std::uint8_t> read(std::uint64_t pos, std::size_t n) override {
+    return {bytes_.begin() + static_cast<long>(pos), bytes_.begin() + static_cast<long>(pos + n)};
+  }
+
+ private:
+  const std::vector<std::uint8_t>& bytes_;
+};
+
+// Longest record header, and connection header, read [bytes]: real ones hold a few fields and a message definition.
+constexpr std::uint32_t kMaxHeaderBytes = 16u << 20;
+
+// A record: its header fields and where its data lies in its source.
+struct Record {
+  Fields fields;
+  std::uint64_t data = 0;  ///< position of the data
+  std::uint32_t data_len = 0;
+  std::uint64_t end = 0;   ///< position just past the record
+};
+
+Record read_record(Source& source, std::uint64_t pos, const char* what) {
+  const std::uint64_t size = source.size();
+  const std::string where = std::string(what) + " at " + std::to_string(pos);
+  if (pos > size || size - pos < 4) fail(where + ": past the end");
+  const std::uint32_t header_len = u32(source.read(pos, 4).data());
+  if (header_len > size - pos - 4 || size - pos - 4 - header_len < 4) fail(where + ": header longer than what follows");
+  if (header_len > kMaxHeaderBytes) fail(where + ": header of more than 16 MB");
+  Record r;
+  const std::vector<std::uint8_t> header = source.read(pos + 4, header_len);
+  r.fields = parse_fields(header.data(), header.size(), what);
+  r.data_len = u32(source.read(pos + 4 + header_len, 4).data());
+  r.data = pos + 8 + header_len;
+  if (r.data_len > size - r.data) fail(where + ": data longer than what follows");
+  r.end = r.data + r.data_len;
+  return r;
+}
+
+const std::string& field(const Record& r, const char* name, std::size_t size, const char* what) {
+  const auto it = r.fields.find(name);
+  if (it == r.fields.end()) fail(std::string(what) + ": no '" + name + "' field");
+  if (size != 0 && it->second.size() != size) fail(std::string(what) + ": field '" + name + "' of the wrong size");
+  return it->second;
+}
+
+void require_op(const Record& r, std::uint8_t op, const char* what) {
+  const std::string& value = field(r, "op", 1, what);
+  if (static_cast<std::uint8_t>(value[0]) != op) fail(std::string(what) + ": wrong record type");
+}
+
+std::uint32_t field_u32(const Record& r, const char* name, const char* what) {
+  return u32(reinterpret_cast<const std::uint8_t*>(field(r, name, 4, what).data()));
+}
+
+std::uint64_t field_u64(const Record& r, const char* name, const char* what) {
+  return u64(reinterpret_cast<const std::uint8_t*>(field(r, name, 8, what).data()));
+}
+
+// The uncompressed records of a chunk.
+std::vector<std::uint8_t> chunk_contents(Source& file, const Record& chunk) {
+  const std::string& compression = field(chunk, "compression", 0, "chunk");
+  const std::uint32_t size = field_u32(chunk, "size", "chunk");
+  if (size > kMaxChunkBytes || chunk.data_len > kMaxChunkBytes)
+    fail("a chunk of more than " + std::to_string(kMaxChunkBytes) + " bytes");
+  std::vector<std::uint8_t> out(size);
+  const std::vector<std::uint8_t> data = file.read(chunk.data, chunk.data_len);
+  const auto* in = reinterpret_cast<const char*>(data.data());
+  if (compression == "none") {
+    if (chunk.data_len != size) fail("an uncompressed chunk whose size disagrees with its data");
+    std::memcpy(out.data(), in, size);
+  } else if (compression == "bz2") {
+    unsigned int got = size;
+    if (BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &got, const_cast<char*>(in), chunk.data_len,
+                                   0, 0) != BZ_OK ||
+        got != size)
+      fail("a bz2 chunk that does not decompress to its size");
+  } else if (compression == "lz4") {
+    unsigned int got = size;
+    if (roslz4_buffToBuffDecompress(const_cast<char*>(in), chunk.data_len, reinterpret_cast<char*>(out.data()),
+                                    &got) != ROSLZ4_OK ||
+        got != size)
+      fail("an lz4 chunk that does not decompress to its size");
+  } else {
+    fail("chunk compression '" + compression.substr(0, 20) + "' (expected none, bz2 or lz4)");
+  }
+  return out;
+}
+
+}  // namespace
+
+void check_bag_structure(const std::string& path) {
+  FileSource file(path);
+  const std::size_t head = static_cast<std::size_t>(std::min<std::uint64_t>(file.size(), kMagic.size()));
+  const std::vector<std::uint8_t> magic = file.read(0, head);
+  if (head < kMagic.size() || std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0) {
+    if (head >= 9 && std::memcmp(magic.data(), "#ROSBAG V", 9) == 0)
+      fail("bag format other than 2.0: only ROS bag format 2.0 is read");
+    fail("no '#ROSBAG V2.0' line");
+  }
+  const Record header = read_record(file, kMagic.size(), "bag header");
+  require_op(header, kOpBagHeader, "bag header");
+  const std::uint64_t index_pos = field_u64(header, "index_pos", "bag header");
+  const std::uint32_t connections = field_u32(header, "conn_count", "bag header");
+  const std::uint32_t chunks = field_u32(header, "chunk_count", "bag header");
+  if (index_pos == 0) fail("unindexed: the recording was interrupted; 'rosbag reindex' it");
+  if (index_pos < header.end || index_pos >= file.size()) fail("index position outside the file");
+
+  // The index section: the connection records, then a chunk info record per chunk.
+  std::uint64_t pos = index_pos;
+  for (std::uint32_t i = 0; i < connections; ++i) {
+    const Record r = read_record(file, pos, "connection record");
+    require_op(r, kOpConnection, "connection record");
+    field(r, "conn", 4, "connection record");
+    field(r, "topic", 0, "connection record");
+    if (r.data_len > kMaxHeaderBytes) fail("connection record: header of more than 16 MB");
+    const std::vector<std::uint8_t> connection_header = file.read(r.data, r.data_len);
+    parse_fields(connection_header.data(), connection_header.size(), "connection header");
+    pos = r.end;
+  }
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> chunk_infos;  // chunk position, connections in it
+  for (std::uint32_t i = 0; i < chunks; ++i) {
+    const Record r = read_record(file, pos, "chunk info record");
+    require_op(r, kOpChunkInfo, "chunk info record");
+    if (field_u32(r, "ver", "chunk info record") != 1) fail("chunk info version other than 1");
+    field_u64(r, "start_time", "chunk info record");
+    field_u64(r, "end_time", "chunk info record");
+    const std::uint32_t count = field_u32(r, "count", "chunk info record");
+    if (r.data_len != std::uint64_t{count} * 8) fail("chunk info record: data size disagrees with its count");
+    chunk_infos.emplace_back(field_u64(r, "chunk_pos", "chunk info record"), count);
+    pos = r.end;
+  }
+
+  // Each chunk, and the index data records after it, whose entries must point at message records in the chunk.
+  for (const auto& [chunk_pos, index_records] : chunk_infos) {
+    if (chunk_pos >= file.size()) fail("chunk position outside the file");
+    const Record chunk = read_record(file, chunk_pos, "chunk");
+    require_op(chunk, kOpChunk, "chunk");
+    const std::vector<std::uint8_t> contents = chunk_contents(file, chunk);
+    BufferSource records(contents);
+    std::uint64_t next = chunk.end;
+    for (std::uint32_t i = 0; i < index_records; ++i) {
+      const Record index = read_record(file, next, "index data record");
+      require_op(index, kOpIndex, "index data record");
+      if (field_u32(index, "ver", "index data record") != 1) fail("index data version other than 1");
+      field(index, "conn", 4, "index data record");
+      const std::uint32_t count = field_u32(index, "count", "index data record");
+      if (index.data_len != std::uint64_t{count} * 12) fail("index data record: data size disagrees with its count");
+      const std::vector<std::uint8_t> entries = file.read(index.data, index.data_len);
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const Record message = read_record(records, u32(&entries[12 * std::size_t{k} + 8]), "message data record");
+        require_op(message, kOpMessage, "message data record");
+        field(message, "conn", 4, "message data record");
+        field(message, "time", 8, "message data record");
+      }
+      next = index.end;
+    }
+  }
+}
+
+}  // namespace partslam::io::rosbag_messages
