@@ -120,8 +120,9 @@ void check_header(const fs::path& path) {
   const bool count_valid = page_count > 0 && big_endian(&header[24]) == big_endian(&header[92]);
   if (count_valid && !has_journal(path)) {
     const std::uintmax_t expected = std::uintmax_t{page_count} * page_size;
-    const std::uintmax_t actual = fs::file_size(path);
-    if (actual < expected) {
+    std::error_code ec;
+    const std::uintmax_t actual = fs::file_size(path, ec);
+    if (!ec && actual < expected) {
       throw InputError(prefix + "truncated database: the file has " + std::to_string(actual) +
                        " bytes but its header declares " + std::to_string(page_count) + " pages of " +
                        std::to_string(page_size) + " bytes (" + std::to_string(expected) + " bytes)");
@@ -235,13 +236,13 @@ fs::path create_locked_temporary(const fs::path& path, FileDescriptor& lock) {
 // database, and at most a temporary that the next open of path removes.
 void create_empty(const fs::path& path) {
   const fs::path folder = folder_of(path);
-  if (!fs::is_directory(folder)) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
     throw InputError(path.string() + ": cannot create database: folder " + folder.string() +
                      " does not exist");
   }
   FileDescriptor lock;
   const fs::path tmp = create_locked_temporary(path, lock);
-  std::error_code ec;
   try {
     Connection db = Connection::open(tmp, Connection::Access::kCreate);
     db.exec("BEGIN");
@@ -284,6 +285,7 @@ MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
   remove_abandoned_temporaries(path);
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) throw InputError(path.string() + ": " + ec.message());
   if (!fs::exists(status)) {
     if (mode != Mode::kCreate) throw InputError(path.string() + ": no such file");
     create_empty(path);

@@ -544,6 +544,8 @@ TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
   EXPECT_FALSE(fs::exists(path));
   EXPECT_THAT(open_error(dir_ / "no-folder" / "maps.db", Mode::kCreate), HasSubstr("does not exist"));
   EXPECT_THAT(open_error(dir_, Mode::kCreate), HasSubstr("not a regular file"));
+  EXPECT_THAT(open_error(dir_ / std::string(5000, 'a'), Mode::kCreate), HasSubstr("File name too long"));
+  EXPECT_THAT(open_error(dir_ / std::string(5000, 'a') / "maps.db", Mode::kCreate), HasSubstr("File name too long"));
   MapDatabase::open(path, Mode::kCreate);
   MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
   try {

@@ -148,9 +148,15 @@ GridMap read_map_yaml(const std::filesystem::path& yaml_path) {
     fail(yaml_path, "field 'mode' must be trinary, scale or raw, got '" + mode + "'");
   std::filesystem::path image_path(image);
   if (image_path.is_relative()) image_path = yaml_path.parent_path() / image_path;
-  if (!std::filesystem::exists(image_path))
+  // The error_code forms: an image path the file system refuses (e.g. too long) is bad input, not a filesystem_error
+  // (fuzz_map_server_yaml).
+  std::error_code ec;
+  const std::filesystem::file_status image_status = std::filesystem::status(image_path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    fail(yaml_path, "field 'image': " + image_path.string().substr(0, 200) + ": " + ec.message());
+  if (!std::filesystem::exists(image_status))
     fail(yaml_path, "field 'image': " + image_path.string() + " does not exist");
-  if (!std::filesystem::is_regular_file(image_path))  // a folder, a FIFO or a device (/dev/zero never ends)
+  if (!std::filesystem::is_regular_file(image_status))  // a folder, a FIFO or a device (/dev/zero never ends)
     fail(yaml_path, "field 'image': " + image_path.string() + " is not a regular file");
   const Pgm pgm = read_pgm(image_path);
 

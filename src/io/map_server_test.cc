@@ -98,6 +98,9 @@ TEST(MapServer, BadInputNamesTheFileAndField) {
   write_bytes(dir / "huge2.pgm", "P2 16384 16384 255\n1 2 3\n");
   write_bytes(yaml, "image: huge2.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
   EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("huge2.pgm: truncated PGM"), std::string::npos);
+  // A path the file system refuses is bad input too (a filesystem_error escaped: fuzz_map_server_yaml).
+  write_bytes(yaml, "image: " + std::string(5000, 'a') + ".pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("File name too long"), std::string::npos);
   write_bytes(yaml, "image: /dev/zero\nresolution: 0.05\norigin: [0, 0, 0]\n");
   EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("/dev/zero is not a regular file"), std::string::npos);
   // A map bigger than the extent limit.

@@ -65,7 +65,11 @@ bool is_ros_bag(const std::filesystem::path& path) { return path.extension() == 
 RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& options) {
   validate(options);
   const std::string name = path.string();
-  if (!std::filesystem::is_regular_file(path)) throw InputError(name + ": no such file");
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) throw InputError(name + ": " + ec.message());
+  if (!std::filesystem::exists(status)) throw InputError(name + ": no such file");
+  if (!std::filesystem::is_regular_file(status)) throw InputError(name + ": not a regular file");
   rosbag_messages::BagMessages messages;
   try {
     messages = rosbag_messages::read_bag_messages(name, options.max_points);

@@ -113,6 +113,9 @@ TEST(RosBag, BadFilesAreNamedInTheError) {
     return std::string("no error");
   };
   EXPECT_THAT(message(dir / "missing.bag"), HasSubstr("missing.bag: no such file"));
+  EXPECT_THAT(message(dir / (std::string(5000, 'a') + ".bag")), HasSubstr("File name too long"));
+  std::filesystem::create_directories(dir / "folder.bag");
+  EXPECT_THAT(message(dir / "folder.bag"), HasSubstr("folder.bag: not a regular file"));
   {
     std::ofstream(dir / "text.bag") << "FLASER 4 1 2 3 4 0 0 0 0 0 0 1 h 1\n";
   }
