@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -212,6 +213,10 @@ class MapDatabase {
                                                  int k) const;
   /// All descriptors of one (dictionary, K), by increasing map id.
   std::vector<DescriptorRecord> load_descriptors(const std::string& dictionary, int k) const;
+  /// The same, one row at a time, without holding them all: visit(map_id, descriptor) by increasing map id (the
+  /// descriptor is reused between calls). Size checks and errors as load_descriptors.
+  void scan_descriptors(const std::string& dictionary, int k,
+                        const std::function<void(std::int64_t, const PackedDescriptor&)>& visit) const;
   std::vector<DescriptorSetInfo> descriptor_sets() const;
 
   /// True when the file keeps its counts (schema version >= 3); false for an older file opened read-only, whose

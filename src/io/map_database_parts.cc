@@ -266,16 +266,27 @@ std::optional<CodecConfig> MapDatabase::descriptor_codec(const std::string& dict
 }
 
 std::vector<DescriptorRecord> MapDatabase::load_descriptors(const std::string& dictionary, int k) const {
+  std::vector<DescriptorRecord> out;
+  scan_descriptors(dictionary, k, [&out](std::int64_t map_id, const PackedDescriptor& d) { out.push_back({map_id, d}); });
+  return out;
+}
+
+void MapDatabase::scan_descriptors(const std::string& dictionary, int k,
+                                   const std::function<void(std::int64_t, const PackedDescriptor&)>& visit) const {
   Statement q(impl_->db,
               "SELECT map_id, bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 ORDER BY map_id");
   q.bind_text(1, dictionary).bind_int(2, k);
-  std::vector<DescriptorRecord> out;
+  PackedDescriptor d;
   while (q.step()) {
     const std::int64_t map_id = q.int64(0);
-    out.push_back(
-        {map_id, read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k))});
+    const std::int64_t bits = q.int64(1);
+    const auto blob = q.blob(2);
+    if (bits < 0 || bits > std::numeric_limits<int>::max() - 7 || blob.size() != static_cast<std::size_t>((bits + 7) / 8))
+      d = read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k));  // throws, naming it
+    d.bits = static_cast<int>(bits);
+    d.bytes.assign(blob.begin(), blob.end());
+    visit(map_id, d);
   }
-  return out;
 }
 
 namespace internal {

@@ -240,16 +240,22 @@ DescriptorDatabase::DescriptorDatabase(const DescriptorDatabaseConfig& config) :
 
 DescriptorDatabase::DescriptorDatabase(const std::vector<MapDescriptor>& maps,
                                        const DescriptorDatabaseConfig& config)
+    : DescriptorDatabase(
+          maps.size(), [&maps](std::size_t i, MapDescriptor&) -> const MapDescriptor& { return maps[i]; }, config) {}
+
+DescriptorDatabase::DescriptorDatabase(std::size_t num_maps, const MapSource& map_at,
+                                       const DescriptorDatabaseConfig& config)
     : DescriptorDatabase(config) {
-  if (maps.size() >= kNoMap) throw InputError("descriptor database: too many maps");
-  std::vector<std::uint32_t> order(maps.size());
+  if (num_maps >= kNoMap) throw InputError("descriptor database: too many maps");
+  std::vector<std::uint32_t> order(num_maps);
   std::iota(order.begin(), order.end(), 0u);
+  MapDescriptor scratch;
   if (config_.spatial_order) {
-    std::vector<std::uint32_t> key(maps.size(), std::numeric_limits<std::uint32_t>::max());
-    for (std::size_t i = 0; i < maps.size(); ++i) {
+    std::vector<std::uint32_t> key(num_maps, std::numeric_limits<std::uint32_t>::max());
+    for (std::size_t i = 0; i < num_maps; ++i) {
       long long x0 = std::numeric_limits<long long>::max(), x1 = std::numeric_limits<long long>::min();
       long long y0 = x0, y1 = x1;
-      for (const Part& p : maps[i].parts) {
+      for (const Part& p : map_at(i, scratch).parts) {
         if (!finite(p.descriptor_box)) continue;  // add() reports it
         const CellBox c = to_cells(p.descriptor_box, config_.resolution);
         x0 = std::min(x0, c.x0), x1 = std::max(x1, c.x1), y0 = std::min(y0, c.y0), y1 = std::max(y1, c.y1);
@@ -259,11 +265,11 @@ DescriptorDatabase::DescriptorDatabase(const std::vector<MapDescriptor>& maps,
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
   }
-  const std::size_t blocks = (maps.size() + kLanes - 1) / kLanes;
+  const std::size_t blocks = (num_maps + kLanes - 1) / kLanes;
   coords_.reserve(blocks * static_cast<std::size_t>(config_.parts_per_map) * 4 * kLanes);
   inv_sqrt_area_.reserve(blocks * static_cast<std::size_t>(config_.parts_per_map) * kLanes);
-  for (std::uint32_t i : order) append(maps[i], i);
-  num_maps_ = maps.size();
+  for (std::uint32_t i : order) append(map_at(i, scratch), i);
+  num_maps_ = num_maps;
 }
 
 std::size_t DescriptorDatabase::add(const MapDescriptor& map) {
