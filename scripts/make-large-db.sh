@@ -6,7 +6,7 @@
 #   cold: the database file evicted from the page cache first (sync, then posix_fadvise DONTNEED on it: its
 #         pages are read from the disk again), in a fresh process
 #   fresh: a fresh process, the file in the page cache (warm page cache)
-#   warm: the same rank again in the same process (median of 5)
+#   warm: the same rank again in the same process (median of 20)
 # Usage: bash scripts/make-large-db.sh [N ...]   (default 1000000 10000000; about 6 min for both on 2 cores)
 # Needs ../shared/data (or $PARTSLAM_SHARED_DATA) and build/partslam, build/large_db. Databases go to
 # $LARGE_DB_DIR (default /tmp/bigdb): about 225 bytes per map, 2.3 GB at 10 M; they are kept for reruns of info
@@ -45,10 +45,13 @@ def evict(path):  # drops the file's (clean) pages from the page cache
     os.close(fd)
 
 def query(db, load):
-    out, wall = run(f"{bin_dir}/large_db", "query", db, "--load", load, "--repeat", "5")
+    rss = f"{out_dir}/.rss"
+    out, wall = run("/usr/bin/time", "-f", "%M", "-o", rss, f"{bin_dir}/large_db", "query", db, "--load", load,
+                    "--repeat", "20")
     f = lambda pattern: float(re.search(pattern, out).group(1))
     return {"load": f(r"load ([\d.]+) ms"), "build": f(r"build ([\d.]+) ms"), "rank": f(r"rank ([\d.]+) ms:"),
-            "cold": f(r"cold ([\d.]+) ms"), "warm": f(r"median ([\d.]+) ms"), "wall": wall * 1e3}
+            "cold": f(r"cold ([\d.]+) ms"), "warm": f(r"median ([\d.]+) ms"), "wall": wall * 1e3,
+            "rss_mb": int(open(rss).read().split()[-1]) / 1e3}
 
 rows = []
 for n in sizes:
@@ -73,10 +76,11 @@ for n in sizes:
 
 print("\n| maps | build [s] | file [MB] | bytes per map | info cold / warm [s] | cold query [s] (load) "
       "| fresh process, warm cache [s] (load) | load_descriptor_set path, fresh [s] (load + build) "
-      "| warm query [ms] |")
-print("|---|---|---|---|---|---|---|---|---|")
+      "| warm query [ms] | peak memory stream / set [MB] |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for n, build_s, size, info_cold, info_warm, cold, fresh, fs in rows:
     print(f"| {n:,} | {build_s:.1f} | {size / 1e6:.0f} | {size / n:.0f} | {info_cold:.3f} / {info_warm:.3f} "
           f"| {cold['cold'] / 1e3:.2f} ({cold['load'] / 1e3:.2f}) | {fresh['cold'] / 1e3:.2f} ({fresh['load'] / 1e3:.2f}) "
-          f"| {fs['cold'] / 1e3:.2f} ({(fs['load'] + fs['build']) / 1e3:.2f}) | {fresh['warm']:.1f} |")
+          f"| {fs['cold'] / 1e3:.2f} ({(fs['load'] + fs['build']) / 1e3:.2f}) | {fresh['warm']:.1f} "
+          f"| {fresh['rss_mb']:.0f} / {fs['rss_mb']:.0f} |")
 PY

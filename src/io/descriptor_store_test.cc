@@ -92,6 +92,9 @@ TEST_F(DescriptorStoreTest, StreamedMatcherGivesTheScoresOfTheDecodedSet) {
         for (const double gate : {0.0, 2.0}) {
           const std::vector<float> want = reference.score_all(maps[q], matcher, {1, gate});
           EXPECT_EQ(loaded.database.score_all(maps[q], matcher, {1, gate}), want);
+          std::vector<float> reused(7, 9.0f);  // the overload that reuses a buffer: same scores
+          loaded.database.score_all(maps[q], matcher, {1, gate}, reused);
+          EXPECT_EQ(reused, want);
           if (!maps[q].parts.empty()) {
             EXPECT_GT(want[q], 0.0f);  // it finds itself
           }

@@ -348,11 +348,18 @@ std::size_t DescriptorDatabase::memory_bytes() const {
 
 std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher,
                                                  const ScoreOptions& options) const {
+  std::vector<float> scores;
+  score_all(query, matcher, options, scores);
+  return scores;
+}
+
+void DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher, const ScoreOptions& options,
+                                   std::vector<float>& scores) const {
   if (options.num_threads < 0) throw InputError("score_all: num_threads must be >= 0");
   if (!(options.origin_gate >= 0) || !std::isfinite(options.origin_gate))
     throw InputError("score_all: origin_gate must be >= 0 [m]");
   const QueryBoxes q = prepare_query(query, matcher, config_.resolution, options.origin_gate);
-  std::vector<float> scores(num_maps_, 0.0f);
+  scores.assign(num_maps_, 0.0f);
   const Layout layout{coords_.data(),       origins_.data(),    inv_sqrt_area_.data(),
                       bounds_.data(),       super_bounds_.data(), map_index_.data(),
                       bounds_.size() / 4,   config_.parts_per_map};
@@ -361,7 +368,7 @@ std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Mat
   const int threads = options.num_threads == 0 ? omp_get_max_threads() : options.num_threads;
   if (threads <= 1 || supers < 2) {
     score_range(layout, 0, supers, q, use_max, scores.data());
-    return scores;
+    return;
   }
 #pragma omp parallel num_threads(threads)
   {
@@ -369,7 +376,6 @@ std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Mat
     const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
     score_range(layout, supers * t / nt, supers * (t + 1) / nt, q, use_max, scores.data());
   }
-  return scores;
 }
 
 }  // namespace partslam
