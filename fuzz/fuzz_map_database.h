@@ -18,7 +18,7 @@ namespace partslam::fuzz {
 
 /// Writes a small database at path (which must not exist). submap_points / dictionary_points: the points of the
 /// maps (synthetic ones when empty). page_size: SQLite page size in bytes (512 keeps the file to a few KB).
-/// version1: left at schema version 1 (no descriptor_codecs table), as an older partslam wrote it.
+/// version1: left at schema version 1 (no descriptor_codecs table, no counts tables), as an older partslam wrote it.
 inline void make_small_database(const std::filesystem::path& path, std::vector<Points2> submap_points = {},
                                 Points2 dictionary_points = {}, int page_size = 512, bool version1 = false) {
   std::mt19937 rng(7);
