@@ -6,13 +6,28 @@
 //   iMM: query of K parts vs database of K parts (Sum-Max).       hMM: query of 100 parts vs K = 3 (SMW).
 // Counters: ns_per_map = time per stored map (= per map pair), ms = time per query, bytes_per_map.
 // score_all runs with the origin gate the CLI uses (kDefaultOriginGate) unless its gate argument is 0.
+//
+// The succinct matcher's index (core/matching/grid_index.h) against its scan, top 100, on real and on synthetic
+// databases (BM_Grid*; --benchmark_filter=Grid): the real grids are fr079's, intel's and aces' submaps (the
+// simulator's when ../shared/data is absent) with their hubness values; a synthetic database of N maps holds
+// revisits of the real maps: a real grid moved by -1..1 cells each way and a quarter turn, about a tenth of its
+// occupied cells cleared and two cells set at random, with its map's mu moved by -1..1 levels. Queries: the
+// real submaps' own query grids (every 97th). Both report ms per query, ns per stored map and bytes per map;
+// the index also the maps it scored; a benchmark stops with an error if the index's top 100 differs from the
+// scan's.
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <random>
 
+#include "core/maps/submap.h"
+#include "core/matching/grid_index.h"
 #include "core/parts/descriptor_database.h"
 #include "core/parts/part_codec.h"
+#include "core/sim/simulator.h"
+#include "io/carmen_log.h"
 
 namespace partslam {
 namespace {
@@ -212,6 +227,145 @@ BENCHMARK(BM_Naive_iMM)->Arg(4)->Apply(single);
 BENCHMARK(BM_ScoreAll_iMM)->Args({4, 0, 1, 0, 1})->Args({4, 1, 1, 0, 1})->Apply(single);
 BENCHMARK(BM_Naive_iMM)->Arg(5)->Apply(single);
 BENCHMARK(BM_ScoreAll_iMM)->Args({5, 0, 1, 0, 1})->Args({5, 1, 1, 0, 1})->Apply(single);
+
+// ---- the succinct matcher: index vs scan ----
+
+struct GridData {
+  std::vector<GridBits> real_grids;
+  std::vector<double> real_mu;
+  std::vector<std::vector<GridBits>> queries;  // query grids of every 97th real submap
+};
+
+const GridData& grid_data() {
+  static const GridData d = [] {
+    GridData out;
+    const GridConfig config = succinct_grid_config();
+    const char* env = std::getenv("PARTSLAM_SHARED_DATA");
+    const std::filesystem::path shared = env != nullptr && *env != '\0' ? env : PARTSLAM_SHARED_DATA;
+    std::vector<Submap> maps;
+    for (const char* log : {"fr079/fr079-corrected.log.gz", "intel/intel-corrected.log.gz", "aces/aces-corrected.log.gz"})
+      if (std::filesystem::exists(shared / log))
+        for (Submap& m : build_submaps(io::read_carmen_log(shared / log).scans)) maps.push_back(std::move(m));
+    if (maps.empty()) maps = build_submaps(simulate().scans);
+    std::vector<const Points2*> points;
+    for (const Submap& m : maps) out.real_grids.push_back(make_grid(m.points, config)), points.push_back(&m.points);
+    out.real_mu = grid_hubness(points, out.real_grids, config);
+    for (std::size_t i = 0; i < maps.size(); i += 97) out.queries.push_back(make_query_grids(maps[i].points, config));
+    return out;
+  }();
+  return d;
+}
+
+// A real grid moved by (dx, dy) cells and turned k quarter turns about the grid's centre.
+GridBits move_grid(const GridBits& g, int dx, int dy, int k, int s) {
+  GridBits out;
+  for (int y = 0; y < s; ++y)
+    for (int x = 0; x < s; ++x) {
+      const int i = x + s * y;
+      if (!((g.words[static_cast<std::size_t>(i >> 6)] >> (i & 63)) & 1)) continue;
+      int u = x + dx, v = y + dy;
+      for (int t = 0; t < k; ++t) std::tie(u, v) = std::pair{s - 1 - v, u};
+      if (u < 0 || v < 0 || u >= s || v >= s) continue;
+      const int j = u + s * v;
+      out.words[static_cast<std::size_t>(j >> 6)] |= std::uint64_t{1} << (j & 63);
+    }
+  return out;
+}
+
+struct GridDatabase {
+  std::vector<GridBits> grids;
+  std::vector<double> mu;
+  std::unique_ptr<GridIndex> index;
+  double build_s = 0;
+};
+
+// n = 0: the real grids themselves.
+const GridDatabase& grid_database(std::size_t n) {
+  static std::map<std::size_t, GridDatabase> cache;
+  if (auto it = cache.find(n); it != cache.end()) return it->second;
+  cache.clear();  // one at a time (10 M maps: ~0.6 GB with the index)
+  const GridData& real = grid_data();
+  GridDatabase db;
+  if (n == 0) {
+    db.grids = real.real_grids;
+    db.mu = real.real_mu;
+  } else {
+    const int s = succinct_grid_config().cells;
+    std::mt19937_64 rng(n);
+    std::uniform_int_distribution<std::size_t> pick(0, real.real_grids.size() - 1);
+    std::uniform_int_distribution<int> shift(-1, 1), turn(0, 3), cell(0, s * s - 1);
+    std::bernoulli_distribution clear(0.1);
+    db.grids.reserve(n);
+    db.mu.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t r = pick(rng);
+      GridBits g = move_grid(real.real_grids[r], shift(rng), shift(rng), turn(rng), s);
+      for (int w = 0; w < 2; ++w)
+        for (std::uint64_t bits = g.words[static_cast<std::size_t>(w)]; bits != 0; bits &= bits - 1)
+          if (clear(rng)) g.words[static_cast<std::size_t>(w)] &= ~(bits & -bits);
+      for (int extra = 0; extra < 2; ++extra) {
+        const int j = cell(rng);
+        g.words[static_cast<std::size_t>(j >> 6)] |= std::uint64_t{1} << (j & 63);
+      }
+      db.grids.push_back(g);
+      db.mu.push_back(std::clamp(real.real_mu[r] + shift(rng) / 127.0, 0.0, 1.0));
+    }
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  db.index = std::make_unique<GridIndex>(db.grids, db.mu, succinct_grid_config().hub_weight);
+  db.build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return cache.emplace(n, std::move(db)).first->second;
+}
+
+constexpr std::size_t kGridTop = 100;
+
+// arg: stored maps (0: the real database)
+void BM_GridScan(benchmark::State& state) {
+  const GridDatabase& db = grid_database(static_cast<std::size_t>(state.range(0)));
+  const GridData& real = grid_data();
+  const GridConfig config = succinct_grid_config();
+  std::size_t q = 0;
+  for (auto _ : state) {
+    const GridQuery query(real.queries[q++ % real.queries.size()], config);
+    benchmark::DoNotOptimize(scan_top_k(query, db.grids, db.mu, config.hub_weight, kGridTop));
+  }
+  set_counters(state, db.grids.size(), db.grids.size() * sizeof(GridBits) + db.mu.size());  // mu: 7 bits
+}
+
+void BM_GridIndex(benchmark::State& state) {
+  const GridDatabase& db = grid_database(static_cast<std::size_t>(state.range(0)));
+  const GridData& real = grid_data();
+  const GridConfig config = succinct_grid_config();
+  // Identical top 100 on every query first (untimed).
+  std::vector<GridQuery> queries;
+  GridSearchStats stats;
+  for (const auto& grids : real.queries) {
+    queries.emplace_back(grids, config);
+    if (state.range(0) <= 1'000'000 || queries.size() <= 3) {
+      if (db.index->top_k(queries.back(), kGridTop) !=
+          scan_top_k(queries.back(), db.grids, db.mu, config.hub_weight, kGridTop)) {
+        state.SkipWithError("the index's top 100 differs from the scan's");
+        return;
+      }
+    }
+  }
+  std::size_t q = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(db.index->top_k(queries[q++ % queries.size()], kGridTop, &stats));
+  set_counters(state, db.grids.size(), db.index->memory_bytes());
+  state.counters["maps_scored"] = static_cast<double>(stats.maps_scored) / static_cast<double>(q);
+  state.counters["nodes"] = static_cast<double>(stats.nodes_visited) / static_cast<double>(q);
+  state.counters["build_s"] = db.build_s;
+}
+
+// Real database; synthetic at 1 M and 10 M. The 10 M scan takes seconds per query: a few iterations only.
+BENCHMARK(BM_GridScan)->Arg(0)->Apply(single);
+BENCHMARK(BM_GridIndex)->Arg(0)->Apply(single);
+BENCHMARK(BM_GridScan)->Arg(100'000)->Iterations(18)->Apply(single);  // 18: every query once
+BENCHMARK(BM_GridIndex)->Arg(100'000)->Apply(single);
+BENCHMARK(BM_GridScan)->Arg(1'000'000)->Iterations(6)->Apply(single);
+BENCHMARK(BM_GridIndex)->Arg(1'000'000)->Apply(single);
+BENCHMARK(BM_GridScan)->Arg(10'000'000)->Iterations(3)->Apply(single);
+BENCHMARK(BM_GridIndex)->Arg(10'000'000)->Apply(single);
 
 }  // namespace
 }  // namespace partslam

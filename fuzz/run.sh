@@ -4,6 +4,7 @@
 # FUZZ_RUNS is set, for that many executions, printing the executions of each. Exits non-zero when any target
 # reports a finding (crash, sanitizer report, exception other than InputError, timeout > 10 s, RSS > 2 GB); the
 # input that caused it is saved as $FUZZ_BUILD/fuzz/findings/<target>-crash-... and the report is printed.
+# FUZZ_JOBS (default JOBS) targets run at a time.
 # FUZZ_TARGETS="fuzz_carmen fuzz_points" runs only those. The corpus each run grows is kept in
 # $FUZZ_BUILD/fuzz/corpus/<target>, so later runs continue from it.
 set -euo pipefail
@@ -26,29 +27,44 @@ mkdir -p "$out/corpus" "$out/findings" "$out/logs"
 "$out/make_fuzz_seeds" "$shared" "$out/seeds"
 
 targets=${FUZZ_TARGETS:-$(cd fuzz && ls fuzz_*.cc | sed 's/\.cc$//')}
-failed=()
 total_start=$(date +%s)
-printf '%-26s %14s %10s %8s  %s\n' target executions exec/s seconds result
-for t in $targets; do
-  args=(-rss_limit_mb=2048 -timeout=10 -print_final_stats=1 -close_fd_mask=1 "-artifact_prefix=$out/findings/$t-")
+# One target: its log in $out/logs/<target>.log, its row of the table in $out/logs/<target>.row.
+run_target() {
+  local t=$1
+  local args=(-rss_limit_mb=2048 -timeout=10 -print_final_stats=1 -close_fd_mask=1 "-artifact_prefix=$out/findings/$t-")
   if [ -n "$runs" ]; then args+=("-runs=$runs"); else args+=("-max_total_time=$seconds"); fi
   [ -f "fuzz/dict/$t.dict" ] && args+=("-dict=fuzz/dict/$t.dict")
   # Options of one target (fuzz/<target>.options, one per line, # comments): see each file for why.
   [ -f "fuzz/$t.options" ] && args+=($(grep -v '^#' "fuzz/$t.options"))
-  dirs=("$out/corpus/$t")
+  local dirs=("$out/corpus/$t")
   mkdir -p "$out/corpus/$t"
   [ -d "$out/seeds/$t" ] && dirs+=("$out/seeds/$t")
   [ -d "fuzz/seeds/$t" ] && dirs+=("fuzz/seeds/$t")
-  log=$out/logs/$t.log
+  local log=$out/logs/$t.log start result execs rate
   start=$(date +%s)
-  if "$out/$t" "${args[@]}" "${dirs[@]}" > "$log" 2>&1; then result=ok; else result=FINDING; failed+=("$t"); fi
-  elapsed=$(( $(date +%s) - start ))
+  if "$out/$t" "${args[@]}" "${dirs[@]}" > "$log" 2>&1; then result=ok; else result=FINDING; fi
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  printf '%-26s %14s %10s %8s  %s\n' "$t" "${execs:-?}" "${rate:-?}" "$elapsed" "$result"
-  if [ "$result" != ok ]; then
-    echo "---- $t: the end of $log ----"
-    tail -n 60 "$log"
+  printf '%-26s %14s %10s %8s  %s\n' "$t" "${execs:-?}" "${rate:-?}" "$(( $(date +%s) - start ))" "$result" \
+    > "$out/logs/$t.row"
+}
+# FUZZ_JOBS targets at a time (default: JOBS, the cores make uses).
+parallel=${FUZZ_JOBS:-$jobs}
+running=0
+for t in $targets; do
+  run_target "$t" &
+  running=$((running + 1))
+  if [ "$running" -ge "$parallel" ]; then wait -n || true; running=$((running - 1)); fi
+done
+wait
+printf '%-26s %14s %10s %8s  %s\n' target executions exec/s seconds result
+failed=()
+for t in $targets; do
+  cat "$out/logs/$t.row"
+  if ! grep -q ' ok$' "$out/logs/$t.row"; then
+    failed+=("$t")
+    echo "---- $t: the end of $out/logs/$t.log ----"
+    tail -n 60 "$out/logs/$t.log"
     echo "----"
   fi
 done

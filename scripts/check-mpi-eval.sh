@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ctest mpi.eval_two_ranks: `mpirun -n 2 partslam eval` and `loops` give the JSON of a serial run, timings apart,
+# ctest mpi.eval_two_ranks: `mpirun -n 2 partslam eval`, `loops` and `match` give the JSON of a serial run, timings apart,
 # and `mpirun -n 2 partslam describe` stores the same descriptors (issue "scale": identical results over MPI ranks).
 # Usage: scripts/check-mpi-eval.sh PARTSLAM_BINARY
 set -euo pipefail
@@ -53,3 +53,18 @@ if not rows[0] or rows[0] != rows[1]:
     sys.exit("describe over 2 ranks stored other descriptors than a serial run")
 print(f"describe over 2 ranks: the same {len(rows[0])} descriptors")
 PY
+# match: each rank ranks its slice of the stored maps, the top rows are merged: the same JSON as a serial run.
+for method in dmm hmm:3 imm:3; do
+  "$BIN" match "$TMP/a.db" --query 40 --method "$method" --top 5 --json "$TMP/m1.json" > /dev/null
+  mpirun --allow-run-as-root --oversubscribe -n 2 "$BIN" match "$TMP/a.db" --query 40 --method "$method" --top 5 \
+    --json "$TMP/m2.json" > "$TMP/m2.txt"
+  [ "$(grep -c '^confidence\|^ rank' "$TMP/m2.txt")" -le 2 ] || { echo "more than one rank printed the ranking"; exit 1; }
+  cmp -s "$TMP/m1.json" "$TMP/m2.json" || { echo "match $method over 2 ranks differs from a serial run"; exit 1; }
+  echo "match $method over 2 ranks: the same ranking"
+done
+# A method that learns from every stored map cannot be sharded: a clear error, not a different ranking.
+if mpirun --allow-run-as-root --oversubscribe -n 2 "$BIN" match "$TMP/a.db" --query 40 --method succinct \
+     > "$TMP/s.txt" 2>&1; then
+  echo "succinct was sharded"; exit 1
+fi
+grep -q "cannot be sharded" "$TMP/s.txt" || { echo "no clear error for succinct over 2 ranks"; cat "$TMP/s.txt"; exit 1; }

@@ -19,10 +19,12 @@
 #include <numbers>
 #include <optional>
 #include <set>
+#include <span>
 
 #include "apps/commands.h"
 #include "apps/json_text.h"
 #include "apps/cpd_options.h"
+#include "apps/mpi_split.h"
 #include "apps/query_options.h"
 #include "io/descriptor_store.h"
 #include "core/matching/ranking.h"
@@ -185,20 +187,83 @@ Submap local_map(const io::MapDatabase& db, const MatchOptions& o, std::string& 
   return m;
 }
 
+// A candidate more than 4 m from `best`'s frame, or in another dataset.
+bool is_far(const Candidate& c, const Candidate& best) {
+  return c.dataset != best.dataset ||
+         (c.map->T_world_map.translation() - best.map->T_world_map.translation()).norm() > 4.0;
+}
+
 // How far the best dMM match beats the best one elsewhere: its inlier share minus the best inlier share among
-// the dMM-verified candidates whose frames lie more than 4 m from its own (same dataset); nullopt without dMM.
-std::optional<double> match_confidence(const std::vector<Row>& rows, const std::vector<Candidate>& candidates) {
+// the candidates more than 4 m from it (is_far); nullopt without dMM. `scored` are the rows this process ranked
+// (candidates [first, first + scored.size())); under mpirun every rank's share is gathered. Plain dMM ranked
+// for its top k leaves the maps that could not enter it unscored, so their best is found exactly by a top-1
+// search over them (the same for any threads and ranks); other methods' dMM rows are all exact.
+std::optional<double> match_confidence(const std::vector<Row>& rows, const std::vector<Row>& scored,
+                                       const std::vector<Candidate>& candidates, std::size_t first,
+                                       const MethodSpec& method, const Ranker& ranker, const MapView& query,
+                                       int threads, const WorkSplit& split) {
   if (rows.empty() || !rows.front().dmm) return std::nullopt;
   const Candidate& best = candidates[rows.front().candidate];
-  double elsewhere = 0.0;
-  for (const Row& r : rows) {
-    if (!r.dmm) continue;
-    const Candidate& c = candidates[r.candidate];
-    const bool far = c.dataset != best.dataset ||
-                     (c.map->T_world_map.translation() - best.map->T_world_map.translation()).norm() > 4.0;
-    if (far) elsewhere = std::max(elsewhere, r.dmm->inlier_fraction);
+  double mine = 0.0;
+  if (method.name == "dmm") {
+    std::vector<std::size_t> far;
+    for (std::size_t j = 0; j < scored.size(); ++j)
+      if (is_far(candidates[first + j], best)) far.push_back(j);
+    if (!far.empty()) {
+      const Ranking r = ranker.rank(query, far, {threads, 1});
+      for (const auto& d : r.direct)
+        if (d && d->exact) mine = std::max(mine, d->inlier_fraction);
+    }
+  } else {
+    for (const Row& r : scored)
+      if (r.dmm && is_far(candidates[r.candidate], best)) mine = std::max(mine, r.dmm->inlier_fraction);
   }
+  double elsewhere = 0.0;
+  for (double e : split.all_gather(std::span<const double>(&mine, 1))) elsewhere = std::max(elsewhere, e);
   return rows.front().dmm->inlier_fraction - elsewhere;
+}
+
+// mpirun -n P: methods whose score of a stored map depends on that map and the query alone can be sharded;
+// `succinct` (and `grid` with hub=) learns a hubness term from all stored maps, and a two-stage method would
+// shortlist per rank, so neither would give the serial ranking.
+bool shardable(const MethodSpec& method) {
+  if (!method.stages.empty() || method.name == "succinct") return false;
+  return method.name != "grid" || method.spec.find(":hub=") == std::string::npos;
+}
+
+// The rows every rank found best in its slice (at most `top` each), merged in the serial order: score
+// descending, then candidate (a serial run sorts the candidates stably by score). Rows travel as doubles.
+std::vector<Row> merge_shards(const std::vector<Row>& mine, std::size_t top, const WorkSplit& split) {
+  constexpr std::size_t kFields = 10;
+  std::vector<double> packed;
+  for (std::size_t r = 0; r < std::min(top, mine.size()); ++r) {
+    const Row& row = mine[r];
+    const DmmResult d = row.dmm.value_or(DmmResult{});
+    packed.insert(packed.end(), {static_cast<double>(row.candidate), row.score, row.descriptor_score ? 1.0 : 0.0,
+                                 row.descriptor_score.value_or(0.0), row.dmm ? 1.0 : 0.0,
+                                 static_cast<double>(d.inliers), d.inlier_fraction, d.T_map_query.x,
+                                 d.T_map_query.y, d.T_map_query.theta});
+  }
+  const std::vector<double> all = split.all_gather(packed);
+  std::vector<Row> rows;
+  for (std::size_t i = 0; i + kFields <= all.size(); i += kFields) {
+    Row row;
+    row.candidate = static_cast<std::size_t>(all[i]);
+    row.score = all[i + 1];
+    if (all[i + 2] != 0) row.descriptor_score = all[i + 3];
+    if (all[i + 4] != 0) {
+      DmmResult d;
+      d.inliers = static_cast<int>(all[i + 5]);
+      d.inlier_fraction = all[i + 6];
+      d.T_map_query = Pose2{all[i + 7], all[i + 8], all[i + 9]};
+      row.dmm = d;
+    }
+    rows.push_back(row);
+  }
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
+    return a.score != b.score ? a.score > b.score : a.candidate < b.candidate;
+  });
+  return rows;
 }
 
 nlohmann::json ranking_json(const std::string& query, const MethodSpec& method, const std::vector<Row>& rows,
@@ -242,6 +307,10 @@ void run_match(const MatchOptions& o) {
     throw InputError("a new local map: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
                      "(dmm, succinct, grid, sc, rerank:R)");
   if (!o.json.empty()) io::check_writable(o.json);
+  const WorkSplit& split = world_split();
+  if (split.size() > 1 && !shardable(method))
+    throw InputError("mpirun: method '" + o.method + "' cannot be sharded (it learns from all stored maps or "
+                     "shortlists per rank); use dmm, dmm-ransac, imm, hmm, sc or grid without hub=, or one process");
   const auto t_start = Clock::now();
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
   io::MapLocation where;
@@ -289,21 +358,25 @@ void run_match(const MatchOptions& o) {
   config.ransac = o.ransac;
   config.origin_gate = o.gate;
   config.hmm_query_parts = std::max<int>(1, static_cast<int>(query_parts.size()));
+  // This process's slice of the candidates (all of them outside mpirun): prepared and ranked here.
+  const auto [first, last] = split.slice(candidates.size());
+  const std::span<const MapView> mine(views.data() + first, last - first);
   auto t0 = Clock::now();
   const std::unique_ptr<Ranker> ranker = make_ranker(method, config);
-  ranker->prepare(views, o.threads);
+  ranker->prepare(mine, o.threads);
   const double prepare_ms = ms_since(t0);
-  std::vector<std::size_t> everyone(candidates.size());
+  std::vector<std::size_t> everyone(mine.size());
   for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
   const Ranking ranking = ranker->rank({&query.points, &query_parts}, everyone, {o.threads, o.top});
   char buf[240];
-  std::snprintf(buf, sizeof buf, "prepare %.1f ms (offline), query %.2f ms, ranking %.2f ms (%.3f ms per map)",
+  std::snprintf(buf, sizeof buf, "prepare %.1f ms (offline), query %.2f ms, ranking %.2f ms (%.3f ms per map)%s",
                 prepare_ms, ranking.prep_ms, ranking.match_ms,
-                ranking.match_ms / static_cast<double>(candidates.size()));
+                ranking.match_ms / static_cast<double>(std::max<std::size_t>(1, mine.size())),
+                split.size() > 1 ? " on rank 0's slice" : "");
   timing += buf;
-  std::vector<Row> rows(candidates.size());
+  std::vector<Row> rows(mine.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    rows[i].candidate = i;
+    rows[i].candidate = first + i;
     rows[i].score = ranking.scores[i];
     if (!ranking.direct.empty()) rows[i].dmm = ranking.direct[i];
     if (!ranking.shortlist_scores.empty()) {
@@ -313,6 +386,11 @@ void run_match(const MatchOptions& o) {
     }
   }
   std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
+  const std::vector<Row> scored = rows;
+  if (split.size() > 1) rows = merge_shards(rows, static_cast<std::size_t>(o.top), split);
+  const std::optional<double> confidence = match_confidence(rows, scored, candidates, first, method, *ranker,
+                                                            {&query.points, &query_parts}, o.threads, split);
+  if (!is_reporting_process()) return;  // rank 0 prints and writes
 
   const bool all = o.all || new_map;
   std::cout << query_label << "; " << method.label() << " over " << candidates.size() << " maps"
@@ -340,7 +418,6 @@ void run_match(const MatchOptions& o) {
   const std::size_t shown = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(o.top));
   for (std::size_t r = 0; r < shown; ++r)
     print_row(r + 1, rows[r], candidates[rows[r].candidate], query, where.dataset_name, all, pose);
-  const std::optional<double> confidence = match_confidence(rows, candidates);
   if (confidence) std::printf("confidence %.3f (the best dMM inlier share minus the best one more than 4 m away)\n", *confidence);
   std::cout << "time: load " << static_cast<long>(load_ms) << " ms; " << timing << "\n";
   if (!o.json.empty())

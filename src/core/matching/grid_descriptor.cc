@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
+#include <memory>
 
 #include "core/error.h"
 #include "core/timing.h"
+#include "core/matching/grid_index.h"
 #include "core/matching/ranking.h"
 
 namespace partslam {
@@ -114,12 +117,9 @@ double jaccard(const GridBits& a, const GridBits& b) {
   return either > 0 ? static_cast<double>(both) / either : 0.0;
 }
 
-namespace {
-
 // The best Jaccard both / either as an exact fraction (integer cross-multiplication, no division per pose):
-// the same maximum as max over poses of jaccard(), in a few integer operations per pose. counts[v] is
-// query[v].count().
-double best_jaccard(const std::vector<GridBits>& query, const std::vector<int>& counts, const GridBits& stored) {
+// the same maximum as max over poses of jaccard(), in a few integer operations per pose.
+double grid_similarity(const std::vector<GridBits>& query, const std::vector<int>& counts, const GridBits& stored) {
   const int nb = stored.count();
   int best_both = 0, best_either = 1;
   for (std::size_t v = 0; v < query.size(); ++v) {
@@ -129,17 +129,52 @@ double best_jaccard(const std::vector<GridBits>& query, const std::vector<int>& 
   return static_cast<double>(best_both) / best_either;
 }
 
-std::vector<int> counts_of(const std::vector<GridBits>& grids) {
+std::vector<int> grid_counts(const std::vector<GridBits>& grids) {
   std::vector<int> counts;
   counts.reserve(grids.size());
   for (const GridBits& g : grids) counts.push_back(g.count());
   return counts;
 }
 
-}  // namespace
-
 double grid_similarity(const std::vector<GridBits>& query, const GridBits& stored) {
-  return best_jaccard(query, counts_of(query), stored);
+  return grid_similarity(query, grid_counts(query), stored);
+}
+
+std::vector<double> grid_hubness(std::span<const Points2* const> points, const std::vector<GridBits>& stored,
+                                 const GridConfig& config, int num_threads, const Progress& progress) {
+  const std::size_t n = stored.size();
+  if (points.size() != n)
+    throw InputError("grid hubness: " + std::to_string(points.size()) + " point sets for " + std::to_string(n) +
+                     " grids");
+  std::vector<double> mu(n, 0.0);
+  if (config.hub_weight <= 0 || n < 2) return mu;
+  // mu_m: how well the queries of other stored maps (a spread sample of up to hub_sample of them, as probes)
+  // match m, i.e. how much m looks like everything.
+  const std::size_t probes = std::min<std::size_t>(n, config.hub_sample);
+  std::vector<std::vector<GridBits>> probe_grids(probes);
+  std::vector<std::vector<int>> probe_counts(probes);
+  parallel_for(
+      probes, num_threads,
+      [&](std::size_t k) {
+        probe_grids[k] = make_query_grids(*points[k * n / probes], config);
+        probe_counts[k] = grid_counts(probe_grids[k]);
+      },
+      "grid hubness probes", progress);
+  const double levels = std::ldexp(1.0, config.hub_bits) - 1;
+  parallel_for(
+      n, num_threads,
+      [&](std::size_t i) {
+        double sum = 0;
+        int count = 0;
+        for (std::size_t k = 0; k < probes; ++k) {
+          if (k * n / probes == i) continue;  // never the map itself
+          sum += grid_similarity(probe_grids[k], probe_counts[k], stored[i]);
+          ++count;
+        }
+        mu[i] = count > 0 ? std::round(sum / count * levels) / levels : 0.0;
+      },
+      "grid hubness", progress);
+  return mu;
 }
 
 namespace {
@@ -151,34 +186,13 @@ class GridRanker final : public Ranker {
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
     stored_ = prepare_from_points<GridBits>(maps, num_threads, progress, "grid", "grids",
                                             [&](const Points2& points) { return make_grid(points, config_); });
-    hub_.assign(maps.size(), 0.0);
-    if (config_.hub_weight <= 0 || maps.size() < 2) return;
-    // mu_m: how well the queries of other stored maps (a spread sample of up to hub_sample of them, as probes)
-    // match m, i.e. how much m looks like everything.
-    const std::size_t n = maps.size(), probes = std::min<std::size_t>(n, config_.hub_sample);
-    std::vector<std::vector<GridBits>> probe_grids(probes);
-    std::vector<std::vector<int>> probe_counts(probes);
-    parallel_for(
-        probes, num_threads,
-        [&](std::size_t k) {
-          probe_grids[k] = make_query_grids(*maps[k * n / probes].points, config_);
-          probe_counts[k] = counts_of(probe_grids[k]);
-        },
-        "grid hubness probes", progress);
-    const double levels = std::ldexp(1.0, config_.hub_bits) - 1;
-    parallel_for(
-        n, num_threads,
-        [&](std::size_t i) {
-          double sum = 0;
-          int count = 0;
-          for (std::size_t k = 0; k < probes; ++k) {
-            if (k * n / probes == i) continue;  // never the map itself
-            sum += best_jaccard(probe_grids[k], probe_counts[k], stored_[i]);
-            ++count;
-          }
-          hub_[i] = count > 0 ? std::round(sum / count * levels) / levels : 0.0;
-        },
-        "grid hubness", progress);
+    std::vector<const Points2*> points;
+    for (const MapView& m : maps) points.push_back(m.points);
+    hub_ = grid_hubness(points, stored_, config_, num_threads, progress);
+    // The index answers top-k requests over the whole of a large database (rank with options.top_k > 0).
+    index_.reset();
+    if (stored_.size() >= config_.index_min_maps)
+      index_ = std::make_unique<GridIndex>(stored_, hub_, config_.hub_weight);
   }
 
   double bits_per_map() const override { return grid_bits_per_map(config_); }
@@ -189,13 +203,21 @@ class GridRanker final : public Ranker {
     Ranking r;
     auto t0 = Clock::now();
     const std::vector<GridBits> q = make_query_grids(*query.points, config_);
-    const std::vector<int> counts = counts_of(q);
+    const std::vector<int> counts = grid_counts(q);
     r.prep_ms = ms_since(t0);
     t0 = Clock::now();
+    if (options.top_k > 0 && index_ != nullptr && is_everyone(candidates)) {
+      // The k best exactly (grid_index.h); the others cannot enter the top k and rank below them.
+      r.scores.assign(candidates.size(), -std::numeric_limits<double>::infinity());
+      for (const GridMatch& m : index_->top_k(GridQuery(q, config_), static_cast<std::size_t>(options.top_k)))
+        r.scores[m.index] = m.score;
+      r.match_ms = ms_since(t0);
+      return r;
+    }
     r.scores.resize(candidates.size());
     parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
       const std::size_t c = candidates[j];
-      r.scores[j] = best_jaccard(q, counts, stored_.at(c)) - config_.hub_weight * hub_.at(c);
+      r.scores[j] = grid_similarity(q, counts, stored_.at(c)) - config_.hub_weight * hub_.at(c);
     });
     r.match_ms = ms_since(t0);
     return r;
@@ -205,6 +227,14 @@ class GridRanker final : public Ranker {
   GridConfig config_;
   std::vector<GridBits> stored_;
   std::vector<double> hub_;  // mu_m, quantised to hub_bits
+  std::unique_ptr<GridIndex> index_;
+
+  bool is_everyone(std::span<const std::size_t> candidates) const {
+    if (candidates.size() != stored_.size()) return false;
+    for (std::size_t j = 0; j < candidates.size(); ++j)
+      if (candidates[j] != j) return false;
+    return true;
+  }
 };
 
 // grid[:S[:key=value...]]: keys box (dm), shift (cells), sub (steps per cell), min (points), hub (percent).
@@ -255,16 +285,18 @@ void parse_succinct(const std::string& text, const std::vector<std::string>& arg
 const MethodEntry& grid_method() {
   static const MethodEntry entry{"grid", "grid[:S[:box=DM:shift=C:sub=N:min=P:hub=PCT]]", parse_grid,
                                  [](const MethodSpec& m, const RankingConfig&) {
-                                   return std::unique_ptr<Ranker>(new GridRanker(parse_grid_args(m.spec, m.args)));
+                                   return make_grid_ranker(parse_grid_args(m.spec, m.args));
                                  }};
   return entry;
 }
 
 const MethodEntry& succinct_method() {
   static const MethodEntry entry{"succinct", "succinct", parse_succinct, [](const MethodSpec&, const RankingConfig&) {
-                                   return std::unique_ptr<Ranker>(new GridRanker(succinct_grid_config()));
+                                   return make_grid_ranker(succinct_grid_config());
                                  }};
   return entry;
 }
+
+std::unique_ptr<Ranker> make_grid_ranker(const GridConfig& config) { return std::make_unique<GridRanker>(config); }
 
 }  // namespace partslam
