@@ -314,8 +314,8 @@ MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
   impl->db.exec("PRAGMA foreign_keys = ON");
   impl->db.exec("PRAGMA recursive_triggers = ON");  // REPLACE deletes keep the counts right (kCountsSchema)
   // Statement journals and savepoint sub-journals (in-transaction rollback only; the crash-safe rollback journal
-  // stays a file) in memory: with the count triggers every insert inside a transaction opened one, and as temporary
-  // files they took half of the time of writing 10 M maps (docs/NOTES.md, "A large database on disk").
+  // stays a file) in memory: as temporary files their writes took half of the time of writing many maps in one
+  // transaction (docs/NOTES.md, "A large database on disk").
   impl->db.exec("PRAGMA temp_store = MEMORY");
   if (impl->schema_version < kMapDatabaseSchemaVersion && !read_only) {
     internal::migrate_to_current(impl->db);
