@@ -69,9 +69,9 @@ class DescriptorDatabase {
   /// Scores the query against every stored map: result[i] is the score of map i (Eqs. 4-6).
   std::vector<float> score_all(const MapDescriptor& query, Matcher matcher,
                                const ScoreOptions& options = {}) const;
-  /// The same into `scores` (resized to size()), reusing its memory: at 10 M maps a new 40 MB result is ~10 000
-  /// fresh pages that the scattered writes fault in one by one, a third of a query's time (docs/NOTES.md, "A
-  /// large database on disk").
+  /// The same into `scores` (resized to size()), reusing its memory: at 10 M maps a new result is 40 MB of fresh
+  /// pages for every query, faulted in one by one by the scattered writes (docs/NOTES.md, "A large database on
+  /// disk").
   void score_all(const MapDescriptor& query, Matcher matcher, const ScoreOptions& options,
                  std::vector<float>& scores) const;
 
