@@ -18,7 +18,7 @@ namespace partslam::fuzz {
 
 /// Writes a small database at path (which must not exist). submap_points / dictionary_points: the points of the
 /// maps (synthetic ones when empty). page_size: SQLite page size in bytes (512 keeps the file to a few KB).
-/// version1: left at schema version 1 (no descriptor_codecs table), as an older partslam wrote it.
+/// version1: left at schema version 1 (no descriptor_codecs table, no counts tables), as an older partslam wrote it.
 inline void make_small_database(const std::filesystem::path& path, std::vector<Points2> submap_points = {},
                                 Points2 dictionary_points = {}, int page_size = 512, bool version1 = false) {
   std::mt19937 rng(7);
@@ -72,7 +72,14 @@ inline void make_small_database(const std::filesystem::path& path, std::vector<P
   // MapDatabase creates its files with SQLite's default page size; VACUUM rewrites the file with the small one.
   sqlite3* raw = nullptr;
   if (sqlite3_open(path.c_str(), &raw) != SQLITE_OK) std::abort();
-  const std::string sql = (version1 ? std::string("DROP TABLE descriptor_codecs; PRAGMA user_version = 1; ") : "") +
+  // Version 1 had neither the codecs (version 2) nor the counts (version 3): their tables and triggers go.
+  const std::string sql = (version1 ? std::string("DROP TRIGGER dataset_counted; DROP TRIGGER submap_added;"
+                                                  " DROP TRIGGER submap_removed; DROP TRIGGER submap_changed;"
+                                                  " DROP TRIGGER descriptor_added; DROP TRIGGER descriptor_removed;"
+                                                  " DROP TRIGGER descriptor_changed; DROP TABLE dataset_counts;"
+                                                  " DROP TABLE descriptor_counts; DROP TABLE descriptor_codecs;"
+                                                  " PRAGMA user_version = 1; ")
+                                    : "") +
                           "PRAGMA page_size = " + std::to_string(page_size) + "; VACUUM;";
   if (sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) std::abort();
   sqlite3_close(raw);

@@ -61,6 +61,10 @@ const std::vector<Table>& tables() {
        "(dictionary, k, map_id)",
        {{"dictionary", 't'}, {"k", 'i'}, {"map_id", 'i'}, {"bits", 'i'}, {"data", 'b'}}},
       {"descriptor_codecs", "(dictionary, k)", {{"dictionary", 't'}, {"k", 'i'}, {"codec", 't'}}},
+      {"dataset_counts", "dataset_id", {{"dataset_id", 'i'}, {"submaps", 'i'}, {"points", 'i'}}},
+      {"descriptor_counts",
+       "(dictionary, k)",
+       {{"dictionary", 't'}, {"k", 'i'}, {"maps", 'i'}, {"bits", 'i'}}},
   };
   return kTables;
 }
@@ -106,7 +110,7 @@ double real_value(FuzzedDataProvider& in) {
 void edit(sqlite3* db, FuzzedDataProvider& in) {
   const std::uint8_t op = in.ConsumeIntegralInRange<std::uint8_t>(0, 15);
   if (op == 15) {
-    const std::string sql = "PRAGMA user_version = " + std::to_string(in.ConsumeIntegralInRange<int>(0, 3));
+    const std::string sql = "PRAGMA user_version = " + std::to_string(in.ConsumeIntegralInRange<int>(0, 4));
     sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr);
     return;
   }

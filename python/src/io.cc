@@ -140,6 +140,7 @@ void define_database_records(py::module_& m) {
       .def_readonly("mean_bits", &io::DescriptorSetInfo::mean_bits);
   py::class_<io::DatabaseSummary>(m, "DatabaseSummary")
       .def_readonly("schema_version", &io::DatabaseSummary::schema_version)
+      .def_readonly("counts_kept", &io::DatabaseSummary::counts_kept)
       .def_readonly("datasets", &io::DatabaseSummary::datasets)
       .def_readonly("dictionaries", &io::DatabaseSummary::dictionaries)
       .def_readonly("descriptor_sets", &io::DatabaseSummary::descriptor_sets)

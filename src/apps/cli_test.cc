@@ -78,6 +78,26 @@ TEST_F(CliTest, InfoCountsSubmaps) {
   EXPECT_THAT(odd.output, HasSubstr("bad\xef\xbf\xbd"));  // U+FFFD
 }
 
+TEST_F(CliTest, InfoOnSchemaVersionTwoCountsFromTheRowsAndUpgradeMigrates) {
+  // What partslam wrote before schema version 3: no counts tables or triggers.
+  io::sqlite::Connection::open(db_, io::sqlite::Connection::Access::kReadWrite)
+      .exec("DROP TRIGGER dataset_counted; DROP TRIGGER submap_added; DROP TRIGGER submap_removed;"
+            " DROP TRIGGER submap_changed; DROP TRIGGER descriptor_added; DROP TRIGGER descriptor_removed;"
+            " DROP TRIGGER descriptor_changed; DROP TABLE dataset_counts; DROP TABLE descriptor_counts;"
+            " PRAGMA user_version = 2");
+  const std::array<std::string, 3> upgrade = {"", " --upgrade", ""};
+  for (std::size_t i = 0; i < upgrade.size(); ++i) {
+    const CliRun run = run_partslam("info " + quoted(db_) + upgrade[i]);
+    const bool old = i == 0;  // only the first run sees version 2: --upgrade migrated it
+    EXPECT_THAT(run.output, HasSubstr(old ? "schema version 2," : "schema version 3,"));
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_THAT(run.output, HasSubstr("sim-loop: 7 submaps, mean 23.0 points, map ids 1..7"));
+    EXPECT_THAT(run.output, HasSubstr("total: 9 submaps, 161 points"));
+    EXPECT_THAT(run.output, HasSubstr("dictionary fr079, K=3: 1 maps, mean 126.0 bits"));
+    EXPECT_EQ(run.output.find("keeps no counts") != std::string::npos, old) << run.output;
+  }
+}
+
 TEST_F(CliTest, ExportWritesCsvAndPly) {
   const fs::path csv = dir_ / "map5.csv";
   const CliRun run = run_partslam("export " + quoted(db_) + " --map 5 --format csv --out " + quoted(csv));

@@ -18,6 +18,7 @@ struct InfoOptions {
   std::string file;
   bool json = false;
   bool check = false;
+  bool upgrade = false;
 };
 
 std::string map_id_range(const io::DatasetInfo& d) {
@@ -30,6 +31,7 @@ std::string map_id_range(const io::DatasetInfo& d) {
 nlohmann::json to_json(const io::DatabaseSummary& s, const std::string& file) {
   nlohmann::json j = {{"file", file},
                       {"schema_version", s.schema_version},
+                      {"counts_kept", s.counts_kept},
                       {"submaps", s.submap_count},
                       {"points", s.point_count}};
   j["datasets"] = nlohmann::json::array();
@@ -91,13 +93,21 @@ void print_text(const io::DatabaseSummary& s, const std::string& file, std::ostr
 }
 
 void run_info(const InfoOptions& options, std::ostream& out) {
-  const io::MapDatabase db = io::MapDatabase::open(options.file, io::MapDatabase::Mode::kReadOnly);
+  // --upgrade opens for writing, which migrates an older file to the current schema (io/map_database.h).
+  const io::MapDatabase db = io::MapDatabase::open(
+      options.file, options.upgrade ? io::MapDatabase::Mode::kReadWrite : io::MapDatabase::Mode::kReadOnly);
   if (options.check) db.check_integrity();
   const io::DatabaseSummary summary = db.summary();
   if (options.json) {
     out << json_text(to_json(summary, options.file));
   } else {
     print_text(summary, options.file, out);
+    if (!summary.counts_kept) {
+      out << "note: schema version " << summary.schema_version << " keeps no counts, so they were computed by "
+          << "reading every row (slow on a large file); 'partslam info " << options.file
+          << " --upgrade' (or any write) migrates it to version " << io::kMapDatabaseSchemaVersion
+          << ", which keeps them\n";
+    }
     if (options.check) out << "integrity: ok\n";
   }
 }
@@ -111,6 +121,8 @@ void register_info(CLI::App& app) {
   cmd->add_option("file", options->file, "map database file")->required();
   cmd->add_flag("--json", options->json, "print the summary as JSON");
   cmd->add_flag("--check", options->check, "also verify the whole file (SQLite quick_check)");
+  cmd->add_flag("--upgrade", options->upgrade,
+                "migrate an older file to the current schema version (which keeps counts, so info is fast)");
   cmd->callback([options] { run_info(*options, std::cout); });
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "core/parts/descriptor_database.h"
 #include "core/parts/part.h"
 #include "io/map_database.h"
 
@@ -22,6 +23,19 @@ std::string describe_hint(const MapDatabase& db, const std::string& dictionary, 
 /// Every stored descriptor of (dictionary, K), decoded, by map id.
 std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db,
                                                           const std::string& dictionary, int k);
+
+/// A descriptor set loaded straight into the in-memory matcher: database's map i is the stored map map_ids[i].
+struct LoadedDescriptors {
+  DescriptorDatabase database;
+  std::vector<std::int64_t> map_ids;  ///< increasing
+};
+
+/// Every stored descriptor of (dictionary, K) in a DescriptorDatabase, without load_descriptor_set's per-map
+/// objects: the rows are kept packed (ceil(K * bits per part / 8) bytes each) and decoded as the matcher is
+/// built. Same maps, same scores as DescriptorDatabase(load_descriptor_set(...) in map id order, config).
+/// config.parts_per_map must be >= K. Empty when the set has no descriptor; errors name the file and the map.
+LoadedDescriptors load_descriptor_database(const MapDatabase& db, const std::string& dictionary, int k,
+                                           const DescriptorDatabaseConfig& config);
 
 /// One map's stored descriptor of (dictionary, K), decoded; nullopt when there is none.
 std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const std::string& dictionary, int k,

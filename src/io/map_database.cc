@@ -76,8 +76,18 @@ CREATE TABLE descriptors (
 CREATE INDEX descriptors_by_map ON descriptors(map_id);
 )sql";
 
-constexpr std::array<const char*, 5> kTables = {"datasets", "submaps", "dictionaries", "descriptors",
-                                                "descriptor_codecs"};
+// The tables of each schema version: version 2 added descriptor_codecs, version 3 the counts.
+struct SchemaTable {
+  const char* name;
+  int since;
+};
+constexpr std::array<SchemaTable, 7> kTables = {{{"datasets", 1},
+                                                 {"submaps", 1},
+                                                 {"dictionaries", 1},
+                                                 {"descriptors", 1},
+                                                 {"descriptor_codecs", 2},
+                                                 {"dataset_counts", 3},
+                                                 {"descriptor_counts", 3}}};
 
 std::uint32_t big_endian(const unsigned char* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
@@ -154,8 +164,8 @@ int check_schema(const Connection& db) {
                      "); use a newer partslam");
   }
   if (version < 1) throw InputError(prefix + "unsupported schema version " + std::to_string(version));
-  for (const char* table : kTables) {
-    if (version >= 2 || std::string(table) != "descriptor_codecs") require_table(db, table);
+  for (const SchemaTable& table : kTables) {
+    if (version >= table.since) require_table(db, table.name);
   }
   return static_cast<int>(version);
 }
@@ -250,6 +260,7 @@ void create_empty(const fs::path& path) {
     db.exec("PRAGMA user_version = " + std::to_string(kMapDatabaseSchemaVersion));
     db.exec(kSchema);
     db.exec(internal::kCodecsTable);
+    db.exec(internal::kCountsSchema);
     db.exec("COMMIT");
   } catch (const InputError& e) {
     fs::remove(tmp.string() + "-journal", ec);
@@ -301,6 +312,11 @@ MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
       std::make_unique<Impl>(Impl{Connection::open(path, Connection::Access::kReadWrite), read_only, 0, 0});
   impl->schema_version = check_schema(impl->db);
   impl->db.exec("PRAGMA foreign_keys = ON");
+  impl->db.exec("PRAGMA recursive_triggers = ON");  // REPLACE deletes keep the counts right (kCountsSchema)
+  // Statement journals and savepoint sub-journals (in-transaction rollback only; the crash-safe rollback journal
+  // stays a file) in memory: as temporary files their writes took half of the time of writing many maps in one
+  // transaction (docs/NOTES.md, "A large database on disk").
+  impl->db.exec("PRAGMA temp_store = MEMORY");
   if (impl->schema_version < kMapDatabaseSchemaVersion && !read_only) {
     internal::migrate_to_current(impl->db);
     impl->schema_version = check_schema(impl->db);
@@ -344,9 +360,12 @@ MapDatabase::Transaction::~Transaction() {
 }
 
 std::vector<DescriptorSetInfo> MapDatabase::descriptor_sets() const {
+  const bool counted = impl_->schema_version >= 3;  // else (read-only older file): every row is read
   Statement query(impl_->db,
-                  "SELECT dictionary, k, COUNT(*), AVG(bits) FROM descriptors GROUP BY dictionary, k "
-                  "ORDER BY dictionary, k");
+                  counted ? "SELECT dictionary, k, maps, CAST(bits AS REAL) / maps FROM descriptor_counts"
+                            " WHERE maps > 0 ORDER BY dictionary, k"
+                          : "SELECT dictionary, k, COUNT(*), AVG(bits) FROM descriptors GROUP BY dictionary, k "
+                            "ORDER BY dictionary, k");
   std::vector<DescriptorSetInfo> sets;
   while (query.step()) {
     sets.push_back({query.text(0), static_cast<int>(query.int64(1)), query.int64(2), query.real(3)});
@@ -354,13 +373,18 @@ std::vector<DescriptorSetInfo> MapDatabase::descriptor_sets() const {
   return sets;
 }
 
+bool MapDatabase::keeps_counts() const { return impl_->schema_version >= 3; }
+
 DatabaseSummary MapDatabase::summary() const {
   DatabaseSummary s;
   s.schema_version = static_cast<int>(impl_->db.query_int("PRAGMA user_version"));
+  s.counts_kept = keeps_counts();
   s.datasets = datasets();
   s.dictionaries = dictionaries();
   s.descriptor_sets = descriptor_sets();
-  Statement totals(impl_->db, "SELECT COUNT(*), COALESCE(SUM(point_count), 0) FROM submaps");
+  Statement totals(impl_->db, s.counts_kept
+                                  ? "SELECT COALESCE(SUM(submaps), 0), COALESCE(SUM(points), 0) FROM dataset_counts"
+                                  : "SELECT COUNT(*), COALESCE(SUM(point_count), 0) FROM submaps");
   totals.step();
   s.submap_count = totals.int64(0);
   s.point_count = totals.int64(1);

@@ -1,7 +1,7 @@
 // The map database: one SQLite file holding datasets of submaps, dictionary maps and packed part
 // descriptors (docs/DESIGN.md, data flow "... ──► packed descriptor ──► map database").
 //
-// Schema (version 2; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 2; STRICT tables):
+// Schema (version 3; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 3; STRICT tables):
 //   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig and
 //                 scan_matched, created)
 //   submaps      (id = global map id, dataset_id, idx within dataset, anchor_scan, anchor_timestamp, travel,
@@ -12,6 +12,9 @@
 //   descriptors  (dictionary, k, map_id, bits, data BLOB), primary key (dictionary, k, map_id)
 //   descriptor_codecs (dictionary, k, codec JSON of CodecConfig), primary key (dictionary, k): how the
 //                 descriptors of a set are packed, so they decode without the dictionary (version 2)
+//   dataset_counts (dataset_id, submaps, points), descriptor_counts (dictionary, k, maps, bits): counts kept by
+//                 triggers in the same transaction as every insert, update and delete, cascades included
+//                 (version 3), so datasets(), descriptor_sets() and summary() read a few rows at any size
 // Blobs are little-endian (io/blob_codec.h): points are float32 pairs (< 0.4 um rounding in a submap),
 // timestamps float64. Every other number is stored exactly. Map ids are never reused (AUTOINCREMENT).
 //
@@ -23,15 +26,18 @@
 // Transaction. (map_database_test.cc kills writers and creators at many moments and checks all of this.)
 //
 // Opening checks the file: missing, not SQLite, empty, truncated, foreign (other application_id), or a
-// newer schema version all throw InputError naming the file and the problem. A version 1 file (no stored
-// codecs) opened for writing is migrated to version 2 in one transaction: each descriptor set gets the codec
-// version 1 implied (descriptor_codec_config_v1 of its dictionary's points); opened read-only it is left as
-// it is and that codec is derived on read. SQLite errors met later
+// newer schema version all throw InputError naming the file and the problem. An older file opened for writing
+// is migrated to the current version in one transaction: from version 1 (no stored codecs) each descriptor set
+// gets the codec version 1 implied (descriptor_codec_config_v1 of its dictionary's points); from version 1 or 2
+// the counts tables are created and filled by one pass over the rows. Opened read-only an older file is left as
+// it is: the codec is derived on read, and the counts are computed from every row (slow on a large file;
+// keeps_counts() says which). SQLite errors met later
 // (e.g. corruption found while reading) are InputError naming the file too.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,7 +52,7 @@
 namespace partslam::io {
 
 inline constexpr std::int32_t kMapDatabaseApplicationId = 0x50534C4D;  // "PSLM"
-inline constexpr int kMapDatabaseSchemaVersion = 2;
+inline constexpr int kMapDatabaseSchemaVersion = 3;
 
 /// What a dataset's submaps are for: maps to match, or the submaps of a dictionary log.
 enum class DatasetKind { kSubmaps, kDictionary };
@@ -72,8 +78,10 @@ struct DatasetInfo {
   std::string created;  ///< UTC, ISO 8601
   std::int64_t submap_count = 0;
   double mean_points = 0.0;        ///< mean points per submap (0 when empty)
-  std::int64_t first_map_id = -1;  ///< smallest map id of the dataset (-1 when empty)
-  std::int64_t last_map_id = -1;   ///< largest map id of the dataset (-1 when empty)
+  /// Map ids of the dataset's first and last submap by index (-1 when empty): its smallest and largest map id,
+  /// as ids and indices both grow as submaps are appended.
+  std::int64_t first_map_id = -1;
+  std::int64_t last_map_id = -1;
 };
 
 /// Where a map id lives.
@@ -115,6 +123,7 @@ struct DescriptorSetInfo {
 
 struct DatabaseSummary {
   int schema_version = 0;
+  bool counts_kept = true;  ///< false for an older file opened read-only: the counts were computed from every row
   std::vector<DatasetInfo> datasets;
   std::vector<DictionaryInfo> dictionaries;
   std::vector<DescriptorSetInfo> descriptor_sets;
@@ -204,8 +213,16 @@ class MapDatabase {
                                                  int k) const;
   /// All descriptors of one (dictionary, K), by increasing map id.
   std::vector<DescriptorRecord> load_descriptors(const std::string& dictionary, int k) const;
+  /// The same, one row at a time, without holding them all: visit(map_id, descriptor) by increasing map id (the
+  /// descriptor is reused between calls). Size checks and errors as load_descriptors.
+  void scan_descriptors(const std::string& dictionary, int k,
+                        const std::function<void(std::int64_t, const PackedDescriptor&)>& visit) const;
   std::vector<DescriptorSetInfo> descriptor_sets() const;
 
+  /// True when the file keeps its counts (schema version >= 3); false for an older file opened read-only, whose
+  /// datasets(), descriptor_sets() and summary() read every row.
+  bool keeps_counts() const;
+  /// Datasets, dictionaries, descriptor sets and totals; a few rows at any size when keeps_counts().
   DatabaseSummary summary() const;
   /// Runs SQLite's quick_check over the whole file; throws InputError describing the first problem.
   void check_integrity() const;

@@ -29,7 +29,68 @@ inline constexpr const char* kCodecsTable =
     "CREATE TABLE descriptor_codecs (dictionary TEXT NOT NULL, k INTEGER NOT NULL, codec TEXT NOT NULL,"
     " PRIMARY KEY (dictionary, k)) STRICT, WITHOUT ROWID";
 
-/// Migrates a version 1 file to the current schema in one transaction (see map_database.h).
+/// What schema version 3 added: counts per dataset and per descriptor set, kept by triggers in the transaction of
+/// every insert, update and delete (cascades included), so that summaries read a few rows, not every one.
+/// first/last map ids are not kept: they are read through the (dataset_id, idx) index.
+/// REPLACE deletes fire the delete triggers only with PRAGMA recursive_triggers = ON (set by MapDatabase::open).
+inline constexpr const char* kCountsSchema = R"sql(
+CREATE TABLE dataset_counts (
+  dataset_id INTEGER PRIMARY KEY REFERENCES datasets(id) ON DELETE CASCADE,
+  submaps INTEGER NOT NULL,
+  points INTEGER NOT NULL
+) STRICT;
+CREATE TABLE descriptor_counts (
+  dictionary TEXT NOT NULL,
+  k INTEGER NOT NULL,
+  maps INTEGER NOT NULL,
+  bits INTEGER NOT NULL,
+  PRIMARY KEY (dictionary, k)
+) STRICT, WITHOUT ROWID;
+CREATE TRIGGER dataset_counted AFTER INSERT ON datasets BEGIN
+  INSERT INTO dataset_counts (dataset_id, submaps, points) VALUES (new.id, 0, 0);
+END;
+CREATE TRIGGER submap_added AFTER INSERT ON submaps BEGIN
+  UPDATE dataset_counts SET submaps = submaps + 1, points = points + new.point_count
+   WHERE dataset_id = new.dataset_id;
+END;
+CREATE TRIGGER submap_removed AFTER DELETE ON submaps BEGIN
+  UPDATE dataset_counts SET submaps = submaps - 1, points = points - old.point_count
+   WHERE dataset_id = old.dataset_id;
+END;
+CREATE TRIGGER submap_changed AFTER UPDATE OF dataset_id, point_count ON submaps BEGIN
+  UPDATE dataset_counts SET submaps = submaps - 1, points = points - old.point_count
+   WHERE dataset_id = old.dataset_id;
+  UPDATE dataset_counts SET submaps = submaps + 1, points = points + new.point_count
+   WHERE dataset_id = new.dataset_id;
+END;
+CREATE TRIGGER descriptor_added AFTER INSERT ON descriptors BEGIN
+  INSERT INTO descriptor_counts (dictionary, k, maps, bits) VALUES (new.dictionary, new.k, 1, new.bits)
+    ON CONFLICT (dictionary, k) DO UPDATE SET maps = maps + 1, bits = bits + excluded.bits;
+END;
+CREATE TRIGGER descriptor_removed AFTER DELETE ON descriptors BEGIN
+  UPDATE descriptor_counts SET maps = maps - 1, bits = bits - old.bits
+   WHERE dictionary = old.dictionary AND k = old.k;
+  DELETE FROM descriptor_counts WHERE dictionary = old.dictionary AND k = old.k AND maps <= 0;
+END;
+CREATE TRIGGER descriptor_changed AFTER UPDATE OF dictionary, k, bits ON descriptors BEGIN
+  UPDATE descriptor_counts SET maps = maps - 1, bits = bits - old.bits
+   WHERE dictionary = old.dictionary AND k = old.k;
+  DELETE FROM descriptor_counts WHERE dictionary = old.dictionary AND k = old.k AND maps <= 0;
+  INSERT INTO descriptor_counts (dictionary, k, maps, bits) VALUES (new.dictionary, new.k, 1, new.bits)
+    ON CONFLICT (dictionary, k) DO UPDATE SET maps = maps + 1, bits = bits + excluded.bits;
+END;
+)sql";
+
+/// Fills the tables of kCountsSchema from the rows (migration from version 2).
+inline constexpr const char* kFillCounts = R"sql(
+INSERT INTO dataset_counts (dataset_id, submaps, points)
+  SELECT d.id, COUNT(s.id), COALESCE(SUM(s.point_count), 0) FROM datasets d LEFT JOIN submaps s
+   ON s.dataset_id = d.id GROUP BY d.id;
+INSERT INTO descriptor_counts (dictionary, k, maps, bits)
+  SELECT dictionary, k, COUNT(*), SUM(bits) FROM descriptors GROUP BY dictionary, k;
+)sql";
+
+/// Migrates a version 1 or 2 file to the current schema in one transaction (see map_database.h).
 void migrate_to_current(sqlite::Connection& db);
 
 /// Throws InputError "<context>: <field> must be finite" (SQLite would store NaN as NULL).

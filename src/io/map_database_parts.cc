@@ -222,9 +222,10 @@ void MapDatabase::put_descriptors(const std::string& dictionary, int k, const Co
                       "INSERT OR REPLACE INTO descriptor_codecs (dictionary, k, codec) VALUES (?1, ?2, ?3)");
   put_codec.bind_text(1, dictionary).bind_int(2, k).bind_text(3, stored_codec).run();
   Statement exists(impl_->db, "SELECT 1 FROM submaps WHERE id = ?1");
-  Statement insert(
-      impl_->db,
-      "INSERT OR REPLACE INTO descriptors (dictionary, k, map_id, bits, data) VALUES (?1, ?2, ?3, ?4, ?5)");
+  // An upsert, not INSERT OR REPLACE: the replaced row is updated, so the count triggers see a change of bits.
+  Statement insert(impl_->db,
+                   "INSERT INTO descriptors (dictionary, k, map_id, bits, data) VALUES (?1, ?2, ?3, ?4, ?5)"
+                   " ON CONFLICT (dictionary, k, map_id) DO UPDATE SET bits = excluded.bits, data = excluded.data");
   for (const DescriptorRecord& r : records) {
     const std::string context = descriptor_context(path().string(), r.map_id, dictionary, k);
     check_descriptor(r.descriptor, context);
@@ -265,24 +266,37 @@ std::optional<CodecConfig> MapDatabase::descriptor_codec(const std::string& dict
 }
 
 std::vector<DescriptorRecord> MapDatabase::load_descriptors(const std::string& dictionary, int k) const {
+  std::vector<DescriptorRecord> out;
+  scan_descriptors(dictionary, k, [&out](std::int64_t map_id, const PackedDescriptor& d) { out.push_back({map_id, d}); });
+  return out;
+}
+
+void MapDatabase::scan_descriptors(const std::string& dictionary, int k,
+                                   const std::function<void(std::int64_t, const PackedDescriptor&)>& visit) const {
   Statement q(impl_->db,
               "SELECT map_id, bits, data FROM descriptors WHERE dictionary = ?1 AND k = ?2 ORDER BY map_id");
   q.bind_text(1, dictionary).bind_int(2, k);
-  std::vector<DescriptorRecord> out;
+  PackedDescriptor d;
   while (q.step()) {
     const std::int64_t map_id = q.int64(0);
-    out.push_back(
-        {map_id, read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k))});
+    const std::int64_t bits = q.int64(1);
+    const auto blob = q.blob(2);
+    if (bits < 0 || bits > std::numeric_limits<int>::max() - 7 || blob.size() != static_cast<std::size_t>((bits + 7) / 8))
+      d = read_descriptor(q, 1, descriptor_context(path().string(), map_id, dictionary, k));  // throws, naming it
+    d.bits = static_cast<int>(bits);
+    d.bytes.assign(blob.begin(), blob.end());
+    visit(map_id, d);
   }
-  return out;
 }
 
 namespace internal {
 
 void migrate_to_current(sqlite::Connection& db) {
   db.exec("BEGIN IMMEDIATE");
+  std::int64_t version = 0;
   try {
-    if (db.query_int("PRAGMA user_version") == 1) {  // another process may have migrated it meanwhile
+    version = db.query_int("PRAGMA user_version");  // another process may have migrated it meanwhile
+    if (version == 1) {
       db.exec(kCodecsTable);
       Statement sets(db, "SELECT DISTINCT dictionary, k FROM descriptors ORDER BY dictionary, k");
       Statement insert(db, "INSERT INTO descriptor_codecs (dictionary, k, codec) VALUES (?1, ?2, ?3)");
@@ -295,12 +309,17 @@ void migrate_to_current(sqlite::Connection& db) {
         insert.bind_text(1, dictionary).bind_int(2, k).bind_text(3, codec_json(descriptor_codec_config_v1(points, k)));
         insert.run();
       }
-      db.exec("PRAGMA user_version = 2");
+    }
+    if (version == 1 || version == 2) {  // version 3: counts kept by triggers, filled once here
+      db.exec(kCountsSchema);
+      db.exec(kFillCounts);
+      db.exec("PRAGMA user_version = " + std::to_string(kMapDatabaseSchemaVersion));
     }
     db.exec("COMMIT");
   } catch (const InputError& e) {
     if (db.in_transaction()) db.exec("ROLLBACK");
-    throw InputError(db.path().string() + ": cannot migrate the database from schema version 1: " + e.what());
+    throw InputError(db.path().string() + ": cannot migrate the database from schema version " +
+                     std::to_string(version) + ": " + e.what());
   }
 }
 

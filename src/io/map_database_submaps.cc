@@ -47,11 +47,23 @@ void config_from_json(const std::string& text, const std::string& context, Datas
   }
 }
 
-constexpr const char* kDatasetQuery =
-    "SELECT d.id, d.name, d.source, d.kind, d.config, d.created, COUNT(s.id), COALESCE(AVG(s.point_count), "
-    "0),"
-    " COALESCE(MIN(s.id), -1), COALESCE(MAX(s.id), -1) FROM datasets d LEFT JOIN submaps s ON s.dataset_id = "
-    "d.id";
+// A dataset with its counts: from dataset_counts (version 3), or by reading all its submaps (an older file opened
+// read-only). `where` is "" or a WHERE clause on d.
+std::string dataset_query(bool counted, const std::string& where) {
+  if (counted) {
+    // First and last map ids through the (dataset_id, idx) index; a missing counts row gives NULL (refused).
+    return "SELECT d.id, d.name, d.source, d.kind, d.config, d.created, c.submaps,"
+           " CASE WHEN c.submaps > 0 THEN CAST(c.points AS REAL) / c.submaps ELSE 0.0 END,"
+           " COALESCE((SELECT id FROM submaps WHERE dataset_id = d.id ORDER BY idx LIMIT 1), -1),"
+           " COALESCE((SELECT id FROM submaps WHERE dataset_id = d.id ORDER BY idx DESC LIMIT 1), -1)"
+           " FROM datasets d LEFT JOIN dataset_counts c ON c.dataset_id = d.id " +
+           where + " ORDER BY d.id";
+  }
+  return "SELECT d.id, d.name, d.source, d.kind, d.config, d.created, COUNT(s.id), COALESCE(AVG(s.point_count), 0),"
+         " COALESCE(MIN(s.id), -1), COALESCE(MAX(s.id), -1) FROM datasets d LEFT JOIN submaps s"
+         " ON s.dataset_id = d.id " +
+         where + " GROUP BY d.id ORDER BY d.id";
+}
 
 DatasetInfo read_dataset(const Statement& q, const std::string& file) {
   DatasetInfo info;
@@ -66,6 +78,7 @@ DatasetInfo read_dataset(const Statement& q, const std::string& file) {
   }
   config_from_json(q.text(4), context, info.spec);
   info.created = q.text(5);
+  if (q.is_null(6) || q.int64(6) < 0) throw InputError(context + ": its counts are missing or negative (corrupt database)");
   info.submap_count = q.int64(6);
   info.mean_points = q.real(7);
   info.first_map_id = q.int64(8);
@@ -183,14 +196,14 @@ void MapDatabase::remove_dataset(std::int64_t dataset_id) {
 }
 
 std::vector<DatasetInfo> MapDatabase::datasets() const {
-  Statement q(impl_->db, std::string(kDatasetQuery) + " GROUP BY d.id ORDER BY d.id");
+  Statement q(impl_->db, dataset_query(keeps_counts(), ""));
   std::vector<DatasetInfo> out;
   while (q.step()) out.push_back(read_dataset(q, path().string()));
   return out;
 }
 
 DatasetInfo MapDatabase::dataset(std::int64_t dataset_id) const {
-  Statement q(impl_->db, std::string(kDatasetQuery) + " WHERE d.id = ?1 GROUP BY d.id");
+  Statement q(impl_->db, dataset_query(keeps_counts(), "WHERE d.id = ?1"));
   if (!q.bind_int(1, dataset_id).step()) {
     throw InputError(path().string() + ": no dataset with id " + std::to_string(dataset_id));
   }
@@ -198,7 +211,7 @@ DatasetInfo MapDatabase::dataset(std::int64_t dataset_id) const {
 }
 
 std::optional<DatasetInfo> MapDatabase::find_dataset(const std::string& name) const {
-  Statement q(impl_->db, std::string(kDatasetQuery) + " WHERE d.name = ?1 GROUP BY d.id");
+  Statement q(impl_->db, dataset_query(keeps_counts(), "WHERE d.name = ?1"));
   if (!q.bind_text(1, name).step()) return std::nullopt;
   return read_dataset(q, path().string());
 }

@@ -53,6 +53,54 @@ Points2 rounded_to_float(const Points2& points) {
   return out;
 }
 
+// Turns a current file into what an older partslam wrote: version 2 kept no counts (tables and triggers of
+// schema version 3), version 1 no codecs either.
+void make_older(const fs::path& path, int version) {
+  const sqlite::Connection db = sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite);
+  db.exec("DROP TRIGGER dataset_counted; DROP TRIGGER submap_added; DROP TRIGGER submap_removed;"
+          " DROP TRIGGER submap_changed; DROP TRIGGER descriptor_added; DROP TRIGGER descriptor_removed;"
+          " DROP TRIGGER descriptor_changed; DROP TABLE dataset_counts; DROP TABLE descriptor_counts");
+  if (version == 1) db.exec("DROP TABLE descriptor_codecs");
+  db.exec("PRAGMA user_version = " + std::to_string(version));
+}
+
+// What a summary says, as text, and the same figures counted from every row by plain SQL.
+std::string kept_counts(const MapDatabase& db) {
+  const DatabaseSummary s = db.summary();
+  std::string out = "total " + std::to_string(s.submap_count) + " " + std::to_string(s.point_count) + ";";
+  for (const DatasetInfo& d : s.datasets) {
+    out += " dataset " + std::to_string(d.id) + ": " + std::to_string(d.submap_count) + " " +
+           std::to_string(d.mean_points) + " " + std::to_string(d.first_map_id) + ".." +
+           std::to_string(d.last_map_id) + ";";
+  }
+  for (const DescriptorSetInfo& d : s.descriptor_sets)
+    out += " set " + d.dictionary + "/" + std::to_string(d.k) + ": " + std::to_string(d.count) + " " +
+           std::to_string(d.mean_bits) + ";";
+  return out;
+}
+
+std::string real_counts(const fs::path& path) {
+  const sqlite::Connection db = sqlite::Connection::open(path, sqlite::Connection::Access::kReadOnly);
+  sqlite::Statement totals(db, "SELECT COUNT(*), COALESCE(SUM(point_count), 0) FROM submaps");
+  totals.step();
+  std::string out = "total " + std::to_string(totals.int64(0)) + " " + std::to_string(totals.int64(1)) + ";";
+  sqlite::Statement datasets(db,
+                             "SELECT d.id, COUNT(s.id), COALESCE(AVG(s.point_count), 0), COALESCE(MIN(s.id), -1),"
+                             " COALESCE(MAX(s.id), -1) FROM datasets d LEFT JOIN submaps s ON s.dataset_id = d.id"
+                             " GROUP BY d.id ORDER BY d.id");
+  while (datasets.step()) {
+    out += " dataset " + std::to_string(datasets.int64(0)) + ": " + std::to_string(datasets.int64(1)) + " " +
+           std::to_string(datasets.real(2)) + " " + std::to_string(datasets.int64(3)) + ".." +
+           std::to_string(datasets.int64(4)) + ";";
+  }
+  sqlite::Statement sets(db, "SELECT dictionary, k, COUNT(*), AVG(bits) FROM descriptors GROUP BY dictionary, k"
+                             " ORDER BY dictionary, k");
+  while (sets.step())
+    out += " set " + sets.text(0) + "/" + std::to_string(sets.int64(1)) + ": " + std::to_string(sets.int64(2)) +
+           " " + std::to_string(sets.real(3)) + ";";
+  return out;
+}
+
 class MapDatabaseTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -292,9 +340,7 @@ TEST_F(MapDatabaseTest, SchemaVersionOneIsMigratedWhenOpenedForWriting) {
     db.put_descriptors("fr079", 3, v1, {{ids[0], {Bytes(6, 0), 44}}});
     db.put_descriptors("gone", 3, v1, {{ids[1], {Bytes(6, 0), 44}}});
   }
-  // What a version 1 file looks like: no codec table, user_version 1.
-  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
-      .exec("DROP TABLE descriptor_codecs; PRAGMA user_version = 1");
+  make_older(path, 1);  // no codec table, no counts, user_version 1
 
   {  // Read-only: left as it is, the codec derived as version 1 did.
     const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
@@ -304,7 +350,8 @@ TEST_F(MapDatabaseTest, SchemaVersionOneIsMigratedWhenOpenedForWriting) {
   }
   {  // Read-write: migrated, the same codec now stored.
     const MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
-    EXPECT_EQ(db.summary().schema_version, 2);
+    EXPECT_EQ(db.summary().schema_version, kMapDatabaseSchemaVersion);
+    EXPECT_EQ(kept_counts(db), real_counts(path));
     const std::optional<CodecConfig> c = db.descriptor_codec("fr079", 3);
     ASSERT_TRUE(c.has_value());
     EXPECT_EQ(c->dictionary_extent.x_min, v1.dictionary_extent.x_min);
@@ -312,7 +359,95 @@ TEST_F(MapDatabaseTest, SchemaVersionOneIsMigratedWhenOpenedForWriting) {
     EXPECT_EQ(c->rotation_bits, 2);
     EXPECT_THROW(db.descriptor_codec("gone", 3), InputError);
   }
-  EXPECT_EQ(MapDatabase::open(path, Mode::kReadOnly).summary().schema_version, 2);
+  EXPECT_EQ(MapDatabase::open(path, Mode::kReadOnly).summary().schema_version, kMapDatabaseSchemaVersion);
+}
+
+TEST_F(MapDatabaseTest, KeptCountsEqualTheRowsAfterInsertsReplacesAndDeletes) {
+  const fs::path path = dir_ / "maps.db";
+  MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+  EXPECT_TRUE(db.keeps_counts());
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  const std::int64_t a = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(5, 10, 1));
+  const std::int64_t b = db.add_dataset({"b", "b.log", DatasetKind::kSubmaps, {}});
+  db.add_submaps(b, make_submaps(3, 7, 2));
+  db.add_submaps(b, make_submaps(2, 0, 3));  // appended, no points
+  db.add_dataset({"empty", "e.log", DatasetKind::kDictionary, {}});
+  const std::vector<std::int64_t> ids_a = db.map_ids(a), ids_b = db.map_ids(b);
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  EXPECT_EQ(db.dataset(b).submap_count, 5);
+  EXPECT_EQ(db.dataset(b).first_map_id, ids_b.front());
+  EXPECT_EQ(db.dataset(b).last_map_id, ids_b.back());
+
+  const CodecConfig c = codec42();
+  const PackedDescriptor d126{Bytes(16, 0x11), 126}, d42{Bytes(6, 0x22), 42};
+  std::vector<DescriptorRecord> records;
+  for (std::int64_t id : ids_a) records.push_back({id, d126});
+  for (std::int64_t id : ids_b) records.push_back({id, d42});
+  db.put_descriptors("fr079", 3, c, records);
+  db.put_descriptors("fr079", 1, c, {{ids_a[0], d42}, {ids_b[1], d42}});
+  db.put_descriptors("albert", 3, c, {{ids_b[2], d126}});
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  db.put_descriptors("fr079", 3, c, {{ids_a[1], d42}, {ids_b[0], d126}});  // replaced: bits change
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  CodecConfig other = c;
+  other.dictionary_extent.x_max += 10.0;
+  db.put_descriptors("fr079", 1, other, {{ids_a[3], d42}});  // another codec drops the set's old descriptors
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  {  // rolled back: the counts too
+    MapDatabase::Transaction t(db);
+    db.add_submaps(a, make_submaps(2, 4, 4));
+    db.put_descriptors("fr079", 3, c, {{ids_a[2], d42}});
+  }
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  {  // raw SQL edits (REPLACE deletes, plain updates and deletes) are counted too
+    const sqlite::Connection raw = sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite);
+    raw.exec("PRAGMA foreign_keys = ON; PRAGMA recursive_triggers = ON;"
+             " INSERT OR REPLACE INTO descriptors SELECT dictionary, k, map_id, 42, data FROM descriptors"
+             "  WHERE dictionary = 'fr079' AND k = 3 AND map_id = " + std::to_string(ids_a[4]) + ";"
+             " UPDATE descriptors SET k = 2 WHERE dictionary = 'albert';"
+             " UPDATE submaps SET point_count = 0, points = x'' WHERE id = " + std::to_string(ids_a[0]) + ";"
+             " DELETE FROM submaps WHERE id = " + std::to_string(ids_b[3]));
+  }
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+
+  db.remove_dataset(b);  // cascades to its submaps and their descriptors
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  ASSERT_EQ(db.descriptor_sets().size(), 2u);  // albert/2 held only a map of b
+  EXPECT_EQ(db.descriptor_sets()[0].dictionary, "fr079");
+  db.remove_dataset(a);
+  EXPECT_EQ(kept_counts(db), real_counts(path));
+  EXPECT_TRUE(db.descriptor_sets().empty());
+  EXPECT_EQ(db.summary().submap_count, 0);
+}
+
+TEST_F(MapDatabaseTest, SchemaVersionTwoIsSummarisedFromTheRowsReadOnlyAndMigratedForWriting) {
+  const fs::path path = dir_ / "maps.db";
+  std::string expected;
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    const std::int64_t a = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, make_submaps(4, 10, 1));
+    db.store_dataset({"b", "b.log", DatasetKind::kSubmaps, {}}, make_submaps(3, 5, 2));
+    std::vector<DescriptorRecord> records;
+    for (std::int64_t id : db.map_ids(a)) records.push_back({id, {Bytes(16, 0x11), 126}});
+    db.put_descriptors("fr079", 3, codec42(), records);
+    expected = kept_counts(db);
+  }
+  make_older(path, 2);
+  {  // Read-only: left at version 2, the counts computed from the rows.
+    const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+    EXPECT_FALSE(db.keeps_counts());
+    EXPECT_FALSE(db.summary().counts_kept);
+    EXPECT_EQ(db.summary().schema_version, 2);
+    EXPECT_EQ(kept_counts(db), expected);
+  }
+  {  // Read-write: migrated, the counts filled and kept from then on.
+    MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
+    EXPECT_TRUE(db.keeps_counts());
+    EXPECT_EQ(db.summary().schema_version, kMapDatabaseSchemaVersion);
+    EXPECT_EQ(kept_counts(db), expected);
+    db.remove_dataset(db.find_dataset("a")->id);
+    EXPECT_EQ(kept_counts(db), real_counts(path));
+  }
 }
 
 TEST_F(MapDatabaseTest, DictionariesRoundTrip) {
@@ -560,10 +695,10 @@ TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
 TEST_F(MapDatabaseTest, RefusesNewerSchemaVersion) {
   const fs::path path = dir_ / "maps.db";
   MapDatabase::open(path, Mode::kCreate);
-  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 3");
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 4");
   const std::string error = open_error(path, Mode::kReadWrite);
   EXPECT_THAT(error, HasSubstr(path.string()));
-  EXPECT_THAT(error, HasSubstr("schema version 3 is newer"));
+  EXPECT_THAT(error, HasSubstr("schema version 4 is newer"));
 }
 
 TEST_F(MapDatabaseTest, RefusesForeignSqliteDatabase) {

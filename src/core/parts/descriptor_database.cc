@@ -240,16 +240,22 @@ DescriptorDatabase::DescriptorDatabase(const DescriptorDatabaseConfig& config) :
 
 DescriptorDatabase::DescriptorDatabase(const std::vector<MapDescriptor>& maps,
                                        const DescriptorDatabaseConfig& config)
+    : DescriptorDatabase(
+          maps.size(), [&maps](std::size_t i, MapDescriptor&) -> const MapDescriptor& { return maps[i]; }, config) {}
+
+DescriptorDatabase::DescriptorDatabase(std::size_t num_maps, const MapSource& map_at,
+                                       const DescriptorDatabaseConfig& config)
     : DescriptorDatabase(config) {
-  if (maps.size() >= kNoMap) throw InputError("descriptor database: too many maps");
-  std::vector<std::uint32_t> order(maps.size());
+  if (num_maps >= kNoMap) throw InputError("descriptor database: too many maps");
+  std::vector<std::uint32_t> order(num_maps);
   std::iota(order.begin(), order.end(), 0u);
+  MapDescriptor scratch;
   if (config_.spatial_order) {
-    std::vector<std::uint32_t> key(maps.size(), std::numeric_limits<std::uint32_t>::max());
-    for (std::size_t i = 0; i < maps.size(); ++i) {
+    std::vector<std::uint32_t> key(num_maps, std::numeric_limits<std::uint32_t>::max());
+    for (std::size_t i = 0; i < num_maps; ++i) {
       long long x0 = std::numeric_limits<long long>::max(), x1 = std::numeric_limits<long long>::min();
       long long y0 = x0, y1 = x1;
-      for (const Part& p : maps[i].parts) {
+      for (const Part& p : map_at(i, scratch).parts) {
         if (!finite(p.descriptor_box)) continue;  // add() reports it
         const CellBox c = to_cells(p.descriptor_box, config_.resolution);
         x0 = std::min(x0, c.x0), x1 = std::max(x1, c.x1), y0 = std::min(y0, c.y0), y1 = std::max(y1, c.y1);
@@ -259,11 +265,11 @@ DescriptorDatabase::DescriptorDatabase(const std::vector<MapDescriptor>& maps,
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
   }
-  const std::size_t blocks = (maps.size() + kLanes - 1) / kLanes;
+  const std::size_t blocks = (num_maps + kLanes - 1) / kLanes;
   coords_.reserve(blocks * static_cast<std::size_t>(config_.parts_per_map) * 4 * kLanes);
   inv_sqrt_area_.reserve(blocks * static_cast<std::size_t>(config_.parts_per_map) * kLanes);
-  for (std::uint32_t i : order) append(maps[i], i);
-  num_maps_ = maps.size();
+  for (std::uint32_t i : order) append(map_at(i, scratch), i);
+  num_maps_ = num_maps;
 }
 
 std::size_t DescriptorDatabase::add(const MapDescriptor& map) {
@@ -342,11 +348,18 @@ std::size_t DescriptorDatabase::memory_bytes() const {
 
 std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher,
                                                  const ScoreOptions& options) const {
+  std::vector<float> scores;
+  score_all(query, matcher, options, scores);
+  return scores;
+}
+
+void DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher, const ScoreOptions& options,
+                                   std::vector<float>& scores) const {
   if (options.num_threads < 0) throw InputError("score_all: num_threads must be >= 0");
   if (!(options.origin_gate >= 0) || !std::isfinite(options.origin_gate))
     throw InputError("score_all: origin_gate must be >= 0 [m]");
   const QueryBoxes q = prepare_query(query, matcher, config_.resolution, options.origin_gate);
-  std::vector<float> scores(num_maps_, 0.0f);
+  scores.assign(num_maps_, 0.0f);
   const Layout layout{coords_.data(),       origins_.data(),    inv_sqrt_area_.data(),
                       bounds_.data(),       super_bounds_.data(), map_index_.data(),
                       bounds_.size() / 4,   config_.parts_per_map};
@@ -355,7 +368,7 @@ std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Mat
   const int threads = options.num_threads == 0 ? omp_get_max_threads() : options.num_threads;
   if (threads <= 1 || supers < 2) {
     score_range(layout, 0, supers, q, use_max, scores.data());
-    return scores;
+    return;
   }
 #pragma omp parallel num_threads(threads)
   {
@@ -363,7 +376,6 @@ std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Mat
     const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
     score_range(layout, supers * t / nt, supers * (t + 1) / nt, q, use_max, scores.data());
   }
-  return scores;
 }
 
 }  // namespace partslam

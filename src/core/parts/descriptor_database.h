@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/parts/descriptor_matcher.h"
@@ -48,6 +49,12 @@ class DescriptorDatabase {
   explicit DescriptorDatabase(const DescriptorDatabaseConfig& config = {});
   /// Bulk construction; map i keeps index i (its position in score_all's result) whatever the storage order.
   DescriptorDatabase(const std::vector<MapDescriptor>& maps, const DescriptorDatabaseConfig& config = {});
+  /// The same from a source of maps, for callers that keep them in another form (e.g. packed, as a map database
+  /// stores them: io::load_descriptor_database): map_at(i, scratch) returns map i, in scratch or elsewhere, for
+  /// 0 <= i < num_maps. It is called twice per map (once for the storage order, once to store it); exceptions
+  /// it throws pass through. The result equals the vector constructor's on the same maps.
+  using MapSource = std::function<const MapDescriptor&(std::size_t, MapDescriptor&)>;
+  DescriptorDatabase(std::size_t num_maps, const MapSource& map_at, const DescriptorDatabaseConfig& config = {});
 
   /// Appends one map (in storage order, after the bulk-built ones) and returns its index. Throws InputError
   /// for more than parts_per_map parts, a non-finite box, a box outside the grid's +-32768-cell range, or a
@@ -62,6 +69,11 @@ class DescriptorDatabase {
   /// Scores the query against every stored map: result[i] is the score of map i (Eqs. 4-6).
   std::vector<float> score_all(const MapDescriptor& query, Matcher matcher,
                                const ScoreOptions& options = {}) const;
+  /// The same into `scores` (resized to size()), reusing its memory: at 10 M maps a new result is 40 MB of fresh
+  /// pages for every query, faulted in one by one by the scattered writes (docs/NOTES.md, "A large database on
+  /// disk").
+  void score_all(const MapDescriptor& query, Matcher matcher, const ScoreOptions& options,
+                 std::vector<float>& scores) const;
 
  private:
   void append(const MapDescriptor& map, std::size_t index);
