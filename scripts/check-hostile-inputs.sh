@@ -86,6 +86,8 @@ PY
 run "match dmm, query clean" match clean.db --query 1 --method dmm --top 3
 run "match dmm, stored point at FLT_MAX" match flt.db --query 1 --method dmm --top 3
 compare "match dmm, stored point at FLT_MAX" "match dmm, query clean"
-run "match dmm, stored map 131 km wide" match wide.db --query 1 --method dmm --top 3
-compare "match dmm, stored map 131 km wide" "match dmm, query clean"
+run "match dmm, a stored map 131 km wide" match wide.db --query 2 --method dmm --top 3
+compare "match dmm, a stored map 131 km wide" "match dmm, query clean"
+run "match dmm, the query map 131 km wide" match wide.db --query 1 --method dmm --top 3
+compare "match dmm, the query map 131 km wide" "match dmm, query clean"
 exit $failed

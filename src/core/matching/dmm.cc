@@ -349,11 +349,27 @@ DmmConfig dmm_config_for_dictionary() {
   return config;
 }
 
+namespace {
+
+// Refuses points spread over more than kMaxMapExtent: a map's grid pyramid grows with its area, and a query's
+// rotation step shrinks with its extent (a query 131 km wide took 2.6 GB and 18 min before this check).
+void check_extent(const Points2& points, const char* what) {
+  if (const Box2 box = bounding_box(points); box.width() > kMaxMapExtent || box.height() > kMaxMapExtent) {
+    char text[160];
+    std::snprintf(text, sizeof text, "dMM: the %s's points span %.0f x %.0f m, more than the %.0f m limit "
+                  "(a stray scan far from the rest?)", what, box.width(), box.height(), kMaxMapExtent);
+    throw InputError(text);
+  }
+}
+
+}  // namespace
+
 PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config) {
   validate(config);
   for (const Vec2& p : points_query) {
     if (!p.allFinite() || p.norm() > 1e6) throw InputError("dmm: query point coordinates must be finite and < 1e6 m");
   }
+  check_extent(points_query, "query");
   PreparedQuery query;
   query.config = config;
   query.resolution = config.resolution;
@@ -400,12 +416,7 @@ PreparedQuery prepare_query(const Points2& points_query, const DmmConfig& config
 
 PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
   validate(config);
-  if (const Box2 box = bounding_box(points_map); box.width() > kMaxMapExtent || box.height() > kMaxMapExtent) {
-    char text[160];
-    std::snprintf(text, sizeof text, "dMM: the map's points span %.0f x %.0f m, more than the %.0f m limit "
-                  "(a stray scan far from the rest?)", box.width(), box.height(), kMaxMapExtent);
-    throw InputError(text);
-  }
+  check_extent(points_map, "map");
   PreparedMap map;
   map.config = config;
   map.num_points = static_cast<int>(points_map.size());

@@ -458,5 +458,19 @@ TEST_F(MatchDmmMany, JointSearchEqualsTheExactTopK) {
   EXPECT_THROW(match_dmm_joint(prepare_query(query), synthetic, 0), InputError);
 }
 
+// A query (not only a stored map) spread over more than kMaxMapExtent is refused at once, naming the extent: a
+// stored map edited to two points 131 km apart, used as the query, took 2.6 GB and 18 minutes.
+TEST(Dmm, RefusesAQueryWiderThanTheMapExtentLimit) {
+  Points2 wide{{-65500.0, 0.0}, {0.0, 0.0}, {65500.0, 0.0}};
+  try {
+    prepare_query(wide, DmmConfig{});
+    FAIL() << "a 131 km wide query was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("query's points span 131000"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(prepare_map(wide, DmmConfig{}), InputError);
+  EXPECT_NO_THROW(prepare_query({{-400.0, 0.0}, {400.0, 1.0}}, DmmConfig{}));
+}
+
 }  // namespace
 }  // namespace partslam
