@@ -95,14 +95,23 @@ std::string method_syntax_list();
 
 /// For rankers whose stored form is built from a map's points: make(points) of every map, in parallel (each map
 /// writes its own slot, so the result does not depend on num_threads). Throws InputError naming `method` and
-/// the map when a map has no points.
+/// the map when a map has no points or make refuses it.
 template <typename Stored, typename Make>
 std::vector<Stored> prepare_from_points(std::span<const MapView> maps, int num_threads, const Progress& progress,
                                         const std::string& method, const std::string& stage, Make make) {
   for (std::size_t i = 0; i < maps.size(); ++i)
     if (maps[i].points == nullptr) throw InputError(method + ": stored map " + std::to_string(i) + " has no points");
   std::vector<Stored> out(maps.size());
-  parallel_for(maps.size(), num_threads, [&](std::size_t i) { out[i] = make(*maps[i].points); }, stage, progress);
+  parallel_for(
+      maps.size(), num_threads,
+      [&](std::size_t i) {
+        try {
+          out[i] = make(*maps[i].points);
+        } catch (const InputError& e) {  // which map: the caller's list position
+          throw InputError(method + ": stored map " + std::to_string(i) + ": " + e.what());
+        }
+      },
+      stage, progress);
   return out;
 }
 
