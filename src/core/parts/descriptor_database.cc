@@ -117,6 +117,10 @@ using I32x8 = std::int32_t __attribute__((vector_size(32)));
 #define PARTSLAM_VMAX(a, b) ((a) > (b) ? (a) : (b))
 #define PARTSLAM_VMIN(a, b) ((a) < (b) ? (a) : (b))
 
+// A block's (and a super block's) bounds: the union of its boxes (x0, x1, y0, y1) and the range of its parts'
+// dictionary origins (ox0, ox1, oy0, oy1, half cells), empty slots left out.
+constexpr std::size_t kBoundFields = 8;
+
 // Read-only view of the database layout for the kernel.
 struct Layout {
   const std::uint16_t* coords;
@@ -129,14 +133,19 @@ struct Layout {
   int num_slots;
 };
 
-// Keeps the query parts of `in` whose box overlaps `bound` (x0, x1, y0, y1) with positive area.
+// Keeps the query parts of `in` whose box overlaps `bound` (x0, x1, y0, y1) with positive area and whose
+// dictionary origin lies within the gate of the bound's origins (ox0, ox1, oy0, oy1): a part failing either
+// adds exactly 0 to every map under the bound. With the gate off (65535) the origin test always passes.
 std::size_t filter_overlapping(const QueryBoxes& q, const std::uint32_t* in, std::size_t n,
                                const std::uint16_t* bound, std::uint32_t* out) {
   std::size_t kept = 0;
+  const int gate = q.gate;
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t i = in[k];
     out[kept] = i;
-    kept += (q.x0[i] < bound[1]) & (bound[0] < q.x1[i]) & (q.y0[i] < bound[3]) & (bound[2] < q.y1[i]);
+    kept += (q.x0[i] < bound[1]) & (bound[0] < q.x1[i]) & (q.y0[i] < bound[3]) & (bound[2] < q.y1[i]) &
+            (q.ox[i] + gate >= bound[4]) & (bound[5] + gate >= q.ox[i]) & (q.oy[i] + gate >= bound[6]) &
+            (bound[7] + gate >= q.oy[i]);
   }
   return kept;
 }
@@ -150,12 +159,12 @@ void score_range(const Layout& layout, std::size_t begin, std::size_t end, const
   std::iota(all.begin(), all.end(), 0u);
   for (std::size_t super = begin; super < end; ++super) {
     const std::size_t num_near =
-        filter_overlapping(q, all.data(), n, layout.super_bounds + 4 * super, near_super.data());
+        filter_overlapping(q, all.data(), n, layout.super_bounds + kBoundFields * super, near_super.data());
     if (num_near == 0) continue;
     const std::size_t block_end = std::min(layout.num_blocks, (super + 1) * kBlocksPerSuper);
     for (std::size_t block = super * kBlocksPerSuper; block < block_end; ++block) {
       const std::size_t num_active =
-          filter_overlapping(q, near_super.data(), num_near, layout.bounds + 4 * block, active.data());
+          filter_overlapping(q, near_super.data(), num_near, layout.bounds + kBoundFields * block, active.data());
       if (num_active == 0) continue;
       // Lanes are 16 maps: coordinates in one 16 x u16 vector, scores in two 8 x float halves.
       F32x8 acc_lo = {}, acc_hi = {};
@@ -308,12 +317,13 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
     coords_.resize(coords_.size() + k * 4 * kLanes, 0);
     origins_.resize(origins_.size() + k * 2 * kLanes, 0);
     inv_sqrt_area_.resize(inv_sqrt_area_.size() + k * kLanes, 0.0f);
-    bounds_.insert(bounds_.end(), {65535, 0, 65535, 0});
-    if (block % kBlocksPerSuper == 0) super_bounds_.insert(super_bounds_.end(), {65535, 0, 65535, 0});
+    bounds_.insert(bounds_.end(), {65535, 0, 65535, 0, 65535, 0, 65535, 0});
+    if (block % kBlocksPerSuper == 0)
+      super_bounds_.insert(super_bounds_.end(), {65535, 0, 65535, 0, 65535, 0, 65535, 0});
     map_index_.resize(map_index_.size() + kLanes, kNoMap);
   }
-  std::uint16_t* bound = &bounds_[4 * block];
-  std::uint16_t* super_bound = &super_bounds_[4 * (block / kBlocksPerSuper)];
+  std::uint16_t* bound = &bounds_[kBoundFields * block];
+  std::uint16_t* super_bound = &super_bounds_[kBoundFields * (block / kBlocksPerSuper)];
   for (std::size_t j = 0; j < map.parts.size(); ++j) {
     const CellBox& c = cells[j];
     if (c.area() == 0) continue;  // an empty slot never overlaps anything
@@ -327,14 +337,14 @@ void DescriptorDatabase::append(const MapDescriptor& map, std::size_t index) {
     origins_[((block * k + j) * 2 + 1) * kLanes + lane] = o[1];
     inv_sqrt_area_[(block * k + j) * kLanes + lane] =
         static_cast<float>(1.0 / std::sqrt(static_cast<double>(c.area())));
-    bound[0] = std::min(bound[0], base[0]);
-    bound[1] = std::max(bound[1], base[kLanes]);
-    bound[2] = std::min(bound[2], base[2 * kLanes]);
-    bound[3] = std::max(bound[3], base[3 * kLanes]);
-    super_bound[0] = std::min(super_bound[0], bound[0]);
-    super_bound[1] = std::max(super_bound[1], bound[1]);
-    super_bound[2] = std::min(super_bound[2], bound[2]);
-    super_bound[3] = std::max(super_bound[3], bound[3]);
+    const std::uint16_t fields[kBoundFields] = {base[0], base[kLanes], base[2 * kLanes], base[3 * kLanes],
+                                                o[0],    o[0],         o[1],             o[1]};
+    for (std::size_t f = 0; f < kBoundFields; f += 2) {
+      bound[f] = std::min(bound[f], fields[f]);
+      bound[f + 1] = std::max(bound[f + 1], fields[f + 1]);
+      super_bound[f] = std::min(super_bound[f], bound[f]);
+      super_bound[f + 1] = std::max(super_bound[f + 1], bound[f + 1]);
+    }
   }
   map_index_[block * kLanes + lane] = static_cast<std::uint32_t>(index);
   ++num_stored_;
@@ -362,8 +372,8 @@ void DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher, 
   scores.assign(num_maps_, 0.0f);
   const Layout layout{coords_.data(),       origins_.data(),    inv_sqrt_area_.data(),
                       bounds_.data(),       super_bounds_.data(), map_index_.data(),
-                      bounds_.size() / 4,   config_.parts_per_map};
-  const std::size_t supers = super_bounds_.size() / 4;
+                      bounds_.size() / kBoundFields,   config_.parts_per_map};
+  const std::size_t supers = super_bounds_.size() / kBoundFields;
   const bool use_max = matcher == Matcher::kMaxMax;
   const int threads = options.num_threads == 0 ? omp_get_max_threads() : options.num_threads;
   if (threads <= 1 || supers < 2) {

@@ -5,9 +5,10 @@
 // coordinates in blocks of 16 maps; within a block, slot j (the j-th part of each map) keeps x0[16], x1[16],
 // y0[16], y1[16], the part's dictionary origin ox[16], oy[16] (half cells, for the origin gate) and the
 // precomputed 1/sqrt(area)[16], so one AVX2 register holds one field of 16 maps and
-// nothing is allocated per map. Per block, the union of its boxes is kept: a query part that misses it adds
-// exactly 0 to every map of the block and is skipped (tested per super block of 16 blocks, then per block;
-// maps of a skipped block are never read). Storing maps in Morton order of their descriptor centre
+// nothing is allocated per map. Per block, the union of its boxes and the range of its parts' dictionary origins
+// are kept: a query part that misses the union, or (origin gate on) whose origin lies farther than the gate from
+// the range, adds exactly 0 to every map of the block and is skipped (tested per super block of 16 blocks, then
+// per block; maps of a skipped block are never read). Storing maps in Morton order of their descriptor centre
 // (the parts of one map overlap, the paper's GC criterion) makes these block boxes tight.
 // Per pair of boxes the kernel does min / max / saturating subtraction on 16-bit lanes, one 16-bit product
 // (box sides are limited to 255 cells so the area fits), one conversion and one multiply-max in float:
@@ -84,8 +85,9 @@ class DescriptorDatabase {
   std::vector<std::uint16_t> coords_;        // [block][slot][x0, x1, y0, y1][lane]
   std::vector<std::uint16_t> origins_;       // [block][slot][ox, oy][lane]: dictionary origin [half cells]
   std::vector<float> inv_sqrt_area_;         // [block][slot][lane]; 0 for an empty slot
-  std::vector<std::uint16_t> bounds_;        // [block][x0, x1, y0, y1]: union of the block's boxes
-  std::vector<std::uint16_t> super_bounds_;  // [super block][x0, x1, y0, y1]: union of its blocks' boxes
+  std::vector<std::uint16_t> bounds_;        // [block][x0, x1, y0, y1, ox0, ox1, oy0, oy1]: union of the
+                                             // block's boxes, range of its parts' dictionary origins
+  std::vector<std::uint16_t> super_bounds_;  // [super block][the same fields]: over its blocks
   std::vector<std::uint32_t> map_index_;     // [block * kLanes + lane] -> map index; UINT32_MAX for padding
 };
 
