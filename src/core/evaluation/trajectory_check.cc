@@ -91,10 +91,17 @@ class ScanByTime {
     for (std::size_t i = 0; i < scans.size(); ++i) by_time_.emplace_back(scans[i].timestamp, i);
     std::sort(by_time_.begin(), by_time_.end());
   }
+  /// The scan whose timestamp is nearest t (the earlier on a tie), if within 1 ms: logs hold scans less than
+  /// 1 ms apart (intel: 1479 pairs), so the first one in the window may be a neighbour of the named scan.
   std::optional<std::size_t> operator()(double t) const {
     auto it = std::lower_bound(by_time_.begin(), by_time_.end(), std::pair{t - 1e-3, std::size_t{0}});
-    if (it == by_time_.end() || it->first > t + 1e-3) return std::nullopt;
-    return it->second;
+    std::optional<std::size_t> best;
+    double best_dt = 1e-3;
+    for (; it != by_time_.end() && it->first <= t + 1e-3; ++it) {
+      const double dt = std::abs(it->first - t);
+      if (dt < best_dt || (!best && dt <= best_dt)) best = it->second, best_dt = dt;
+    }
+    return best;
   }
 
  private:

@@ -44,7 +44,7 @@ std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Sc
                                                    const std::vector<std::optional<std::size_t>>& reference_index);
 
 /// A reference trajectory from a Freiburg .relations file (issue "raw logs", item 2, when there is no corrected
-/// twin): the scans of `estimate` that a relation names (timestamps within 1 ms) become the nodes of a pose graph
+/// twin): the scans of `estimate` that a relation names (the scan of nearest timestamp, within 1 ms) become the nodes of a pose graph
 /// whose edges are the relations (sigma 1 cm, 0.01 rad) and, joining consecutive nodes so that every component
 /// is anchored, the estimate's own relative poses (sigma 1 m, 1 rad); the optimised poses are the reference.
 /// `reference_index` gets, per scan of `estimate`, its node in the returned scans (nullopt for other scans).
@@ -56,7 +56,7 @@ Scans reference_from_relations(const Scans& estimate, const Relations& relations
 Submaps with_reference_frames(const Submaps& maps, const std::vector<std::optional<Pose2>>& frames);
 
 /// The relations metric of Kuemmerle et al. 2009 ("On measuring the accuracy of SLAM algorithms"): for every
-/// relation (t1, t2, T_1_2) whose two scans are in `scans` (matched by timestamp within 1 ms), the error pose
+/// relation (t1, t2, T_1_2) whose two scans are in `scans` (matched to the scan of nearest timestamp, within 1 ms), the error pose
 /// E = T_1_2^-1 * (T_world(t1)^-1 * T_world(t2)); mean and standard deviation of |E.translation| [m] and of
 /// |E.theta| [rad].
 struct RelationsError {

@@ -103,5 +103,19 @@ TEST(RelationsError, IsZeroForTheTrueTrajectoryAndMeasuresAnOffset) {
   EXPECT_NEAR(e.translation_std, 0.0, 1e-12);
 }
 
+TEST(RelationsError, NamesTheScanOfNearestTimestampNotTheFirstWithinAMillisecond) {
+  Scans scans = straight(20);
+  scans[12].timestamp = 11.9996;  // a neighbour 0.4 ms before the named scan (intel has 1479 such pairs)
+  scans[12].T_world_laser.x += 5.0;
+  scans[13].timestamp = 12.0;
+  const Pose2 truth = scans[2].T_world_laser.inverse() * scans[13].T_world_laser;
+  RelationsError e = relations_error(scans, {{scans[2].timestamp, 12.0, truth}});
+  EXPECT_EQ(e.relations, 1u);
+  EXPECT_NEAR(e.translation_mean, 0.0, 1e-12);  // the first scan within 1 ms would be 5 m off
+  e = relations_error(scans, {{scans[2].timestamp, 12.0015, truth}});  // nothing within 1 ms
+  EXPECT_EQ(e.relations, 0u);
+  EXPECT_EQ(e.missing, 1u);
+}
+
 }  // namespace
 }  // namespace partslam

@@ -39,7 +39,7 @@ Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps
   return out;
 }
 
-SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress) {
+SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
   SlamResult r;
   auto t0 = Clock::now();
   FrontEndResult fe = scan_match_log(raw, config.front_end, progress);
@@ -53,12 +53,15 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   std::vector<LoopClosure> accepted;
   for (const LoopClosure& l : r.closures)
     if (l.confidence >= config.min_confidence) accepted.push_back(l);
+  if (hook) hook(maps, accepted);
   r.accepted = accepted.size();
   r.loops_s = ms_since(t0) / 1e3;
 
   t0 = Clock::now();
   const std::vector<Pose2> optimised = optimize_submap_graph(maps, accepted, config.weights, config.graph, &r.graph);
   r.submaps = maps;
+  for (const Submap& m : maps) r.stored_frames.push_back(m.T_world_map);
+  for (const Scan& s : fe.scans) r.front_end_poses.push_back(s.T_world_laser);
   for (std::size_t k = 0; k < maps.size(); ++k) r.submaps[k].T_world_map = optimised[k];
   r.scans = corrected_scans(fe.scans, maps, r.submaps);
   r.graph_s = ms_since(t0) / 1e3;

@@ -5,6 +5,8 @@
 // between the two anchors around it.
 #pragma once
 
+#include <functional>
+
 #include "core/maps/submap.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
@@ -23,7 +25,9 @@ struct SlamConfig {
 
 struct SlamResult {
   Scans scans;                        ///< the log's scans with corrected poses (scans the front end dropped excluded)
+  std::vector<Pose2> front_end_poses; ///< the same scans' poses from the front end, before loop closing
   Submaps submaps;                    ///< with optimised frames
+  std::vector<Pose2> stored_frames;   ///< the submaps' frames before optimisation (on the front end's poses)
   std::vector<LoopClosure> closures;  ///< every hypothesis
   std::size_t accepted = 0;           ///< closures in the graph
   FrontEndStats front_end;
@@ -31,8 +35,12 @@ struct SlamResult {
   double front_end_s = 0, loops_s = 0, graph_s = 0;
 };
 
+/// Called on the accepted closures before they join the graph (a bench injects wrong ones here).
+using ClosureHook = std::function<void(const Submaps& maps, std::vector<LoopClosure>& accepted)>;
+
 /// Throws InputError when no submap can be built or a setting is out of range.
-SlamResult run_slam(const Scans& raw, const SlamConfig& config = {}, const Progress& progress = {});
+SlamResult run_slam(const Scans& raw, const SlamConfig& config = {}, const Progress& progress = {},
+                    const ClosureHook& hook = {});
 
 /// Moves every scan by the correction (T_new * T_old^-1, in the world frame) of the submaps around it,
 /// interpolated along the travel between their anchors; scans before the first anchor and after the last take

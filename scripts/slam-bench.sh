@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The SLAM generalisation bench (docs/NOTES.md "SLAM bench"; build/slam_bench runs one input): `slam` with its
+# defaults on
+#   - the raw fr079, intel and aces logs against their relations files, and fr101's raw log against relations
+#     built from its corrected twin (the twins also judge the accepted closures);
+#   - drifted twins of every corrected log in ../shared (the eight of data/corrected and fr079, fr101, intel,
+#     aces): the real scans with synthetic odometry, at each LEVEL and SEED;
+#   - the same with INJECT wrong closures added (fractions of the accepted ones) on the raw logs and the first
+#     seed of the harsh twins.
+# Writes docs/results/slam_bench.jsonl (one line per run) and docs/results/slam_bench.md (the table).
+# Usage: scripts/slam-bench.sh; LEVELS="mild harsh" SEEDS="1 2 3" INJECT="0.1 0.3 0.5" LOGS="..." narrow it
+# (LOGS: names of corrected logs, e.g. "orebro fr079"). Needs ../shared/data and build/slam_bench.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+DATA=../shared/data
+OUT=${OUT:-docs/results}
+LEVELS=${LEVELS:-mild harsh}
+SEEDS=${SEEDS:-1 2 3}
+INJECT=${INJECT:-0.1 0.3 0.5}
+[ -d "$DATA" ] || { echo "slam-bench: $DATA not found (the real data sets are needed)" >&2; exit 1; }
+[ -x build/slam_bench ] || { echo "slam-bench: build/slam_bench not built (make build)" >&2; exit 1; }
+corrected() {  # name -> corrected log
+  case "$1" in
+    fr079|fr101|intel|aces) echo "$DATA/$1/$1-corrected.log.gz" ;;
+    *) echo "$DATA/corrected/$1-corrected.log.gz" ;;
+  esac
+}
+ALL_LOGS="acapulco belgioioso edmonton fhw freiburg-campus infinite-corridor orebro seattle fr079 fr101 intel aces"
+LOGS=${LOGS:-$ALL_LOGS}
+RAW=${RAW:-fr079 intel aces fr101}
+mkdir -p "$OUT"
+TMP=$(mktemp)
+trap 'rm -f "$TMP"' EXIT
+run() {
+  echo "== slam_bench $*" >&2
+  build/slam_bench "$@" >> "$TMP"
+}
+for log in $RAW; do
+  rel=""
+  [ -f "$DATA/$log/$log.relations" ] && rel="$DATA/$log/$log.relations"
+  raw="$DATA/$log/$log.clf.gz"
+  run raw "$raw" "$(corrected "$log")" $rel
+  for f in $INJECT; do run raw "$raw" "$(corrected "$log")" ${rel:-} "$f"; done
+done
+for log in $LOGS; do
+  for level in $LEVELS; do
+    for seed in $SEEDS; do run twin "$(corrected "$log")" "$level" "$seed"; done
+  done
+  first=${SEEDS%% *}
+  for f in $INJECT; do run twin "$(corrected "$log")" harsh "$first" "$f"; done
+done
+mv "$TMP" "$OUT/slam_bench.jsonl"
+trap - EXIT
+/usr/bin/python3 scripts/slam_bench_table.py "$OUT/slam_bench.jsonl" > "$OUT/slam_bench.md"
+cat "$OUT/slam_bench.md"

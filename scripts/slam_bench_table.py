@@ -1,0 +1,37 @@
+"""The SLAM bench's table (scripts/slam-bench.sh): one row per run of build/slam_bench, from its JSON lines."""
+import json
+import os
+import sys
+
+
+def err(e):
+    if not e.get("relations"):
+        return "no relation matched", None
+    t, r = e["translation_m"], e["rotation_deg"]
+    return f'{t["mean"]:.3f} ± {t["std"]:.3f} m, {r["mean"]:.2f}°', t["mean"]
+
+
+def main(path):
+    rows = [json.loads(line) for line in open(path) if line.strip()]
+    print("| input | odometry | inject | relations | slam | odometry | front end only | closures accepted (wrong) "
+          "| injected | verdict | time |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    worse = 0
+    for j in rows:
+        name = os.path.basename(j["log"]).split(".")[0].replace("-corrected", "")
+        odo = "raw log" if j["kind"] == "raw" else f'{j["level"]} seed {j["seed"]}'
+        slam, s = err(j["slam"])
+        odom, o = err(j["odometry"])
+        fe, _ = err(j["front_end"])
+        flag = ""
+        if s is not None and o is not None and s > o:
+            flag, worse = " **worse than odometry**", worse + 1
+        c = j["closures"]
+        verdict = j.get("verdict", {}).get("verdict", "-") if isinstance(j.get("verdict"), dict) else j.get("verdict", "-")
+        print(f'| {name} | {odo} | {j["inject"]:g} | {j["slam"].get("relations", 0)} | {slam}{flag} | {odom} | {fe} '
+              f'| {c["accepted"] - c["injected"]} ({c["wrong"]}) | {c["injected"]} | {verdict} | {j["seconds"]:.1f} s |')
+    print(f"\n{len(rows)} runs; slam worse than odometry on {worse}.")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

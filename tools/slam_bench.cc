@@ -1,0 +1,194 @@
+// slam_bench: one run of the SLAM generalisation bench (scripts/slam-bench.sh, `make slam-bench`; docs/NOTES.md
+// "SLAM bench"). Prints one JSON object: the relation errors of `slam` (core/slam/slam.h, its defaults), of the
+// log's odometry and of the front end alone, the accepted closures and how many are wrong against the truth,
+// the verdict and the time.
+//
+//   slam_bench twin CORRECTED_LOG LEVEL SEED [INJECT]
+//       the drifted twin (core/evaluation/drifted_twin.h) of a corrected log at LEVEL (mild, harsh) and SEED;
+//       the corrected poses are the truth, the relations are built from them.
+//   slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]
+//       a raw log; its scans associated by content with the corrected TWIN_LOG (a subset may do) give the truth of
+//       the closures, and the relations (from the file when given, else built from the twin).
+// INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
+// between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "core/error.h"
+#include "core/evaluation/drifted_twin.h"
+#include "core/evaluation/relation_check.h"
+#include "core/evaluation/trajectory_check.h"
+#include "core/random.h"
+#include "core/slam/slam.h"
+#include "io/relations.h"
+#include "io/scan_source.h"
+
+using namespace partslam;
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+nlohmann::json error_json(const RelationsError& e) {
+  if (e.relations == 0) return {{"relations", 0}, {"missing", e.missing}};
+  return {{"translation_m", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
+          {"rotation_deg", {{"mean", e.rotation_mean * kRadToDeg}, {"std", e.rotation_std * kRadToDeg}}},
+          {"relations", e.relations},
+          {"missing", e.missing}};
+}
+
+Scans with_poses(const Scans& scans, const std::vector<Pose2>& poses) {
+  Scans out;
+  out.reserve(scans.size());
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    Scan s;
+    s.timestamp = scans[i].timestamp;
+    s.T_world_laser = s.T_world_odom = poses[i];
+    out.push_back(s);
+  }
+  return out;
+}
+
+// Per scan of `scans`, the index of the truth scan of the same timestamp (the truth is the raw scans re-posed).
+std::vector<std::optional<std::size_t>> index_by_time(const Scans& scans, const Scans& truth) {
+  std::vector<std::optional<std::size_t>> out(scans.size());
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    while (j < truth.size() && truth[j].timestamp < scans[i].timestamp) ++j;
+    if (j < truth.size() && truth[j].timestamp == scans[i].timestamp) out[i] = j;
+  }
+  return out;
+}
+
+struct Bench {
+  std::string name;
+  Scans raw;     // what slam reads
+  Scans truth;   // the true poses of the raw scans it has (same timestamps; a subset for raw logs)
+  Relations relations;
+  bool retimed = false;
+};
+
+Bench twin_bench(const std::string& log, const std::string& level, std::uint64_t seed) {
+  Bench b;
+  b.truth = io::load_scan_source(log).scans;
+  // Some corrected logs carry no time (orebro: every stamp 0); relations name scans by time, so those are
+  // re-timed at 10 Hz.
+  bool increasing = true;
+  for (std::size_t i = 1; i < b.truth.size(); ++i) increasing = increasing && b.truth[i].timestamp > b.truth[i - 1].timestamp;
+  if (!increasing)
+    for (std::size_t i = 0; i < b.truth.size(); ++i) b.truth[i].timestamp = 0.1 * static_cast<double>(i);
+  b.retimed = !increasing;
+  b.raw = drifted_twin(b.truth, odometry_noise(level), seed);
+  b.relations = bench_relations(b.truth);
+  b.name = log;
+  return b;
+}
+
+Bench raw_bench(const std::string& log, const std::string& twin_log, const std::string& relations) {
+  Bench b;
+  b.raw = io::load_scan_source(log).scans;
+  const Scans twin = io::load_scan_source(twin_log).scans;
+  const auto index = associate_scans(b.raw, twin);
+  for (std::size_t i = 0; i < b.raw.size(); ++i) {
+    if (!index[i]) continue;
+    Scan s;
+    s.timestamp = b.raw[i].timestamp;
+    s.T_world_laser = s.T_world_odom = twin[*index[i]].T_world_laser;
+    b.truth.push_back(s);
+  }
+  if (b.truth.empty()) throw InputError(twin_log + ": no scan of " + log + " found in it");
+  b.relations = relations.empty() ? bench_relations(b.truth) : io::read_relations(relations);
+  b.name = log;
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "";
+  if (!((mode == "twin" && (argc == 5 || argc == 6)) || (mode == "raw" && argc >= 4 && argc <= 6))) {
+    std::fprintf(stderr,
+                 "usage: slam_bench twin CORRECTED_LOG LEVEL SEED [INJECT]\n"
+                 "       slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]\n");
+    return 2;
+  }
+  try {
+    Bench b;
+    double inject = 0.0;
+    nlohmann::json out;
+    if (mode == "twin") {
+      b = twin_bench(argv[2], argv[3], std::strtoull(argv[4], nullptr, 10));
+      if (argc == 6) inject = std::atof(argv[5]);
+      out = {{"kind", "twin"}, {"level", argv[3]}, {"seed", std::atoi(argv[4])}};
+    } else {
+      // RELATIONS is a file name; a lone number after TWIN_LOG is INJECT.
+      std::string relations = argc >= 5 ? argv[4] : "";
+      if (argc == 5 && relations.find_first_not_of("0123456789.") == std::string::npos) inject = std::atof(argv[4]), relations = "";
+      if (argc == 6) inject = std::atof(argv[5]);
+      b = raw_bench(argv[2], argv[3], relations);
+      out = {{"kind", "raw"}, {"relations_file", relations}};
+    }
+    if (!(inject >= 0.0 && inject <= 10.0)) throw InputError("INJECT must be in [0, 10]");
+    out["log"] = b.name;
+    out["retimed"] = b.retimed;
+    out["inject"] = inject;
+
+    // The truth of a scan of the front end's output (same timestamps as the raw scans) and of a submap.
+    std::size_t injected = 0;
+    std::vector<std::optional<Pose2>> true_frames;
+    const SlamConfig config;
+    const auto t0 = std::chrono::steady_clock::now();
+    SlamResult r = run_slam(b.raw, config, {}, [&](const Submaps& maps, std::vector<LoopClosure>& accepted) {
+      if (inject <= 0) return;
+      Rng rng(12345, 7);
+      const auto want = static_cast<std::size_t>(std::lround(inject * static_cast<double>(accepted.size())));
+      std::size_t tries = 0;
+      while (injected < want && tries++ < 100 * want + 1000) {
+        const std::size_t q = rng.index(maps.size()), m = rng.index(maps.size());
+        if (m >= q || maps[q].travel - maps[m].travel < 20.0) continue;
+        // Non-matching: the front end's frames (drift within a few metres here) more than 10 m apart, so the
+        // true ones are too on every bench input.
+        if ((maps[q].T_world_map.translation() - maps[m].T_world_map.translation()).norm() < 10.0) continue;
+        accepted.push_back({q, m, Pose2{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.3, 0.3)}, 1.0, 1.0, 1.0});
+        ++injected;
+      }
+    });
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const Scans front_end_estimate = with_poses(r.scans, r.front_end_poses);
+    Submaps stored = r.submaps;
+    for (std::size_t k = 0; k < stored.size(); ++k) stored[k].T_world_map = r.stored_frames[k];
+    true_frames = reference_frames(stored, front_end_estimate, b.truth, index_by_time(front_end_estimate, b.truth));
+
+    // Accepted closures against the truth: wrong when more than 0.5 m or 5 degrees off.
+    std::size_t judged = 0, wrong = 0;
+    for (const LoopClosure& l : r.closures) {
+      if (l.confidence < config.min_confidence || !true_frames[l.query] || !true_frames[l.match]) continue;
+      const Pose2 T = true_frames[l.match]->inverse() * *true_frames[l.query];
+      ++judged;
+      wrong += (T.translation() - l.T_match_query.translation()).norm() > 0.5 ||
+               std::abs(wrap_angle(T.theta - l.T_match_query.theta)) > 5.0 / kRadToDeg;
+    }
+    Scans odometry = b.raw;
+    for (Scan& s : odometry) s.T_world_laser = s.T_world_odom;
+    out["scans"] = r.scans.size();
+    out["submaps"] = r.submaps.size();
+    out["slam"] = error_json(relations_error(r.scans, b.relations));
+    out["odometry"] = error_json(relations_error(odometry, b.relations));
+    out["front_end"] = error_json(relations_error(front_end_estimate, b.relations));
+    out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", r.accepted}, {"injected", injected},
+                       {"judged", judged}, {"wrong", wrong}};
+    out["seconds"] = seconds;
+    std::cout << out.dump() << "\n";
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "slam_bench: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
