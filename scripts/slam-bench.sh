@@ -14,11 +14,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 DATA=../shared/data
 OUT=${OUT:-docs/results}
-LEVELS=${LEVELS:-mild harsh}
-SEEDS=${SEEDS:-1 2 3}
-INJECT=${INJECT:-0.1 0.3 0.5}
+LEVELS=${LEVELS-mild harsh}
+SEEDS=${SEEDS-1 2 3}
+INJECT=${INJECT-0.1 0.3 0.5}
 [ -d "$DATA" ] || { echo "slam-bench: $DATA not found (the real data sets are needed)" >&2; exit 1; }
-[ -x build/slam_bench ] || { echo "slam-bench: build/slam_bench not built (make build)" >&2; exit 1; }
+BIN=${BIN:-build/slam_bench}
+[ -x "$BIN" ] || { echo "slam-bench: $BIN not built (make build)" >&2; exit 1; }
 corrected() {  # name -> corrected log
   case "$1" in
     fr079|fr101|intel|aces) echo "$DATA/$1/$1-corrected.log.gz" ;;
@@ -26,14 +27,14 @@ corrected() {  # name -> corrected log
   esac
 }
 ALL_LOGS="acapulco belgioioso edmonton fhw freiburg-campus infinite-corridor orebro seattle fr079 fr101 intel aces"
-LOGS=${LOGS:-$ALL_LOGS}
-RAW=${RAW:-fr079 intel aces fr101}
+LOGS=${LOGS-$ALL_LOGS}
+RAW=${RAW-fr079 intel aces fr101}
 mkdir -p "$OUT"
 TMP=$(mktemp)
 trap 'rm -f "$TMP"' EXIT
 run() {
   echo "== slam_bench $*" >&2
-  build/slam_bench "$@" >> "$TMP"
+  "$BIN" "$@" >> "$TMP"
 }
 for log in $RAW; do
   rel=""

@@ -13,8 +13,8 @@ def err(e):
 
 def main(path):
     rows = [json.loads(line) for line in open(path) if line.strip()]
-    print("| input | odometry | inject | relations | slam | odometry | front end only | closures accepted (wrong) "
-          "| injected | verdict | time |")
+    print("| input | odometry | inject | relations | slam | odometry | front end only | closures offered "
+          "| injected (used) | verdict | time |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     worse = 0
     for j in rows:
@@ -27,9 +27,10 @@ def main(path):
         if s is not None and o is not None and s > o:
             flag, worse = " **worse than odometry**", worse + 1
         c = j["closures"]
-        verdict = j.get("verdict", {}).get("verdict", "-") if isinstance(j.get("verdict"), dict) else j.get("verdict", "-")
+        verdict = j.get("verdict", "-")
         print(f'| {name} | {odo} | {j["inject"]:g} | {j["slam"].get("relations", 0)} | {slam}{flag} | {odom} | {fe} '
-              f'| {c["accepted"] - c["injected"]} ({c["wrong"]}) | {c["injected"]} | {verdict} | {j["seconds"]:.1f} s |')
+              f'| {c["accepted"]} ({c["wrong"]} wrong, {c.get("used_wrong", 0)} of them used) '
+              f'| {c["injected"]} ({c.get("injected_used", 0)}) | {verdict} | {j["seconds"]:.1f} s |')
     print(f"\n{len(rows)} runs; slam worse than odometry on {worse}.")
 
 

@@ -1,7 +1,7 @@
 // slam_bench: one run of the SLAM generalisation bench (scripts/slam-bench.sh, `make slam-bench`; docs/NOTES.md
 // "SLAM bench"). Prints one JSON object: the relation errors of `slam` (core/slam/slam.h, its defaults), of the
-// log's odometry and of the front end alone, the accepted closures and how many are wrong against the truth,
-// the verdict and the time.
+// log's odometry and of the front end alone, the closures offered to the back end, how many are wrong against
+// the truth and how many of those it used, the verdict and the time.
 //
 //   slam_bench twin CORRECTED_LOG LEVEL SEED [INJECT]
 //       the drifted twin (core/evaluation/drifted_twin.h) of a corrected log at LEVEL (mild, harsh) and SEED;
@@ -166,14 +166,32 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < stored.size(); ++k) stored[k].T_world_map = r.stored_frames[k];
     true_frames = reference_frames(stored, front_end_estimate, b.truth, index_by_time(front_end_estimate, b.truth));
 
-    // Accepted closures against the truth: wrong when more than 0.5 m or 5 degrees off.
-    std::size_t judged = 0, wrong = 0;
-    for (const LoopClosure& l : r.closures) {
-      if (l.confidence < config.min_confidence || !true_frames[l.query] || !true_frames[l.match]) continue;
+    // Offered closures against the truth: wrong when more than 0.5 m or 5 degrees off; counted among those the
+    // back end used and those it set aside (injected ones apart: they are wrong by construction).
+    std::size_t judged = 0, wrong = 0, used_wrong = 0, aside_right = 0, injected_used = 0;
+    nlohmann::json wrong_list = nlohmann::json::array();
+    const std::size_t real = r.offered.size() - injected;  // the hook appends the injected ones
+    for (std::size_t k = 0; k < r.offered.size(); ++k) {
+      const LoopClosure& l = r.offered[k];
+      const bool used = r.back_end.used[k];
+      if (k >= real) {
+        injected_used += used;
+        continue;
+      }
+      if (!true_frames[l.query] || !true_frames[l.match]) continue;
       const Pose2 T = true_frames[l.match]->inverse() * *true_frames[l.query];
+      const bool bad = (T.translation() - l.T_match_query.translation()).norm() > 0.5 ||
+                       std::abs(wrap_angle(T.theta - l.T_match_query.theta)) > 5.0 / kRadToDeg;
       ++judged;
-      wrong += (T.translation() - l.T_match_query.translation()).norm() > 0.5 ||
-               std::abs(wrap_angle(T.theta - l.T_match_query.theta)) > 5.0 / kRadToDeg;
+      wrong += bad;
+      if (bad)
+        wrong_list.push_back({{"query", l.query}, {"match", l.match}, {"used", used}, {"confidence", l.confidence},
+                              {"error_m", (T.translation() - l.T_match_query.translation()).norm()},
+                              {"error_deg", std::abs(wrap_angle(T.theta - l.T_match_query.theta)) * kRadToDeg},
+                              {"front_end_error_m", ((r.stored_frames[l.match].inverse() * r.stored_frames[l.query]).translation() - T.translation()).norm()},
+                              {"solved_error_m", ((r.submaps[l.match].T_world_map.inverse() * r.submaps[l.query].T_world_map).translation() - T.translation()).norm()}});
+      used_wrong += bad && used;
+      aside_right += !bad && !used;
     }
     Scans odometry = b.raw;
     for (Scan& s : odometry) s.T_world_laser = s.T_world_odom;
@@ -182,8 +200,15 @@ int main(int argc, char** argv) {
     out["slam"] = error_json(relations_error(r.scans, b.relations));
     out["odometry"] = error_json(relations_error(odometry, b.relations));
     out["front_end"] = error_json(relations_error(front_end_estimate, b.relations));
-    out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", r.accepted}, {"injected", injected},
-                       {"judged", judged}, {"wrong", wrong}};
+    out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", real}, {"injected", injected},
+                       {"judged", judged}, {"wrong", wrong}, {"used", r.back_end.used_count},
+                       {"used_wrong", used_wrong}, {"set_aside_right", aside_right}, {"injected_used", injected_used}};
+    out["wrong_closures"] = wrong_list;
+    out["graph"] = {{"rounds", r.back_end.rounds}, {"chain_bends", r.back_end.chain_bends},
+                    {"max_chain_bend_m", r.back_end.max_chain_translation},
+                    {"max_chain_bend_deg", r.back_end.max_chain_rotation * kRadToDeg}};
+    out["verdict"] = r.back_end.verdict;
+    out["reason"] = r.back_end.reason;
     out["seconds"] = seconds;
     std::cout << out.dump() << "\n";
   } catch (const std::exception& e) {

@@ -1,7 +1,8 @@
 // partslam slam RAW_LOG --out DIR: the whole chain for a raw log (core/slam/slam.h): front end, submaps, loop
 // closures (succinct shortlist, dMM and context verification, drift gate), a pose graph with a robust loss,
 // corrected scan poses. Writes DIR/corrected.log (CARMEN, corrected poses), DIR/map.png (the corrected map),
-// DIR/loops.json and, with --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric). Every
+// DIR/loops.json, DIR/slam.json (closures used and set aside, the verdict: core/slam/back_end.h) and, with
+// --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric, rotation in degrees). Every
 // file is written atomically; DIR is created when missing.
 #include <CLI/CLI.hpp>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "apps/commands.h"
 #include "apps/json_text.h"
@@ -33,11 +35,47 @@ struct SlamOptions {
   bool quiet = false;
 };
 
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+// Relation errors with their units in the keys (translation in metres, rotation in degrees, as printed).
 nlohmann::json relations_json(const RelationsError& e) {
-  return {{"translation", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
-          {"rotation", {{"mean", e.rotation_mean}, {"std", e.rotation_std}}},
+  return {{"translation_m", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
+          {"rotation_deg", {{"mean", e.rotation_mean * kDegrees}, {"std", e.rotation_std * kDegrees}}},
           {"relations", e.relations},
           {"missing", e.missing}};
+}
+
+std::string relations_text(const RelationsError& e) {
+  if (e.relations == 0) return "no relation matched";
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3) << e.translation_mean << " +- " << e.translation_std << " m, "
+      << std::setprecision(2) << e.rotation_mean * kDegrees << " +- " << e.rotation_std * kDegrees << " deg";
+  return out.str();
+}
+
+nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
+  const BackEndResult& b = r.back_end;
+  return {{"log", o.log},
+          {"scans", r.scans.size()},
+          {"submaps", r.submaps.size()},
+          {"front_end", {{"rejected_matches", r.front_end.rejected}, {"seconds", r.front_end_s}}},
+          {"closures",
+           {{"hypotheses", r.closures.size()},
+            {"offered", r.accepted},
+            {"used", b.used_count},
+            {"set_aside", b.rejected},
+            {"min_confidence", o.config.min_confidence}}},
+          {"graph",
+           {{"rounds", b.rounds},
+            {"initial_cost", b.graph.initial_cost},
+            {"final_cost", b.graph.final_cost},
+            {"chain_bends", b.chain_bends},
+            {"max_chain_bend_m", b.max_chain_translation},
+            {"max_chain_bend_deg", b.max_chain_rotation * kDegrees}}},
+          {"verdict", b.verdict},
+          {"trusted", b.trusted()},
+          {"reason", b.reason},
+          {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}}}};
 }
 
 void write_map_png(const std::filesystem::path& path, const Scans& scans, const std::string& title) {
@@ -58,7 +96,7 @@ void run_slam_command(const SlamOptions& o) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw InputError(o.out + ": cannot create the output folder");
-  for (const char* name : {"corrected.log", "map.png", "loops.json", "relations_error.json"})
+  for (const char* name : {"corrected.log", "map.png", "loops.json", "slam.json", "relations_error.json"})
     io::check_writable(dir / name);
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
   const io::ScanSource source = io::load_scan_source(o.log);
@@ -69,47 +107,55 @@ void run_slam_command(const SlamOptions& o) {
     r = run_slam(source.scans, o.config, [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
   }
   const FrontEndStats& fe = r.front_end;
+  const BackEndResult& b = r.back_end;
   std::cout << std::fixed << std::setprecision(1) << source.name << ": " << fe.scans << " scans, front end "
             << r.front_end_s << " s (" << std::setprecision(0) << fe.log_seconds / std::max(r.front_end_s, 1e-9)
             << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n"
             << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
-            << " loop-closure hypotheses, " << r.accepted << " accepted (confidence >= " << std::setprecision(2)
+            << " loop-closure hypotheses, " << r.accepted << " offered (confidence >= " << std::setprecision(2)
             << o.config.min_confidence << std::setprecision(1) << "), " << r.loops_s << " s\n"
-            << "pose graph: cost " << std::setprecision(3) << r.graph.initial_cost << " -> " << r.graph.final_cost
-            << " in " << r.graph.iterations << " iterations, " << std::setprecision(1) << r.graph_s << " s\n";
+            << "pose graph: " << b.used_count << " closures used, " << b.rejected
+            << " set aside (they disagree with the solution), cost " << std::setprecision(3) << b.graph.initial_cost
+            << " -> " << b.graph.final_cost << " in " << b.rounds << " solves, " << std::setprecision(1) << r.graph_s
+            << " s\nverdict: " << b.verdict << (b.reason.empty() ? "" : " (" + b.reason + ")") << "\n";
+  if (!b.trusted())
+    std::cerr << "partslam: warning: " << o.log << ": the corrected map may be worse than the front end's ("
+              << b.reason << ")" << (b.verdict == "front end" ? "; the front end's trajectory is written" : "")
+              << "\n";
   if (fe.time_reversals > 0)
     std::cerr << "partslam: warning: " << o.log << ": " << fe.time_reversals << " scans dropped (time goes backwards)\n";
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
 
   io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
-  write_map_png(dir / "map.png", r.scans, source.name + ": corrected map (" + std::to_string(r.accepted) + " loop closures)");
+  write_map_png(dir / "map.png", r.scans,
+                source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")");
   nlohmann::json loops = nlohmann::json::array();
-  for (const LoopClosure& l : r.closures) {
-    if (l.confidence < o.config.min_confidence) continue;
+  for (std::size_t k = 0; k < r.offered.size(); ++k) {
+    const LoopClosure& l = r.offered[k];
     loops.push_back({{"query", l.query}, {"match", l.match}, {"score", l.score}, {"confidence", l.confidence},
+                     {"used", static_cast<bool>(b.used[k])},
                      {"pose", {{"x", l.T_match_query.x}, {"y", l.T_match_query.y}, {"theta", l.T_match_query.theta}}}});
   }
   io::write_atomically(dir / "loops.json", [&](std::ostream& out) {
     out << json_text({{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}});
   });
-  std::cout << "wrote " << (dir / "corrected.log").string() << ", map.png, loops.json";
+  nlohmann::json summary = slam_json(o, r);
+  std::cout << "wrote " << (dir / "corrected.log").string() << ", map.png, loops.json, slam.json";
   if (!o.relations.empty()) {
     const RelationsError before = relations_error(source.scans, relations);
     const RelationsError after = relations_error(r.scans, relations);
+    summary["relations"] = {{"file", o.relations}, {"slam", relations_json(after)}, {"odometry", relations_json(before)}};
     io::write_atomically(dir / "relations_error.json",
                          [&](std::ostream& out) { out << json_text(relations_json(after)); });
-    std::cout << ", relations_error.json\n"
-              << std::setprecision(3) << "relations (" << after.relations << " of " << relations.size()
-              << "): translation " << after.translation_mean << " +- " << after.translation_std << " m, rotation "
-              << after.rotation_mean << " +- " << after.rotation_std << " rad (odometry: " << before.translation_mean
-              << " +- " << before.translation_std << " m, " << before.rotation_mean << " +- " << before.rotation_std
-              << " rad)";
+    std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size()
+              << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
+    if (after.relations == 0)
+      std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
+                << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
   }
   std::cout << "\n";
-  if (!o.relations.empty() && relations_error(r.scans, relations).relations == 0)
-    std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
-              << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
+  io::write_atomically(dir / "slam.json", [&](std::ostream& out) { out << json_text(summary); });
 }
 
 }  // namespace

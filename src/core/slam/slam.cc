@@ -58,7 +58,9 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   r.loops_s = ms_since(t0) / 1e3;
 
   t0 = Clock::now();
-  const std::vector<Pose2> optimised = optimize_submap_graph(maps, accepted, config.weights, config.graph, &r.graph);
+  r.back_end = solve_back_end(maps, accepted, config.back_end);
+  r.offered = std::move(accepted);
+  const std::vector<Pose2>& optimised = r.back_end.frames;
   r.submaps = maps;
   for (const Submap& m : maps) r.stored_frames.push_back(m.T_world_map);
   for (const Scan& s : fe.scans) r.front_end_poses.push_back(s.T_world_laser);

@@ -1,13 +1,14 @@
-// The whole chain for a raw log (issue "raw logs", item 4): front end (front_end.h) -> submaps on the
-// scan-matched trajectory -> loop closures among them (loop_closure.h) -> a pose graph over the submap frames
-// (consecutive submaps joined by the front end's relative poses, accepted closures with a robust loss;
-// pose_graph.h) -> every scan's pose corrected by its submaps' corrections, interpolated along the travel
-// between the two anchors around it.
+// The whole chain for a raw log: front end (front_end.h) -> submaps on the scan-matched trajectory -> loop
+// closures among them (loop_closure.h) -> a pose graph over the submap frames (consecutive submaps joined by the
+// front end's relative poses, accepted closures with a robust loss, those that disagree with the solution set
+// aside, and a verdict: back_end.h) -> every scan's pose corrected by its submaps' corrections, interpolated
+// along the travel between the two anchors around it.
 #pragma once
 
 #include <functional>
 
 #include "core/maps/submap.h"
+#include "core/slam/back_end.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
 #include "core/slam/pose_graph.h"
@@ -18,9 +19,8 @@ struct SlamConfig {
   FrontEndConfig front_end;
   SubmapConfig submaps;
   LoopClosureConfig loops;
-  double min_confidence = 0.2;  ///< closures at least this confident join the graph
-  PoseGraphConfig graph;
-  SubmapGraphWeights weights;  ///< of the consecutive-submap and loop-closure edges
+  double min_confidence = 0.2;  ///< closures at least this confident are offered to the back end
+  BackEndConfig back_end;       ///< the graph's weights, which closures it keeps, the verdict (back_end.h)
 };
 
 struct SlamResult {
@@ -29,9 +29,10 @@ struct SlamResult {
   Submaps submaps;                    ///< with optimised frames
   std::vector<Pose2> stored_frames;   ///< the submaps' frames before optimisation (on the front end's poses)
   std::vector<LoopClosure> closures;  ///< every hypothesis
-  std::size_t accepted = 0;           ///< closures in the graph
+  std::size_t accepted = 0;           ///< closures offered to the back end (confident enough)
+  std::vector<LoopClosure> offered;   ///< those closures, in the order of back_end.used
   FrontEndStats front_end;
-  PoseGraphSummary graph;
+  BackEndResult back_end;             ///< which closures were used, the graph's summary, the verdict
   double front_end_s = 0, loops_s = 0, graph_s = 0;
 };
 

@@ -32,7 +32,7 @@ TEST(Slam, ClosingTheLoopsUndoesTheDriftOfARawLog) {
   const SlamResult r = run_slam(raw, config);
   ASSERT_EQ(r.scans.size(), raw.size());
   EXPECT_GT(r.accepted, 10u);
-  EXPECT_LT(r.graph.final_cost, r.graph.initial_cost);
+  EXPECT_LT(r.back_end.graph.final_cost, r.back_end.graph.initial_cost);
   const RelationsError odometry = relations_error(raw, relations);
   const RelationsError front_end_only = relations_error(scan_match_log(raw).scans, relations);
   const RelationsError slam = relations_error(r.scans, relations);
