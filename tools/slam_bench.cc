@@ -169,6 +169,10 @@ int main(int argc, char** argv) {
     // Offered closures against the truth: wrong when more than 0.5 m or 5 degrees off; counted among those the
     // back end used and those it set aside (injected ones apart: they are wrong by construction).
     std::size_t judged = 0, wrong = 0, used_wrong = 0, aside_right = 0, injected_used = 0;
+    // With SLAM_BENCH_CLOSURES set: per judged closure [travel gap m, disagreement with the front end's relative
+    // pose m and rad, confidence, wrong] (for choosing gates; not in the bench's table).
+    const bool detail = std::getenv("SLAM_BENCH_CLOSURES") != nullptr;
+    nlohmann::json details = nlohmann::json::array();
     nlohmann::json wrong_list = nlohmann::json::array();
     const std::size_t real = r.offered.size() - injected;  // the hook appends the injected ones
     for (std::size_t k = 0; k < r.offered.size(); ++k) {
@@ -184,6 +188,12 @@ int main(int argc, char** argv) {
                        std::abs(wrap_angle(T.theta - l.T_match_query.theta)) > 5.0 / kRadToDeg;
       ++judged;
       wrong += bad;
+      if (detail) {
+        const Pose2 prior = r.stored_frames[l.match].inverse() * r.stored_frames[l.query];
+        details.push_back({std::abs(r.submaps[l.query].travel - r.submaps[l.match].travel),
+                           (prior.translation() - l.T_match_query.translation()).norm(),
+                           std::abs(wrap_angle(prior.theta - l.T_match_query.theta)), l.confidence, bad ? 1 : 0});
+      }
       if (bad)
         wrong_list.push_back({{"query", l.query}, {"match", l.match}, {"used", used}, {"confidence", l.confidence},
                               {"error_m", (T.translation() - l.T_match_query.translation()).norm()},
@@ -204,6 +214,7 @@ int main(int argc, char** argv) {
                        {"judged", judged}, {"wrong", wrong}, {"used", r.back_end.used_count},
                        {"used_wrong", used_wrong}, {"set_aside_right", aside_right}, {"injected_used", injected_used}};
     out["wrong_closures"] = wrong_list;
+    if (detail) out["closure_detail"] = details;
     out["graph"] = {{"rounds", r.back_end.rounds}, {"chain_bends", r.back_end.chain_bends},
                     {"max_chain_bend_m", r.back_end.max_chain_translation},
                     {"max_chain_bend_deg", r.back_end.max_chain_rotation * kRadToDeg}};

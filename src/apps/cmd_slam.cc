@@ -1,6 +1,7 @@
 // partslam slam RAW_LOG --out DIR: the whole chain for a raw log (core/slam/slam.h): front end, submaps, loop
 // closures (succinct shortlist, dMM and context verification, drift gate), a pose graph with a robust loss,
-// corrected scan poses. Writes DIR/corrected.log (CARMEN, corrected poses), DIR/map.png (the corrected map),
+// corrected scan poses. Writes DIR/corrected.log (CARMEN, corrected poses), DIR/map.yaml + map.pgm (the corrected
+// map for map_server and `locate`), DIR/map.png (the same occupancy grid; --compare: the odometry's beside it),
 // DIR/loops.json, DIR/slam.json (closures used and set aside, the verdict: core/slam/back_end.h) and, with
 // --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric, rotation in degrees). Every
 // file is written atomically; DIR is created when missing.
@@ -22,7 +23,9 @@
 #include "io/carmen_log.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
-#include "plot/render.h"
+#include "core/maps/grid_map.h"
+#include "io/map_server.h"
+#include "plot/grid_map_image.h"
 
 namespace partslam::apps {
 namespace {
@@ -32,6 +35,8 @@ struct SlamOptions {
   std::string out;
   std::string relations;
   SlamConfig config;
+  int threads = 1;
+  bool compare = false;
   bool quiet = false;
 };
 
@@ -78,16 +83,23 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
           {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}}}};
 }
 
-void write_map_png(const std::filesystem::path& path, const Scans& scans, const std::string& title) {
-  Points2 all;
-  for (const Scan& s : scans) {
-    const Points2 p = points_world(s, kDefaultMaxRange);
-    all.insert(all.end(), p.begin(), p.end());
+// DIR/map.yaml + map.pgm (map_server, occupancy by ray casting) and DIR/map.png showing the same grid, with the
+// odometry's map beside it when asked.
+void write_maps(const std::filesystem::path& dir, const Scans& corrected, const Scans& raw, const std::string& title,
+                bool compare) {
+  const GridMap map = build_grid_map(corrected);
+  io::write_map_yaml(dir / "map.yaml", map);
+  std::vector<plot::TitledGrid> grids{{&map, title}};
+  GridMap odometry;
+  if (compare) {
+    try {
+      odometry = build_grid_map(raw);
+      grids.push_back({&odometry, "odometry"});
+    } catch (const InputError& e) {
+      std::cerr << "partslam: warning: the odometry's map is not drawn: " << e.what() << "\n";
+    }
   }
-  plot::PartsFigure figure;
-  figure.map_title = title;
-  figure.map_points = voxel_downsample(all, 0.05);
-  plot::write_parts_figure(path, figure);
+  plot::write_grid_maps_png(dir / "map.png", grids);
 }
 
 void run_slam_command(const SlamOptions& o) {
@@ -96,7 +108,8 @@ void run_slam_command(const SlamOptions& o) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw InputError(o.out + ": cannot create the output folder");
-  for (const char* name : {"corrected.log", "map.png", "loops.json", "slam.json", "relations_error.json"})
+  for (const char* name :
+       {"corrected.log", "map.png", "map.yaml", "map.pgm", "loops.json", "slam.json", "relations_error.json"})
     io::check_writable(dir / name);
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
   const io::ScanSource source = io::load_scan_source(o.log);
@@ -128,8 +141,9 @@ void run_slam_command(const SlamOptions& o) {
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
 
   io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
-  write_map_png(dir / "map.png", r.scans,
-                source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")");
+  write_maps(dir, r.scans, source.scans,
+             source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")",
+             o.compare);
   nlohmann::json loops = nlohmann::json::array();
   for (std::size_t k = 0; k < r.offered.size(); ++k) {
     const LoopClosure& l = r.offered[k];
@@ -141,7 +155,7 @@ void run_slam_command(const SlamOptions& o) {
     out << json_text({{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}});
   });
   nlohmann::json summary = slam_json(o, r);
-  std::cout << "wrote " << (dir / "corrected.log").string() << ", map.png, loops.json, slam.json";
+  std::cout << "wrote " << (dir / "corrected.log").string() << ", map.yaml, map.pgm, map.png, loops.json, slam.json";
   if (!o.relations.empty()) {
     const RelationsError before = relations_error(source.scans, relations);
     const RelationsError after = relations_error(r.scans, relations);
@@ -163,14 +177,21 @@ void run_slam_command(const SlamOptions& o) {
 void register_slam(CLI::App& app) {
   auto o = std::make_shared<SlamOptions>();
   CLI::App* cmd = app.add_subcommand("slam", "Raw log -> front end, loop closures, pose graph -> corrected log and map");
-  cmd->add_option("log", o->log, "raw CARMEN log (odometry in the pose fields), or sim[:SEED]")->required();
+  cmd->add_option("log", o->log, "raw log: CARMEN (odometry in the pose fields) or ROS 1 bag (.bag), or sim[:SEED]")
+      ->required();
   cmd->add_option("--out", o->out, "output folder (created when missing)")->required();
   cmd->add_option("--relations", o->relations, "Freiburg .relations file: report the relation errors");
   cmd->add_option("--min-confidence", o->config.min_confidence, "loop closures at least this confident join the graph")
       ->capture_default_str();
-  cmd->add_option("--threads", o->config.loops.num_threads, "threads (results do not depend on it)")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "threads of the front end's search and of loop closing (results do not depend on it)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  cmd->add_flag("--compare", o->compare, "map.png also shows the odometry's map beside the corrected one");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
-  cmd->callback([o] { run_slam_command(*o); });
+  cmd->callback([o] {
+    o->config.loops.num_threads = o->config.front_end.matcher.num_threads = o->threads;
+    run_slam_command(*o);
+  });
 }
 
 }  // namespace partslam::apps

@@ -33,30 +33,41 @@ struct SearchGrid {
 };
 
 // The best pose of a grid of poses around `center`, scored by the sum of the field's cell values at the
-// points; ties keep the pose nearest the centre (searched first).
-Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pose2& center, const SearchGrid& g) {
+// points; ties keep the pose nearest the centre (searched first). Rotations are searched on up to num_threads
+// threads, each keeping its own best; the bests are then compared in the serial order, so the result does not
+// depend on the thread count.
+Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pose2& center, const SearchGrid& g,
+                  int num_threads) {
   const double res = field.resolution();
-  Pose2 best = center;
-  double best_score = -1.0;
-  std::vector<Eigen::Vector2i> cells(points.size());
-  for (int ka = 0; ka <= 2 * g.angles; ++ka) {
-    const int a = (ka % 2 == 0 ? 1 : -1) * ((ka + 1) / 2);  // 0, -1, 1, -2, 2, ...: nearest first
-    const Pose2 turn{center.x, center.y, wrap_angle(center.theta + a * g.angle_step)};
-    for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(turn * points[i]);
-    for (int sy = -g.shifts; sy <= g.shifts; ++sy) {
-      for (int sx = -g.shifts; sx <= g.shifts; ++sx) {
-        const int dx = sx * g.cell_step, dy = sy * g.cell_step;
-        double score = 0.0;
-        for (const Eigen::Vector2i& q : cells) score += field.cell_value(q.x() + dx, q.y() + dy);
-        score -= 1e-9 * (sx * sx + sy * sy + a * a);  // ties: nearest the centre
-        if (score > best_score) {
-          best_score = score;
-          best = {turn.x + dx * res, turn.y + dy * res, turn.theta};
+  const int rotations = 2 * g.angles + 1;
+  std::vector<std::pair<double, Pose2>> best_of(static_cast<std::size_t>(rotations), {-1.0, center});
+#pragma omp parallel num_threads(std::max(1, num_threads)) if (num_threads > 1 && rotations > 2)
+  {
+    std::vector<Eigen::Vector2i> cells(points.size());
+#pragma omp for schedule(static)
+    for (int ka = 0; ka < rotations; ++ka) {
+      const int a = (ka % 2 == 0 ? 1 : -1) * ((ka + 1) / 2);  // 0, -1, 1, -2, 2, ...: nearest first
+      const Pose2 turn{center.x, center.y, wrap_angle(center.theta + a * g.angle_step)};
+      for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(turn * points[i]);
+      auto& [best_score, best] = best_of[static_cast<std::size_t>(ka)];
+      for (int sy = -g.shifts; sy <= g.shifts; ++sy) {
+        for (int sx = -g.shifts; sx <= g.shifts; ++sx) {
+          const int dx = sx * g.cell_step, dy = sy * g.cell_step;
+          double score = 0.0;
+          for (const Eigen::Vector2i& q : cells) score += field.cell_value(q.x() + dx, q.y() + dy);
+          score -= 1e-9 * (sx * sx + sy * sy + a * a);  // ties: nearest the centre
+          if (score > best_score) {
+            best_score = score;
+            best = {turn.x + dx * res, turn.y + dy * res, turn.theta};
+          }
         }
       }
     }
   }
-  return best;
+  std::pair<double, Pose2> best{-1.0, center};
+  for (const auto& b : best_of)
+    if (b.first > best.first) best = b;
+  return best.second;
 }
 
 // Step 1: the window searched on a grid twice as coarse as the fine one (translations of two cells, rotations
@@ -73,8 +84,8 @@ Pose2 correlative_search(const LikelihoodField& field, const Points2& all_points
   const double fine_angle = res / std::max(max_range, 1.0);
   const SearchGrid coarse{2 * fine_angle, static_cast<int>(std::ceil(c.angular_window / (2 * fine_angle))), 2,
                           static_cast<int>(std::ceil(c.linear_window / (2 * res)))};
-  const Pose2 best = grid_search(field, points, prediction, coarse);
-  return grid_search(field, points, best, SearchGrid{fine_angle, 1, 1, 1});
+  const Pose2 best = grid_search(field, points, prediction, coarse, c.num_threads);
+  return grid_search(field, points, best, SearchGrid{fine_angle, 1, 1, 1}, 1);
 }
 
 // Step 2: Gauss-Newton on sum (1 - M(T p))^2 (Levenberg-damped).
@@ -111,6 +122,7 @@ void validate(const ScanMatcherConfig& c) {
     throw InputError("scan matcher config: angular_window must be in [0, 1] rad");
   if (c.max_iterations < 0 || c.max_iterations > 1000)
     throw InputError("scan matcher config: max_iterations must be in [0, 1000]");
+  if (c.num_threads < 1 || c.num_threads > 1024) throw InputError("scan matcher config: num_threads must be in [1, 1024]");
   if (c.linear_window / c.resolution > 200)
     throw InputError("scan matcher config: linear_window spans more than 200 cells of resolution");
 }

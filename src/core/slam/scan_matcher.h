@@ -21,6 +21,7 @@ struct ScanMatcherConfig {
   double linear_window = 0.3;    ///< correlative search half-width in x and y [m]
   double angular_window = 0.2;   ///< correlative search half-width in rotation [rad]
   int max_iterations = 20;       ///< Gauss-Newton iterations
+  int num_threads = 1;           ///< threads of the correlative search (the result does not depend on it)
 };
 
 /// Throws InputError naming the offending field when a value is out of range.

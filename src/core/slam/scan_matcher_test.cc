@@ -45,6 +45,22 @@ TEST(ScanMatcher, RecoversAnOffsetInsideTheWindow) {
   }
 }
 
+TEST(ScanMatcher, GivesTheSamePoseOnAnyNumberOfThreads) {
+  const LikelihoodField field(room(), 0.05, 0.1);
+  // A symmetric-ish scan (a square's corner) whose search has near ties across rotations.
+  Points2 scan;
+  for (double t = 0; t <= 2.0; t += 0.05) scan.emplace_back(t - 1.0, -1.0), scan.emplace_back(-1.0, t - 1.0);
+  for (const Pose2 prediction : {Pose2{1.0, 1.0, 0.1}, Pose2{2.5, 0.7, -0.2}, Pose2{4.0, 2.0, 1.0}}) {
+    ScanMatcherConfig one, three;
+    three.num_threads = 3;
+    const ScanMatch a = match_scan(field, scan, prediction, one), b = match_scan(field, scan, prediction, three);
+    EXPECT_EQ(a.pose.x, b.pose.x);
+    EXPECT_EQ(a.pose.y, b.pose.y);
+    EXPECT_EQ(a.pose.theta, b.pose.theta);
+    EXPECT_EQ(a.score, b.score);
+  }
+}
+
 TEST(ScanMatcher, EmptyInputKeepsThePrediction) {
   const Pose2 prediction{1.0, 2.0, 0.3};
   const ScanMatch none = match_scan(LikelihoodField(room(), 0.05, 0.1), {}, prediction);

@@ -1,0 +1,81 @@
+#include "plot/grid_map_image.h"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cstdint>
+
+#include "core/error.h"
+#include "plot/png_file.h"
+
+namespace partslam::plot {
+namespace {
+
+constexpr int kTitleHeight = 24;
+constexpr int kGap = 16;
+
+// The state of a block of cells: occupied when any cell is, else free when any is, else unknown.
+CellState block_state(const GridMap& m, int column, int row, int f) {
+  CellState s = CellState::kUnknown;
+  for (int y = row; y < std::min(row + f, m.height); ++y)
+    for (int x = column; x < std::min(column + f, m.width); ++x) {
+      const CellState c = m.at(x, y);
+      if (c == CellState::kOccupied) return c;
+      if (c == CellState::kFree) s = c;
+    }
+  return s;
+}
+
+}  // namespace
+
+void write_grid_maps_png(const std::filesystem::path& path, const std::vector<TitledGrid>& grids, int max_side) {
+  if (grids.empty()) throw InputError(path.string() + ": no map to draw");
+  if (max_side < 16 || max_side > 20000) throw InputError("grid map picture: max_side must be in [16, 20000]");
+  int total_width = 0, max_height = 0;
+  for (const TitledGrid& g : grids) {
+    if (!g.map) throw InputError(path.string() + ": no map to draw");
+    validate(*g.map);
+    total_width += g.map->width;
+    max_height = std::max(max_height, g.map->height);
+  }
+  const int f = std::max(1, std::max((total_width + max_side - 1) / max_side, (max_height + max_side - 1) / max_side));
+  int width = kGap * (static_cast<int>(grids.size()) - 1), height = 0;
+  for (const TitledGrid& g : grids) {
+    width += (g.map->width + f - 1) / f;
+    height = std::max(height, (g.map->height + f - 1) / f);
+  }
+  width = std::max(width, 200);
+  height += kTitleHeight;
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_surface_flush(surface);
+  unsigned char* data = cairo_image_surface_get_data(surface);
+  const int stride = cairo_image_surface_get_stride(surface);
+  int left = 0;
+  for (const TitledGrid& g : grids) {
+    const GridMap& m = *g.map;
+    const int w = (m.width + f - 1) / f, h = (m.height + f - 1) / f;
+    for (int py = 0; py < h; ++py) {
+      const int row = (h - 1 - py) * f;  // row 0 of the grid is the lowest y: the image's last row
+      auto* line = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(py + kTitleHeight) * stride);
+      for (int px = 0; px < w; ++px) {
+        const CellState c = block_state(m, px * f, row, f);
+        line[left + px] = c == CellState::kOccupied ? 0x000000u : c == CellState::kFree ? 0xFFFFFFu : 0xB4B4B4u;
+      }
+    }
+    cairo_surface_mark_dirty(surface);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, 14);
+    cairo_move_to(cr, left + 4, 17);
+    cairo_show_text(cr, g.title.c_str());
+    cairo_surface_flush(surface);
+    left += w + kGap;
+  }
+  cairo_destroy(cr);
+  write_png_atomically(path, surface);
+}
+
+}  // namespace partslam::plot

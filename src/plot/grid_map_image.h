@@ -1,0 +1,24 @@
+// Pictures of occupancy grids (core/maps/grid_map.h): free cells white, occupied black, unknown grey, north up,
+// each under its title; several grids side by side at one scale (`slam --compare`: the corrected map beside the
+// odometry's).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/maps/grid_map.h"
+
+namespace partslam::plot {
+
+struct TitledGrid {
+  const GridMap* map = nullptr;
+  std::string title;
+};
+
+/// Writes the grids side by side as a PNG, atomically, shrunk by a whole factor so the picture is at most
+/// max_side pixels wide and high (a block of cells is occupied when any of its cells is, else free when any is).
+/// Throws InputError for no grid, an invalid one, or a PNG that cannot be written.
+void write_grid_maps_png(const std::filesystem::path& path, const std::vector<TitledGrid>& grids, int max_side = 2000);
+
+}  // namespace partslam::plot
