@@ -6,6 +6,10 @@
 //   slam_bench twin CORRECTED_LOG LEVEL SEED [INJECT]
 //       the drifted twin (core/evaluation/drifted_twin.h) of a corrected log at LEVEL (mild, harsh) and SEED;
 //       the corrected poses are the truth, the relations are built from them.
+//   slam_bench sim SCENARIO LEVEL SEED [INJECT]
+//       a simulated building that stresses the front end (core/sim/simulator.h), exact poses as the truth, the
+//       odometry drifted at LEVEL: "corridors" (a 120 m ring of long bare corridors), "hall" (a 10 m wide ring
+//       round a large open hall), "long-range" (an 80 m x 60 m building seen by a 60 m laser).
 //   slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]
 //       a raw log; its scans associated by content with the corrected TWIN_LOG (a subset may do) give the truth of
 //       the closures, and the relations (from the file when given, else built from the twin).
@@ -26,6 +30,8 @@
 #include "core/evaluation/relation_check.h"
 #include "core/evaluation/trajectory_check.h"
 #include "core/random.h"
+#include "core/maps/submap.h"
+#include "core/sim/simulator.h"
 #include "core/slam/slam.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
@@ -91,6 +97,30 @@ Bench twin_bench(const std::string& log, const std::string& level, std::uint64_t
   return b;
 }
 
+Bench sim_bench(const std::string& scenario, const std::string& level, std::uint64_t seed) {
+  SimulatorConfig c;
+  c.seed = seed;
+  if (scenario == "corridors") {
+    c.building.width = 120, c.building.height = 24;
+    c.building.min_room_width = 10, c.building.max_room_width = 12;
+    c.building.corridor_clutter = 0, c.building.clutter_per_room = 0;
+  } else if (scenario == "hall") {
+    c.building.width = 50, c.building.height = 40, c.building.corridor_width = 10, c.building.room_depth = 5;
+  } else if (scenario == "long-range") {
+    c.building.width = 80, c.building.height = 60;
+    c.laser.max_range = 60;
+  } else {
+    throw InputError("unknown scenario '" + scenario + "' (corridors, hall, long-range)");
+  }
+  Bench b;
+  b.truth = simulate(c).scans;
+  for (Scan& s : b.truth) s.T_world_odom = s.T_world_laser;
+  b.raw = drifted_twin(b.truth, odometry_noise(level), seed);
+  b.relations = bench_relations(b.truth);
+  b.name = "sim:" + scenario;
+  return b;
+}
+
 Bench raw_bench(const std::string& log, const std::string& twin_log, const std::string& relations) {
   Bench b;
   b.raw = io::load_scan_source(log).scans;
@@ -113,9 +143,11 @@ Bench raw_bench(const std::string& log, const std::string& twin_log, const std::
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (!((mode == "twin" && (argc == 5 || argc == 6)) || (mode == "raw" && argc >= 4 && argc <= 6))) {
+  if (!((mode == "twin" && (argc == 5 || argc == 6)) || (mode == "sim" && (argc == 5 || argc == 6)) ||
+        (mode == "raw" && argc >= 4 && argc <= 6))) {
     std::fprintf(stderr,
                  "usage: slam_bench twin CORRECTED_LOG LEVEL SEED [INJECT]\n"
+                 "       slam_bench sim SCENARIO LEVEL SEED [INJECT]\n"
                  "       slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]\n");
     return 2;
   }
@@ -123,10 +155,11 @@ int main(int argc, char** argv) {
     Bench b;
     double inject = 0.0;
     nlohmann::json out;
-    if (mode == "twin") {
-      b = twin_bench(argv[2], argv[3], std::strtoull(argv[4], nullptr, 10));
+    if (mode == "twin" || mode == "sim") {
+      const std::uint64_t seed = std::strtoull(argv[4], nullptr, 10);
+      b = mode == "twin" ? twin_bench(argv[2], argv[3], seed) : sim_bench(argv[2], argv[3], seed);
       if (argc == 6) inject = std::atof(argv[5]);
-      out = {{"kind", "twin"}, {"level", argv[3]}, {"seed", std::atoi(argv[4])}};
+      out = {{"kind", mode}, {"level", argv[3]}, {"seed", std::atoi(argv[4])}};
     } else {
       // RELATIONS is a file name; a lone number after TWIN_LOG is INJECT.
       std::string relations = argc >= 5 ? argv[4] : "";
@@ -143,7 +176,13 @@ int main(int argc, char** argv) {
     // The truth of a scan of the front end's output (same timestamps as the raw scans) and of a submap.
     std::size_t injected = 0;
     std::vector<std::optional<Pose2>> true_frames;
-    const SlamConfig config;
+    SlamConfig config;
+    // Exploration only: settings overridden from the environment (the bench itself runs the defaults).
+    if (const char* v = std::getenv("FE_MAX_RANGE")) config.front_end.max_range = std::atof(v);
+    if (const char* v = std::getenv("FE_LINEAR")) config.front_end.matcher.linear_window = std::atof(v);
+    if (const char* v = std::getenv("FE_ANGULAR")) config.front_end.matcher.angular_window = std::atof(v);
+    if (const char* v = std::getenv("FE_MIN_SCORE")) config.front_end.min_score = std::atof(v);
+    if (const char* v = std::getenv("FE_DEGENERATE")) config.front_end.degenerate_ratio = std::atof(v);
     const auto t0 = std::chrono::steady_clock::now();
     SlamResult r = run_slam(b.raw, config, {}, [&](const Submaps& maps, std::vector<LoopClosure>& accepted) {
       if (inject <= 0) return;
@@ -203,6 +242,23 @@ int main(int argc, char** argv) {
       used_wrong += bad && used;
       aside_right += !bad && !used;
     }
+    // Where the front end loses track: steps whose increment differs from the truth's by > 0.1 m or 0.05 rad.
+    nlohmann::json jumps = nlohmann::json::array();
+    std::size_t jump_count = 0;
+    {
+      const auto index = index_by_time(front_end_estimate, b.truth);
+      const std::vector<double> travel = travel_distances(front_end_estimate);
+      for (std::size_t i = 1; i < front_end_estimate.size(); ++i) {
+        if (!index[i] || !index[i - 1]) continue;
+        const Pose2 est = r.front_end_poses[i - 1].inverse() * r.front_end_poses[i];
+        const Pose2 tru = b.truth[*index[i - 1]].T_world_laser.inverse() * b.truth[*index[i]].T_world_laser;
+        const double dt = (est.translation() - tru.translation()).norm(), da = std::abs(wrap_angle(est.theta - tru.theta));
+        if (dt <= 0.1 && da <= 0.05) continue;
+        if (++jump_count <= 10) jumps.push_back({{"scan", i}, {"travel_m", travel[i]}, {"error_m", dt}, {"error_deg", da * kRadToDeg}});
+      }
+    }
+    out["front_end_jumps"] = {{"count", jump_count}, {"first", jumps}};
+    out["front_end_degenerate"] = r.front_end.degenerate;
     Scans odometry = b.raw;
     for (Scan& s : odometry) s.T_world_laser = s.T_world_odom;
     out["scans"] = r.scans.size();

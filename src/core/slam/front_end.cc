@@ -1,7 +1,9 @@
 #include "core/slam/front_end.h"
 
 #include <cmath>
+#include <Eigen/Eigenvalues>
 #include <deque>
+#include <optional>
 #include <string>
 
 #include "core/error.h"
@@ -17,6 +19,35 @@ Points2 matching_points(const Scan& scan, const FrontEndConfig& c) {
   for (const Vec2& p : scan.points_laser)
     if (p.squaredNorm() <= c.max_range * c.max_range) near.push_back(p);
   return voxel_downsample(near, c.point_resolution);
+}
+
+// The direction (unit, laser frame) along which the scan's surfaces do not fix a translation, if any: the weaker
+// eigenvector of sum n n^T over the normals of consecutive beam endpoints (each within 0.5 m of its neighbours,
+// within max_range), when its eigenvalue is below degenerate_ratio times the stronger one's. A bare corridor's
+// walls all have normals across it: its axis is the weak direction.
+std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c) {
+  if (c.degenerate_ratio <= 0) return std::nullopt;
+  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+  const Points2& p = scan.points_laser;
+  const double r2 = c.max_range * c.max_range;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    if (p[i].squaredNorm() > r2 || (p[i + 1] - p[i]).norm() > 0.5 || (p[i] - p[i - 1]).norm() > 0.5) continue;
+    const Vec2 d = p[i + 1] - p[i - 1];
+    if (d.norm() < 1e-6) continue;
+    const Vec2 n(-d.y() / d.norm(), d.x() / d.norm());
+    A += n * n.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A);
+  const Eigen::Vector2d l = eig.eigenvalues();  // ascending
+  if (!(l(1) > 0) || l(0) >= c.degenerate_ratio * l(1)) return std::nullopt;
+  return Vec2(eig.eigenvectors().col(0));
+}
+
+// The matched pose with its translation along the weak direction (laser frame) taken from the prediction.
+Pose2 keep_prediction_along(const Pose2& matched, const Pose2& prediction, const Vec2& weak_laser) {
+  const Vec2 v = Eigen::Rotation2Dd(matched.theta) * weak_laser;
+  const Vec2 t = matched.translation() + v * v.dot(prediction.translation() - matched.translation());
+  return {t.x(), t.y(), matched.theta};
 }
 
 bool moved(const Pose2& from, const Pose2& to, double translation, double rotation) {
@@ -61,6 +92,8 @@ void validate(const FrontEndConfig& c) {
     throw InputError("front end config: local_map_scans must be in [1, 10000]");
   if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
     throw InputError("front end config: min_score must be in [0, 1]");
+  if (!(c.degenerate_ratio >= 0.0 && c.degenerate_ratio < 1.0))
+    throw InputError("front end config: degenerate_ratio must be in [0, 1)");
 }
 
 FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, const Progress& progress) {
@@ -69,6 +102,10 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
   FrontEndResult result;
   FrontEndStats& stats = result.stats;
   LocalMap local(config);
+  // Without odometry the prediction is a standing robot: nothing to keep along a corridor.
+  bool odometry_moves = false;
+  for (std::size_t i = 1; i < raw.size() && !odometry_moves; ++i)
+    odometry_moves = moved(raw[i - 1].T_world_odom, raw[i].T_world_odom, 1e-9, 1e-9);
   Pose2 last_key;
   double score_sum = 0.0;
   std::size_t matched = 0;
@@ -90,6 +127,10 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
       const ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
       if (m.score >= config.min_score) {
         out.T_world_laser = m.pose;
+        if (const std::optional<Vec2> weak = odometry_moves ? weak_direction(scan, config) : std::nullopt) {
+          out.T_world_laser = keep_prediction_along(m.pose, prediction, *weak);
+          ++stats.degenerate;
+        }
         score_sum += m.score;
         ++matched;
       } else {

@@ -4,7 +4,8 @@
 //   prediction_i = T_world_laser(i-1) * odom(i-1)^-1 * odom(i),   T_world_laser(i) = match(local map, scan i).
 // A scan becomes a key scan (and joins the local map, oldest key scan out) after key_translation of travel or
 // key_rotation of turn since the last key scan, as Cartographer's motion filter does. A match scoring below
-// min_score is rejected and the prediction kept (counted). Scans whose timestamp goes backwards are dropped
+// min_score is rejected and the prediction kept (counted); a scan whose surfaces leave one direction of translation
+// unconstrained (a bare corridor) keeps the prediction along it (counted). Scans whose timestamp goes backwards are dropped
 // (counted). The first scan keeps its odometry pose, so the trajectory lives in the odometry frame.
 #pragma once
 
@@ -24,6 +25,10 @@ struct FrontEndConfig {
   double key_translation = 0.2;    ///< travel that makes a key scan [m]
   double key_rotation = 0.1;       ///< turn that makes a key scan [rad]
   double min_score = 0.25;         ///< matches scoring lower are rejected (the prediction is kept)
+  /// Degeneracy: when the scan's surfaces leave one direction of translation unconstrained (the weaker eigenvalue
+  /// of sum n n^T over its surface normals below this share of the stronger: a bare corridor's axis), the match
+  /// keeps the prediction's translation along it (counted; not when the log's odometry never moves). 0 turns it off.
+  double degenerate_ratio = 0.1;
 };
 
 /// Throws InputError naming the offending field when a value is out of range.
@@ -32,6 +37,7 @@ void validate(const FrontEndConfig& config);
 struct FrontEndStats {
   std::size_t scans = 0;            ///< scans in the result
   std::size_t rejected = 0;         ///< scans whose match scored below min_score (prediction kept)
+  std::size_t degenerate = 0;       ///< matched scans that kept the prediction along an unconstrained direction
   std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards
   bool odometry_moves = false;      ///< false when the odometry never moves (no odometry in the log)
   double mean_score = 0.0;          ///< over matched scans

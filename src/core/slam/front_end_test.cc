@@ -84,6 +84,32 @@ TEST(FrontEnd, WorksWithoutOdometry) {
   EXPECT_LT(matched.median, 0.03);  // the robot moves <= 0.1 m per scan: inside the search window
 }
 
+// A 60 m ring of long bare corridors (rooms 10-12 m wide, no clutter): along a corridor the walls say nothing
+// about the travel, and the match slides; the odometry's travel is kept along the corridor's axis instead.
+TEST(FrontEnd, KeepsTheOdometryAlongABareCorridor) {
+  SimulatorConfig config;
+  config.building.width = 60, config.building.height = 24;
+  config.building.min_room_width = 10, config.building.max_room_width = 12;
+  config.building.corridor_clutter = 0, config.building.clutter_per_room = 0;
+  config.route.laps = 1, config.route.room_visits = 0;
+  Scans truth = simulate(config).scans;
+  Relations relations;  // every scan against the one ~10 m further on
+  for (std::size_t i = 0; i + 100 < truth.size(); i += 10)
+    relations.push_back({truth[i].timestamp, truth[i + 100].timestamp,
+                         truth[i].T_world_laser.inverse() * truth[i + 100].T_world_laser});
+  Scans raw = truth;
+  for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
+  FrontEndConfig off;
+  off.degenerate_ratio = 0;
+  const FrontEndResult with = scan_match_log(raw), without = scan_match_log(raw, off);
+  const double e_with = relations_error(with.scans, relations).translation_mean;
+  const double e_without = relations_error(without.scans, relations).translation_mean;
+  EXPECT_GT(with.stats.degenerate, with.scans.size() / 10);
+  EXPECT_EQ(without.stats.degenerate, 0u);
+  EXPECT_LT(e_with, 0.1) << e_with;
+  EXPECT_LT(e_with, e_without / 2) << e_with << " vs " << e_without;
+}
+
 TEST(FrontEnd, RefusesAbsurdConfigs) {
   FrontEndConfig c;
   c.local_map_scans = 0;
@@ -93,6 +119,9 @@ TEST(FrontEnd, RefusesAbsurdConfigs) {
   EXPECT_THROW(validate(c), InputError);
   c = {};
   c.min_score = 2;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.degenerate_ratio = 1;
   EXPECT_THROW(validate(c), InputError);
   c = {};
   c.matcher.sigma = 0;
