@@ -5,10 +5,13 @@
 #     built from its corrected twin (the twins also judge the accepted closures);
 #   - drifted twins of every corrected log in ../shared (the eight of data/corrected and fr079, fr101, intel,
 #     aces): the real scans with synthetic odometry, at each LEVEL and SEED;
+#   - simulated buildings that stress the front end (SIMS: long bare corridors, a large open hall, a 60 m laser),
+#     exact poses as the truth, odometry drifted as the twins' (first SEED);
 #   - the same with INJECT wrong closures added (fractions of the accepted ones) on the raw logs and the first
-#     seed of the harsh twins.
+#     seed of the harsh twins and simulations.
 # Writes docs/results/slam_bench.jsonl (one line per run) and docs/results/slam_bench.md (the table).
-# Usage: scripts/slam-bench.sh; LEVELS="mild harsh" SEEDS="1 2 3" INJECT="0.1 0.3 0.5" LOGS="..." narrow it
+# Usage: scripts/slam-bench.sh; LEVELS="mild harsh" SEEDS="1 2 3" INJECT="0.1 0.3 0.5" LOGS="..." RAW="..." SIMS="..."
+# narrow it
 # (LOGS: names of corrected logs, e.g. "orebro fr079"). Needs ../shared/data and build/slam_bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,6 +32,7 @@ corrected() {  # name -> corrected log
 ALL_LOGS="acapulco belgioioso edmonton fhw freiburg-campus infinite-corridor orebro seattle fr079 fr101 intel aces"
 LOGS=${LOGS-$ALL_LOGS}
 RAW=${RAW-fr079 intel aces fr101}
+SIMS=${SIMS-corridors hall long-range}
 mkdir -p "$OUT"
 TMP=$(mktemp)
 trap 'rm -f "$TMP"' EXIT
@@ -49,6 +53,11 @@ for log in $LOGS; do
   done
   first=${SEEDS%% *}
   for f in $INJECT; do run twin "$(corrected "$log")" harsh "$first" "$f"; done
+done
+for sim in $SIMS; do
+  first=${SEEDS%% *}
+  for level in $LEVELS; do run sim "$sim" "$level" "${first:-1}"; done
+  for f in $INJECT; do run sim "$sim" harsh "${first:-1}" "$f"; done
 done
 mv "$TMP" "$OUT/slam_bench.jsonl"
 trap - EXIT

@@ -13,13 +13,15 @@ def err(e):
 
 def main(path):
     rows = [json.loads(line) for line in open(path) if line.strip()]
-    print("| input | odometry | inject | relations | slam | odometry | front end only | closures offered "
+    print("| input | odometry | injected wrong closures | relations | slam | odometry | front end only | closures offered "
           "| injected (used) | verdict | time |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     worse = 0
     for j in rows:
         name = os.path.basename(j["log"]).split(".")[0].replace("-corrected", "")
-        odo = "raw log" if j["kind"] == "raw" else f'{j["level"]} seed {j["seed"]}'
+        if j["kind"] == "raw":
+            name += " (raw)"
+        odo = "real" if j["kind"] == "raw" else f'{j["level"]} seed {j["seed"]}'
         slam, s = err(j["slam"])
         odom, o = err(j["odometry"])
         fe, _ = err(j["front_end"])

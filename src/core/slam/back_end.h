@@ -30,7 +30,7 @@ struct BackEndConfig {
   double max_translation_residual = 0.3;  ///< a used closure's residual at the solution at most [m]
   double max_rotation_residual = 0.05;    ///< [rad]
   int max_rounds = 8;                     ///< solves at most
-  double max_rejected_share = 0.3;        ///< more rejected closures than this share make the verdict doubtful
+  double max_rejected_share = 0.4;        ///< more rejected closures than this share make the verdict doubtful
   double max_chain_translation = 0.3;     ///< a consecutive-submap edge bent more makes it doubtful [m]
   double max_chain_rotation = 0.1;        ///< [rad]
 };
