@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "core/error.h"
@@ -12,6 +13,10 @@ namespace {
 
 using rosbag_messages::LaserScanMessage;
 using rosbag_messages::OdometryMessage;
+
+double yaw_of(double qx, double qy, double qz, double qw) {
+  return std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz));
+}
 
 struct Stamped {
   double t;
@@ -50,12 +55,39 @@ Scan to_scan(const LaserScanMessage& msg, const LogReadOptions& o, const std::st
 }
 
 Stamped to_pose(const OdometryMessage& m, const std::string& where) {
-  const double yaw = std::atan2(2.0 * (m.qw * m.qz + m.qx * m.qy), 1.0 - 2.0 * (m.qy * m.qy + m.qz * m.qz));
+  const double yaw = yaw_of(m.qx, m.qy, m.qz, m.qw);
   const Stamped s{m.stamp, {m.x, m.y, wrap_angle(yaw)}};
   if (!std::isfinite(s.t) || !std::isfinite(s.pose.x) || !std::isfinite(s.pose.y) || !std::isfinite(yaw) ||
       std::abs(s.pose.x) > kMaxCoordinate || std::abs(s.pose.y) > kMaxCoordinate)
     throw InputError(where + ": a non-finite or implausible pose (beyond +-100 km)");
   return s;
+}
+
+// The laser's pose in the base frame: the chain of transforms from the odometry's base frame to the scans' frame
+// (e.g. base_link -> laser on /tf_static), each edge usable either way; nullopt when there is no such chain.
+std::optional<Pose2> laser_mount(const rosbag_messages::BagMessages& m, const std::string& where) {
+  const std::string base = m.base_frame.empty() ? "base_link" : m.base_frame;
+  const std::string laser = m.scans.empty() ? "" : m.scans.front().frame_id;
+  if (laser.empty() || laser == base) return std::nullopt;
+  std::vector<std::pair<std::string, Pose2>> reached{{base, Pose2{}}};  // breadth first, at most 8 edges deep
+  for (std::size_t at = 0; at < reached.size() && at < 64; ++at) {
+    const auto [frame, T_base_frame] = reached[at];
+    for (const rosbag_messages::FrameTransform& f : m.transforms) {
+      const Pose2 T{f.x, f.y, wrap_angle(yaw_of(f.qx, f.qy, f.qz, f.qw))};
+      if (!std::isfinite(T.x) || !std::isfinite(T.y) || !std::isfinite(T.theta) || std::abs(T.x) > 100 ||
+          std::abs(T.y) > 100)
+        throw InputError(where + ": transform " + f.parent + " -> " + f.child + " is not finite or not on a robot");
+      std::string next;
+      Pose2 T_base_next;
+      if (f.parent == frame) next = f.child, T_base_next = T_base_frame * T;
+      else if (f.child == frame) next = f.parent, T_base_next = T_base_frame * T.inverse();
+      else continue;
+      if (next == laser) return T_base_next;
+      const auto seen = [&next](const auto& r) { return r.first == next; };
+      if (std::none_of(reached.begin(), reached.end(), seen)) reached.emplace_back(next, T_base_next);
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -85,9 +117,14 @@ RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& 
   for (std::size_t i = 0; i < messages.odometry.size(); ++i)
     odom.push_back(to_pose(messages.odometry[i], name + ": " + log.odometry_topic + " message " + std::to_string(i)));
   std::stable_sort(odom.begin(), odom.end(), [](const Stamped& a, const Stamped& b) { return a.t < b.t; });
+  const std::optional<Pose2> mount = laser_mount(messages, name);
+  if (mount) {
+    log.T_base_laser = *mount;
+    log.laser_frame = messages.scans.front().frame_id;
+  }
   for (std::size_t i = 0; i < messages.scans.size(); ++i) {
     Scan s = to_scan(messages.scans[i], options, name + ": " + log.scan_topic + " message " + std::to_string(i));
-    s.T_world_laser = s.T_world_odom = odometry_at(odom, s.timestamp);
+    s.T_world_laser = s.T_world_odom = odometry_at(odom, s.timestamp) * log.T_base_laser;
     log.scans.push_back(std::move(s));
   }
   return log;

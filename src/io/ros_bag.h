@@ -2,9 +2,9 @@
 // sensor_msgs/LaserScan messages become Scans (points of the beams with range_min < r < min(range_max,
 // LogReadOptions::max_usable_range); num_beams = ranges.size(); timestamp = header.stamp), posed by the
 // nav_msgs/Odometry messages interpolated at each scan's stamp (linear in x, y, the short way in theta) in both
-// pose slots, as the benchmark's .clf files were made from these bags (they do not apply the base_link -> laser
-// offset either). A bag without nav_msgs/Odometry is posed by its /tf odom -> base_link (or base_footprint)
-// transforms instead. Scans outside the odometry's time span take the nearest odometry; a bag with neither gives
+// pose slots, times the laser's mount on the robot when the bag's transforms give one (base_link -> the scans'
+// frame, e.g. on /tf_static; the benchmark's .clf files, made from these bags, do not apply it). A bag without
+// nav_msgs/Odometry is posed by its /tf odom -> base_link (or base_footprint) transforms instead. Scans outside the odometry's time span take the nearest odometry; a bag with neither gives
 // every scan the identity pose (the front end then predicts a standing robot).
 #pragma once
 
@@ -24,6 +24,11 @@ struct RosBagLog {
   std::string scan_topic;      ///< the LaserScan topic read (the first one when there are several)
   std::string odometry_topic;  ///< the Odometry topic read, or "TOPIC (odom -> CHILD)" for /tf; empty: neither
   std::size_t odometry_messages = 0;
+  /// The laser's pose on the robot, from the bag's transforms between the odometry's base frame (base_link) and
+  /// the scans' frame (e.g. base_link -> laser on /tf_static); scans are posed at odometry * T_base_laser.
+  /// Identity, with laser_frame empty, when the bag has no such chain.
+  Pose2 T_base_laser;
+  std::string laser_frame;
 };
 
 /// Throws InputError naming the file for a missing, truncated or foreign file, a bag without LaserScan messages,

@@ -6,6 +6,7 @@
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -95,21 +96,31 @@ BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges) {
         if (ranges > max_ranges)
           throw BagError("more than " + std::to_string(max_ranges) + " ranges (LogReadOptions.max_points)");
         out.scans.push_back({msg->header.stamp.toSec(), msg->angle_min, msg->angle_increment, msg->range_min,
-                             msg->range_max, msg->ranges});
+                             msg->range_max, msg->ranges, bare_frame(msg->header.frame_id)});
       } else if (m.getDataType() == "nav_msgs/Odometry") {
         if (out.odometry_topic.empty()) out.odometry_topic = m.getTopic();
         if (m.getTopic() != out.odometry_topic) continue;
         const auto msg = m.instantiate<nav_msgs::Odometry>();
         if (!msg) continue;
+        if (out.base_frame.empty()) out.base_frame = bare_frame(msg->child_frame_id);
         const auto& p = msg->pose.pose;
         out.odometry.push_back({msg->header.stamp.toSec(), p.position.x, p.position.y, p.orientation.x,
                                 p.orientation.y, p.orientation.z, p.orientation.w});
-      } else if (m.getDataType() == "tf2_msgs/TFMessage" && (tf_topic.empty() || m.getTopic() == tf_topic)) {
+      } else if (m.getDataType() == "tf2_msgs/TFMessage") {
         const auto msg = decode<tf2_msgs::TFMessage>(m, tf_message_fits);
         if (!msg) continue;
         for (const geometry_msgs::TransformStamped& t : msg->transforms) {
-          const std::string child = bare_frame(t.child_frame_id);
-          if (bare_frame(t.header.frame_id) != "odom" || (child != "base_link" && child != "base_footprint")) continue;
+          const std::string child = bare_frame(t.child_frame_id), parent = bare_frame(t.header.frame_id);
+          if (parent != "odom" || (child != "base_link" && child != "base_footprint")) {
+            const auto same = [&](const FrameTransform& f) { return f.parent == parent && f.child == child; };
+            if (std::none_of(out.transforms.begin(), out.transforms.end(), same)) {
+              const auto& q = t.transform.rotation;
+              out.transforms.push_back({parent, child, t.transform.translation.x, t.transform.translation.y, q.x, q.y,
+                                        q.z, q.w});
+            }
+            continue;
+          }
+          if (!tf_topic.empty() && m.getTopic() != tf_topic) continue;
           if (tf_child.empty()) tf_topic = m.getTopic(), tf_child = child;
           if (child != tf_child) continue;
           const auto& q = t.transform.rotation;
@@ -125,6 +136,7 @@ BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges) {
   }
   if (out.odometry_topic.empty() && !tf_odometry.empty()) {
     out.odometry_topic = tf_topic + " (odom -> " + tf_child + ")";
+    out.base_frame = tf_child;
     out.odometry = std::move(tf_odometry);
   }
   return out;
@@ -161,11 +173,26 @@ void write_bag_messages(const std::string& path, const BagMessages& messages, bo
         }
       }
     };
+    if (!messages.transforms.empty()) {
+      tf2_msgs::TFMessage msg;
+      const ros::Time stamp(messages.scans.empty() ? 1.0 : messages.scans.front().stamp);
+      for (const FrameTransform& f : messages.transforms) {
+        geometry_msgs::TransformStamped t;
+        t.header.stamp = stamp;
+        t.header.frame_id = f.parent;
+        t.child_frame_id = f.child;
+        t.transform.translation.x = f.x, t.transform.translation.y = f.y;
+        t.transform.rotation.x = f.qx, t.transform.rotation.y = f.qy, t.transform.rotation.z = f.qz;
+        t.transform.rotation.w = f.qw;
+        msg.transforms.push_back(t);
+      }
+      bag.write("/tf_static", stamp, msg);
+    }
     for (const LaserScanMessage& s : messages.scans) {
       write_odometry_until(s.stamp);
       sensor_msgs::LaserScan msg;
       msg.header.stamp = ros::Time(s.stamp);
-      msg.header.frame_id = "laser";
+      msg.header.frame_id = s.frame_id.empty() ? "laser" : s.frame_id;
       msg.angle_min = static_cast<float>(s.angle_min);
       msg.angle_increment = static_cast<float>(s.angle_increment);
       msg.angle_max = static_cast<float>(s.angle_min + s.angle_increment * (s.ranges.size() - 1));

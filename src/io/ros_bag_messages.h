@@ -15,10 +15,19 @@ struct LaserScanMessage {
   double stamp = 0.0;  ///< header.stamp [s]
   double angle_min = 0.0, angle_increment = 0.0, range_min = 0.0, range_max = 0.0;
   std::vector<float> ranges;
+  std::string frame_id;  ///< header.frame_id, without a leading '/'
 };
 
 struct OdometryMessage {
   double stamp = 0.0;
+  double x = 0.0, y = 0.0;
+  double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
+};
+
+/// A transform between two frames other than odom -> base (e.g. base_link -> laser on /tf_static): the pose of
+/// `child` in `parent`.
+struct FrameTransform {
+  std::string parent, child;  ///< without a leading '/'
   double x = 0.0, y = 0.0;
   double qx = 0.0, qy = 0.0, qz = 0.0, qw = 1.0;
 };
@@ -28,8 +37,10 @@ struct BagMessages {
   std::string odometry_topic;  ///< the first nav_msgs/Odometry topic; without one, the tf2_msgs/TFMessage topic
                                ///< (e.g. /tf) whose odom -> base_link (or base_footprint) transforms pose the
                                ///< scans, named "TOPIC (odom -> CHILD)"; empty when there is neither
+  std::string base_frame;      ///< the frame the odometry poses (Odometry child_frame_id, or the /tf child)
   std::vector<LaserScanMessage> scans;
   std::vector<OdometryMessage> odometry;
+  std::vector<FrameTransform> transforms;  ///< the first of every other parent -> child pair, on any tf topic
 };
 
 /// Why a bag could not be read (the caller names the file).
@@ -49,8 +60,9 @@ void check_bag_structure(const std::string& path);
 /// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read.
 BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges);
 
-/// Writes the scans on /scan and the odometry on /odom (nav_msgs/Odometry, frame odom -> base_link) or, with
-/// as_tf, as /tf transforms odom -> base_link: bags like a robot records them, for tests and conversions.
+/// Writes the scans on /scan (frame "laser") and the odometry on /odom (nav_msgs/Odometry, frame odom ->
+/// base_link) or, with as_tf, as /tf transforms odom -> base_link, and the other transforms once on /tf_static:
+/// bags like a robot records them, for tests and conversions.
 void write_bag_messages(const std::string& path, const BagMessages& messages, bool as_tf);
 
 }  // namespace partslam::io::rosbag_messages

@@ -66,8 +66,13 @@ TEST_P(RosBagRealData, AgreesWithTheClfMadeFromIt) {
     ASSERT_EQ(a.points_laser.size(), b.points_laser.size()) << i;
     for (std::size_t k = 0; k < a.points_laser.size(); ++k)
       worst_point = std::max(worst_point, (a.points_laser[k] - b.points_laser[k]).norm());
-    pose_error.push_back((a.T_world_laser.translation() - b.T_world_laser.translation()).norm());
+    // The bag's laser mount (base_link -> laser on /tf_static) is applied to its poses; the clf's are the base's.
+    const Pose2 clf_laser = b.T_world_laser * from_bag.T_base_laser;
+    pose_error.push_back((a.T_world_laser.translation() - clf_laser.translation()).norm());
   }
+  std::printf("%s: laser mount %s at (%.3f m, %.3f m, %.2f deg)\n", log.c_str(),
+              from_bag.laser_frame.empty() ? "(none)" : from_bag.laser_frame.c_str(), from_bag.T_base_laser.x,
+              from_bag.T_base_laser.y, from_bag.T_base_laser.theta * 180 / std::numbers::pi);
   ASSERT_EQ(pose_error.size(), clf.size());  // every scan paired, one to one
   EXPECT_LT(worst_point, 1e-3);
   // The .clf interpolated the odometry at the original scan times, the bag carries it at re-timed stamps (the
@@ -173,6 +178,40 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
   // Interpolated between odometry stamps: scan 10 at t = 101.0 lies halfway between odometry 10 and 11.
   EXPECT_NEAR(tf.scans[10].T_world_laser.x, 1.05, 1e-6);
   EXPECT_EQ(tf.scans[0].points_laser.size(), 181u);
+}
+
+// The laser's mount on the robot, from the bag's transforms (base_link -> laser on /tf_static, here through an
+// intermediate frame and once written child -> parent): every scan is posed at odometry * T_base_laser.
+TEST(RosBag, AppliesTheLaserMountFromTfStatic) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 10; ++k) {
+    const double t = 50.0 + 0.1 * k, yaw = 0.1 * k;
+    m.odometry.push_back({t, 0.2 * k, 0.0, 0.0, 0.0, std::sin(yaw / 2), std::cos(yaw / 2)});
+    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
+    scan.ranges.assign(181, 3.0f);
+    m.scans.push_back(scan);
+  }
+  rosbag_messages::write_bag_messages((dir / "plain.bag").string(), m, false);
+  const double half = 0.05;  // the laser turned 0.1 rad on its mount
+  m.transforms = {{"base_link", "mount", 0.2, 0.0, 0.0, 0.0, 0.0, 1.0},
+                  {"laser", "mount", -0.02, 0.0, 0.0, 0.0, -std::sin(half), std::cos(half)}};  // mount in laser
+  rosbag_messages::write_bag_messages((dir / "mounted.bag").string(), m, false);
+  const RosBagLog plain = read_ros_bag(dir / "plain.bag"), mounted = read_ros_bag(dir / "mounted.bag");
+  EXPECT_EQ(plain.laser_frame, "");
+  EXPECT_EQ(mounted.laser_frame, "laser");
+  ASSERT_EQ(mounted.scans.size(), 10u);
+  const Pose2 T_mount_laser = Pose2{-0.02, 0.0, -0.1}.inverse();
+  const Pose2 expected = Pose2{0.2, 0.0, 0.0} * T_mount_laser;
+  EXPECT_NEAR(mounted.T_base_laser.x, expected.x, 1e-6);
+  EXPECT_NEAR(mounted.T_base_laser.y, expected.y, 1e-6);
+  EXPECT_NEAR(mounted.T_base_laser.theta, 0.1, 1e-6);
+  for (std::size_t i = 0; i < 10; ++i) {
+    const Pose2 want = plain.scans[i].T_world_laser * expected;
+    EXPECT_NEAR(mounted.scans[i].T_world_laser.x, want.x, 1e-6);
+    EXPECT_NEAR(mounted.scans[i].T_world_laser.y, want.y, 1e-6);
+    EXPECT_NEAR(mounted.scans[i].T_world_laser.theta, want.theta, 1e-6);
+  }
 }
 
 // Bags whose lengths and offsets lie, as fuzz_ros_bag made them: librosbag trusted each of them (allocating up to
