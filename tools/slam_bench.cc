@@ -184,6 +184,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_MIN_SCORE")) config.front_end.min_score = std::atof(v);
     if (const char* v = std::getenv("FE_DEGENERATE")) config.front_end.degenerate_ratio = std::atof(v);
     if (const char* v = std::getenv("FE_SIGMA")) config.front_end.matcher.sigma = std::atof(v);
+    if (const char* v = std::getenv("FE_FINE")) config.front_end.fine_sigma = std::atof(v);
     if (const char* v = std::getenv("FE_RES")) config.front_end.point_resolution = config.front_end.matcher.resolution = std::atof(v);
     if (const char* v = std::getenv("FE_KEY")) config.front_end.key_translation = std::atof(v);
     const auto t0 = std::chrono::steady_clock::now();

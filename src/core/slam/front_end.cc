@@ -65,15 +65,17 @@ class LocalMap {
     if (static_cast<int>(scans_.size()) > config_.local_map_scans) scans_.pop_front();
     Points2 all;
     for (const Points2& s : scans_) all.insert(all.end(), s.begin(), s.end());
-    field_ = LikelihoodField(voxel_downsample(all, config_.point_resolution), config_.matcher.resolution,
-                             config_.matcher.sigma);
+    all = voxel_downsample(all, config_.point_resolution);
+    field_ = LikelihoodField(all, config_.matcher.resolution, config_.matcher.sigma);
+    if (config_.fine_sigma > 0) fine_field_ = LikelihoodField(all, config_.matcher.resolution, config_.fine_sigma);
   }
   const LikelihoodField& field() const { return field_; }
+  const LikelihoodField& fine_field() const { return fine_field_; }
 
  private:
   const FrontEndConfig& config_;
   std::deque<Points2> scans_;
-  LikelihoodField field_;
+  LikelihoodField field_, fine_field_;
 };
 
 }  // namespace
@@ -92,6 +94,8 @@ void validate(const FrontEndConfig& c) {
     throw InputError("front end config: local_map_scans must be in [1, 10000]");
   if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
     throw InputError("front end config: min_score must be in [0, 1]");
+  if (!(c.fine_sigma >= 0.0 && c.fine_sigma <= 10.0))
+    throw InputError("front end config: fine_sigma must be in [0, 10] m");
   if (!(c.degenerate_ratio >= 0.0 && c.degenerate_ratio < 1.0))
     throw InputError("front end config: degenerate_ratio must be in [0, 1)");
 }
@@ -127,8 +131,13 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
       const ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
       if (m.score >= config.min_score) {
         out.T_world_laser = m.pose;
+        if (config.fine_sigma > 0) {
+          ScanMatcherConfig fine = config.matcher;
+          fine.sigma = config.fine_sigma, fine.linear_window = 0, fine.angular_window = 0;
+          out.T_world_laser = match_scan(local.fine_field(), points, m.pose, fine).pose;
+        }
         if (const std::optional<Vec2> weak = odometry_moves ? weak_direction(scan, config) : std::nullopt) {
-          out.T_world_laser = keep_prediction_along(m.pose, prediction, *weak);
+          out.T_world_laser = keep_prediction_along(out.T_world_laser, prediction, *weak);
           ++stats.degenerate;
         }
         score_sum += m.score;

@@ -18,10 +18,10 @@
 namespace partslam {
 
 struct FrontEndConfig {
-  /// The likelihood field's sigma is 5 cm (the matcher's default, 10 cm, serves loop verification): relation errors
-  /// on the tuning logs fr079 / intel / aces 0.051 / 0.029 / 0.046 m at 10 cm, 0.046 / 0.024 / 0.040 at 5 cm,
-  /// 0.046 / 0.024 / 0.040 at 3.5 cm (docs/NOTES.md, "SLAM bench").
-  ScanMatcherConfig matcher{.sigma = 0.05};
+  ScanMatcherConfig matcher;
+  /// The match is refined once more (Gauss-Newton, no search) on a second field of this sigma: the first field's
+  /// wide basin finds the pose, the narrow one places it (docs/NOTES.md, "SLAM bench"). 0 turns it off [m].
+  double fine_sigma = 0.05;
   double max_range = 20.0;         ///< beam endpoints farther from the laser are not matched [m]
   double point_resolution = 0.05;  ///< scan and local-map points are downsampled to one per cell [m]
   int local_map_scans = 30;        ///< key scans in the local map
