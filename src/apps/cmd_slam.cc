@@ -42,8 +42,10 @@ struct SlamOptions {
 
 constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 
-// Relation errors with their units in the keys (translation in metres, rotation in degrees, as printed).
+// Relation errors with their units in the keys (translation in metres, rotation in degrees, as printed); without
+// a matched relation, no figure at all.
 nlohmann::json relations_json(const RelationsError& e) {
+  if (e.relations == 0) return {{"relations", 0}, {"missing", e.missing}, {"note", "no relation matched"}};
   return {{"translation_m", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
           {"rotation_deg", {{"mean", e.rotation_mean * kDegrees}, {"std", e.rotation_std * kDegrees}}},
           {"relations", e.relations},

@@ -1,0 +1,69 @@
+// CLI tests of `partslam slam`: what it writes, the verdict, the map usable by `locate`, relation errors.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "apps/cli_testing.h"
+
+namespace partslam {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::CliRun;
+using testing::quoted;
+using testing::run_partslam;
+
+class CliSlamTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("partslam_cli_slam_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+// The simulated building's raw log (drifting odometry): every output is written, slam.json says how many
+// closures were used and the verdict, the map is a map_server map that `locate` reads, and a relations file that
+// names no scan of the log says so instead of printing an error of 0.
+TEST_F(CliSlamTest, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
+  const fs::path out = dir_ / "out", relations = dir_ / "other.relations";
+  std::ofstream(relations) << "1.0 2.0 0.5 0 0 0 0 0.1\n";
+  const CliRun run = run_partslam("slam sim:2 --out " + quoted(out) + " --relations " + quoted(relations) +
+                                  " --compare --threads 2 --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("verdict: "));
+  EXPECT_THAT(run.output, HasSubstr("no relation matched"));
+  EXPECT_THAT(run.output, HasSubstr("no relation names a scan of"));
+  for (const char* name : {"corrected.log", "map.yaml", "map.pgm", "map.png", "loops.json", "slam.json"})
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  std::ifstream in(out / "slam.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const std::string verdict = j["verdict"].get<std::string>();
+  EXPECT_TRUE(verdict == "closed" || verdict == "open" || verdict == "doubtful" || verdict == "front end") << verdict;
+  EXPECT_EQ(verdict, "closed");  // the simulated building closes its loops
+  EXPECT_TRUE(j["trusted"].get<bool>());
+  EXPECT_GT(j["closures"]["used"].get<int>(), 10);
+  EXPECT_LE(j["closures"]["used"].get<int>(), j["closures"]["offered"].get<int>());
+  EXPECT_EQ(j["relations"]["slam"]["relations"].get<int>(), 0);
+  EXPECT_FALSE(j["relations"]["slam"].contains("translation_m"));
+  const CliRun located = run_partslam("locate --map " + quoted(out / "map.yaml") + " --query-log " +
+                                      quoted(out / "corrected.log") + " --from 30 --to 32");
+  EXPECT_EQ(located.exit_code, 0) << located.output;
+  EXPECT_THAT(located.output, HasSubstr("robot in the map"));
+}
+
+TEST_F(CliSlamTest, RefusesAbsurdThreadCounts) {
+  const CliRun run = run_partslam("slam sim:2 --out " + quoted(dir_ / "x") + " --threads 0");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_THAT(run.output, HasSubstr("--threads"));
+}
+
+}  // namespace
+}  // namespace partslam
