@@ -1,7 +1,6 @@
 // CLI tests of `partslam slam`: what it writes, the verdict, the map usable by `locate`, relation errors.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +8,7 @@
 #include <string>
 
 #include "apps/cli_testing.h"
+#include "io/test_files.h"
 
 namespace partslam {
 namespace {
@@ -19,21 +19,12 @@ using testing::CliRun;
 using testing::quoted;
 using testing::run_partslam;
 
-class CliSlamTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("partslam_cli_slam_" + std::to_string(getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
-
 // The simulated building's raw log (drifting odometry): every output is written, slam.json says how many
 // closures were used and the verdict, the map is a map_server map that `locate` reads, and a relations file that
 // names no scan of the log says so instead of printing an error of 0.
-TEST_F(CliSlamTest, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
-  const fs::path out = dir_ / "out", relations = dir_ / "other.relations";
+TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
+  const io::testing::TempDir dir;
+  const fs::path out = dir / "out", relations = dir / "other.relations";
   std::ofstream(relations) << "1.0 2.0 0.5 0 0 0 0 0.1\n";
   const CliRun run = run_partslam("slam sim:2 --out " + quoted(out) + " --relations " + quoted(relations) +
                                   " --compare --threads 2 --quiet");
@@ -59,8 +50,9 @@ TEST_F(CliSlamTest, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_THAT(located.output, HasSubstr("robot in the map"));
 }
 
-TEST_F(CliSlamTest, RefusesAbsurdThreadCounts) {
-  const CliRun run = run_partslam("slam sim:2 --out " + quoted(dir_ / "x") + " --threads 0");
+TEST(CliSlam, RefusesAbsurdThreadCounts) {
+  const io::testing::TempDir dir;
+  const CliRun run = run_partslam("slam sim:2 --out " + quoted(dir / "x") + " --threads 0");
   EXPECT_NE(run.exit_code, 0);
   EXPECT_THAT(run.output, HasSubstr("--threads"));
 }
