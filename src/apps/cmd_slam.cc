@@ -65,7 +65,11 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
   return {{"log", o.log},
           {"scans", r.scans.size()},
           {"submaps", r.submaps.size()},
-          {"front_end", {{"rejected_matches", r.front_end.rejected}, {"seconds", r.front_end_s}}},
+          {"front_end",
+           {{"rejected_matches", r.front_end.rejected},
+            {"degenerate_scans", r.front_end.degenerate},
+            {"heading_jumps", r.front_end.heading_jumps},
+            {"seconds", r.front_end_s}}},
           {"closures",
            {{"hypotheses", r.closures.size()},
             {"offered", r.accepted},
@@ -139,6 +143,13 @@ void run_slam_command(const SlamOptions& o) {
               << "\n";
   if (fe.time_reversals > 0)
     std::cerr << "partslam: warning: " << o.log << ": " << fe.time_reversals << " scans dropped (time goes backwards)\n";
+  if (fe.heading_jumps > 0) {
+    const std::vector<double> travel = travel_distances(r.scans);
+    std::cerr << "partslam: warning: " << o.log << ": the front end turned more than " << o.config.front_end.jump_turn
+              << " rad away from the odometry in one scan " << fe.heading_jumps << " times (first at "
+              << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel): it may have lost its heading "
+              << "there\n";
+  }
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
 

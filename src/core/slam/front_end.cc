@@ -96,6 +96,7 @@ void validate(const FrontEndConfig& c) {
     throw InputError("front end config: min_score must be in [0, 1]");
   if (!(c.fine_sigma >= 0.0 && c.fine_sigma <= 10.0))
     throw InputError("front end config: fine_sigma must be in [0, 10] m");
+  if (!(c.jump_turn > 0.0 && c.jump_turn <= 7.0)) throw InputError("front end config: jump_turn must be in (0, 7] rad");
   if (!(c.degenerate_ratio >= 0.0 && c.degenerate_ratio < 1.0))
     throw InputError("front end config: degenerate_ratio must be in [0, 1)");
 }
@@ -145,6 +146,12 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
       } else {
         out.T_world_laser = prediction;
         ++stats.rejected;
+      }
+      const double turn = wrap_angle(out.T_world_laser.theta - prev.T_world_laser.theta);
+      const double odometry_turn = wrap_angle(scan.T_world_odom.theta - prev.T_world_odom.theta);
+      if (odometry_moves && std::abs(wrap_angle(turn - odometry_turn)) > config.jump_turn) {
+        if (stats.jump_scans.size() < 100) stats.jump_scans.push_back(result.scans.size());
+        ++stats.heading_jumps;
       }
     }
     if (result.scans.empty() ||

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "core/maps/scan.h"
 #include "core/parallel.h"
@@ -32,6 +33,9 @@ struct FrontEndConfig {
   /// of sum n n^T over its surface normals below this share of the stronger: a bare corridor's axis), the match
   /// keeps the prediction's translation along it (counted; not when the log's odometry never moves). 0 turns it off.
   double degenerate_ratio = 0.1;
+  /// Jump detector: a scan whose matched turn since the previous scan differs from the odometry's by more than
+  /// this is counted as a heading jump (kept; reported, as a front end losing its heading shows) [rad].
+  double jump_turn = 0.1;
 };
 
 /// Throws InputError naming the offending field when a value is out of range.
@@ -41,6 +45,8 @@ struct FrontEndStats {
   std::size_t scans = 0;            ///< scans in the result
   std::size_t rejected = 0;         ///< scans whose match scored below min_score (prediction kept)
   std::size_t degenerate = 0;       ///< matched scans that kept the prediction along an unconstrained direction
+  std::size_t heading_jumps = 0;    ///< scans whose turn disagrees with the odometry's by more than jump_turn
+  std::vector<std::size_t> jump_scans;  ///< the first 100 of them (indices into the result's scans)
   std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards
   bool odometry_moves = false;      ///< false when the odometry never moves (no odometry in the log)
   double mean_score = 0.0;          ///< over matched scans
