@@ -34,6 +34,32 @@ def main(path):
               f'| {c["accepted"]} ({c["wrong"]} wrong, {c.get("used_wrong", 0)} of them used) '
               f'| {c["injected"]} ({c.get("injected_used", 0)}) | {verdict} | {j["seconds"]:.1f} s |')
     print(f"\n{len(rows)} runs; slam worse than odometry on {worse}.")
+    # The floors of the bench (docs/NOTES.md "SLAM bench"), run by run.
+    over = [r for r in rows if r["kind"] != "raw" and r["slam"].get("relations") and
+            r["slam"]["translation_m"]["mean"] > 0.10]
+    used_wrong = [r for r in rows if r["closures"].get("used_wrong", 0) > 0]
+    print(f"drifted twins and simulations over 0.10 m: {len(over)} of "
+          f"{sum(1 for r in rows if r['kind'] != 'raw')}" +
+          "".join(f"\n- {os.path.basename(r['log']).split('.')[0]} {r['level']} seed {r['seed']} inject {r['inject']:g}: "
+                  f"{r['slam']['translation_m']['mean']:.3f} m" for r in over))
+    print(f"runs that used a closure more than 0.5 m / 5 degrees from the truth: {len(used_wrong)}" +
+          "".join(f"\n- {os.path.basename(r['log']).split('.')[0]} {r.get('level', 'raw')} seed {r.get('seed', '-')} "
+                  f"inject {r['inject']:g}: {r['closures']['used_wrong']} of {r['closures']['used']} used"
+                  for r in used_wrong))
+    clean = {}
+    for r in rows:
+        key = (r["log"], r["kind"], r.get("level"), r.get("seed"))
+        if r["inject"] == 0 and r["slam"].get("relations"):
+            clean[key] = r["slam"]["translation_m"]["mean"]
+    ratios = []
+    for r in rows:
+        key = (r["log"], r["kind"], r.get("level"), r.get("seed"))
+        if r["inject"] > 0 and key in clean and r["slam"].get("relations"):
+            ratios.append((r["slam"]["translation_m"]["mean"] / clean[key], r))
+    if ratios:
+        worst = max(ratios, key=lambda x: x[0])
+        print(f"with injected wrong closures, the largest error / clean run's: {worst[0]:.3f} "
+              f"({os.path.basename(worst[1]['log']).split('.')[0]}, inject {worst[1]['inject']:g})")
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ struct FrontEndConfig {
   /// The match is refined once more (Gauss-Newton, no search) on a second field of this sigma: the first field's
   /// wide basin finds the pose, the narrow one places it (docs/NOTES.md, "SLAM bench"). 0 turns it off [m].
   double fine_sigma = 0.05;
-  double max_range = 20.0;         ///< beam endpoints farther from the laser are not matched [m]
+  double max_range = 40.0;         ///< beam endpoints farther from the laser are not matched [m] (20 m: see NOTES)
   double point_resolution = 0.05;  ///< scan and local-map points are downsampled to one per cell [m]
   int local_map_scans = 30;        ///< key scans in the local map
   double key_translation = 0.2;    ///< travel that makes a key scan [m]
