@@ -49,7 +49,8 @@ Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pos
       const int a = (ka % 2 == 0 ? 1 : -1) * ((ka + 1) / 2);  // 0, -1, 1, -2, 2, ...: nearest first
       const Pose2 turn{center.x, center.y, wrap_angle(center.theta + a * g.angle_step)};
       for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(turn * points[i]);
-      auto& [best_score, best] = best_of[static_cast<std::size_t>(ka)];
+      double& best_score = best_of[static_cast<std::size_t>(ka)].first;
+      Pose2& best = best_of[static_cast<std::size_t>(ka)].second;
       for (int sy = -g.shifts; sy <= g.shifts; ++sy) {
         for (int sx = -g.shifts; sx <= g.shifts; ++sx) {
           const int dx = sx * g.cell_step, dy = sy * g.cell_step;
