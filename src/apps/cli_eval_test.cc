@@ -10,6 +10,7 @@
 #include <string>
 
 #include "apps/cli_testing.h"
+#include "io/scan_source.h"
 
 namespace partslam {
 namespace {
@@ -208,18 +209,22 @@ TEST_F(CliEvalTest, SlamWritesTheCorrectedLogMapLoopsAndRelationErrors) {
   // fields are exact, so this checks the plumbing; core/slam/slam_test.cc checks the accuracy).
   const fs::path out = dir_ / "slam", relations = dir_ / "sim.relations";
   {
+    const Scans scans = io::load_scan_source("sim:1").scans;  // a relation between two of its scans
     std::ofstream r(relations);
-    r << "0.0 10.0 0 0 0 0 0 0\n";  // timestamps of the simulated scans start at 0 s
+    r.precision(17);
+    r << scans[10].timestamp << " " << scans[60].timestamp << " 0 0 0 0 0 0\n";
   }
   const CliRun run = run_partslam("slam sim:1 --out " + quoted(out) + " --relations " + quoted(relations) + " --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_THAT(run.output, HasSubstr("pose graph: cost"));
+  EXPECT_THAT(run.output, HasSubstr("pose graph: "));
+  EXPECT_THAT(run.output, HasSubstr("verdict: "));
   for (const char* f : {"corrected.log", "map.png", "loops.json", "relations_error.json"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   const nlohmann::json e = read_json(out / "relations_error.json");
-  EXPECT_TRUE(e["translation"]["mean"].is_number());
-  EXPECT_TRUE(e["rotation"]["std"].is_number());
-  EXPECT_EQ(e["relations"].get<int>() + e["missing"].get<int>(), 1);
+  EXPECT_TRUE(e["translation_m"]["mean"].is_number());  // units in the keys: metres and degrees
+  EXPECT_TRUE(e["rotation_deg"]["std"].is_number());
+  EXPECT_EQ(e["relations"].get<int>(), 1);
+  EXPECT_EQ(e["missing"].get<int>(), 0);
   // The corrected log is a log: submaps can be built from it.
   EXPECT_EQ(run_partslam("submaps " + quoted(out / "corrected.log") + " --db " + quoted(dir_ / "c.db")).exit_code, 0);
   EXPECT_NE(run_partslam("slam sim:1 --out " + quoted(out) + " --relations " + quoted(dir_ / "none")).exit_code, 0);

@@ -143,12 +143,11 @@ void run_slam_command(const SlamOptions& o) {
               << "\n";
   if (fe.time_reversals > 0)
     std::cerr << "partslam: warning: " << o.log << ": " << fe.time_reversals << " scans dropped (time goes backwards)\n";
-  if (fe.heading_jumps > 0) {
+  if (fe.heading_jumps > 0) {  // a measurement, not a warning: poor odometry (intel) disagrees this way too
     const std::vector<double> travel = travel_distances(r.scans);
-    std::cerr << "partslam: warning: " << o.log << ": the front end turned more than " << o.config.front_end.jump_turn
-              << " rad away from the odometry in one scan " << fe.heading_jumps << " times (first at "
-              << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel): it may have lost its heading "
-              << "there\n";
+    std::cout << "front end: " << fe.heading_jumps << " scans turned more than " << o.config.front_end.jump_turn
+              << " rad away from the odometry (first at " << static_cast<long>(travel.at(fe.jump_scans.front()))
+              << " m of travel), " << fe.degenerate << " kept the odometry along a bare corridor\n";
   }
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
