@@ -13,6 +13,9 @@
 //   slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]
 //       a raw log; its scans associated by content with the corrected TWIN_LOG (a subset may do) give the truth of
 //       the closures, and the relations (from the file when given, else built from the twin).
+// Ablations (docs/NOTES.md "SLAM bench") override front-end settings from the environment: FE_MAX_RANGE,
+// FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY
+// (key_translation); SLAM_BENCH_CLOSURES=1 adds every judged closure's gap and disagreement with the front end.
 // INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
 // between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
 #include <chrono>
