@@ -152,7 +152,7 @@ void bag_seeds(const Scans& scans) {
   {  // a tiny synthetic bag: two scans of eight beams, odometry
     io::rosbag_messages::BagMessages m;
     for (int k = 0; k < 2; ++k) {
-      m.scans.push_back({1.0 + k, -1.5, 0.4, 0.1, 30.0, {1.0f, 2.0f, 0.05f, 31.0f, 2.5f, 3.0f, 4.0f, 5.0f}});
+      m.scans.push_back({1.0 + k, -1.5, 0.4, 0.1, 30.0, {1.0f, 2.0f, 0.05f, 31.0f, 2.5f, 3.0f, 4.0f, 5.0f}, "laser"});
       m.odometry.push_back({0.9 + k, 0.5 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
     }
     const fs::path tmp = out_root / "tmp.bag";

@@ -143,7 +143,7 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
   for (int k = 0; k < 30; ++k) {
     const double t = 100.0 + 0.1 * k, yaw = 0.02 * k;
     m.odometry.push_back({t - 0.05, 0.1 * k, 0.05 * k, 0.0, 0.0, std::sin(yaw / 2), std::cos(yaw / 2)});
-    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}};
+    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
     for (int b = 0; b < 181; ++b) scan.ranges.push_back(2.0f + 0.01f * static_cast<float>(b % 17));
     m.scans.push_back(scan);
   }
@@ -221,7 +221,7 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   rosbag_messages::BagMessages m;
   for (int k = 0; k < 3; ++k) {
     m.odometry.push_back({10.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
-    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}});
+    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}, "laser"});
   }
   rosbag_messages::write_bag_messages((dir / "good.bag").string(), m, /*as_tf=*/false);
   rosbag_messages::write_bag_messages((dir / "good-tf.bag").string(), m, /*as_tf=*/true);
