@@ -69,18 +69,23 @@ std::optional<Pose2> laser_mount(const rosbag_messages::BagMessages& m, const st
   const std::string base = m.base_frame.empty() ? "base_link" : m.base_frame;
   const std::string laser = m.scans.empty() ? "" : m.scans.front().frame_id;
   if (laser.empty() || laser == base) return std::nullopt;
-  std::vector<std::pair<std::string, Pose2>> reached{{base, Pose2{}}};  // breadth first, at most 8 edges deep
+  std::vector<Pose2> edges;  // each transform as a pose, checked once
+  for (const rosbag_messages::FrameTransform& f : m.transforms) {
+    const Pose2 T{f.x, f.y, wrap_angle(yaw_of(f.qx, f.qy, f.qz, f.qw))};
+    if (!std::isfinite(T.x) || !std::isfinite(T.y) || !std::isfinite(T.theta) || std::abs(T.x) > 100 ||
+        std::abs(T.y) > 100)
+      throw InputError(where + ": transform " + f.parent + " -> " + f.child + " is not finite or not on a robot");
+    edges.push_back(T);
+  }
+  std::vector<std::pair<std::string, Pose2>> reached{{base, Pose2{}}};  // breadth first, at most 64 frames
   for (std::size_t at = 0; at < reached.size() && at < 64; ++at) {
     const auto [frame, T_base_frame] = reached[at];
-    for (const rosbag_messages::FrameTransform& f : m.transforms) {
-      const Pose2 T{f.x, f.y, wrap_angle(yaw_of(f.qx, f.qy, f.qz, f.qw))};
-      if (!std::isfinite(T.x) || !std::isfinite(T.y) || !std::isfinite(T.theta) || std::abs(T.x) > 100 ||
-          std::abs(T.y) > 100)
-        throw InputError(where + ": transform " + f.parent + " -> " + f.child + " is not finite or not on a robot");
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const rosbag_messages::FrameTransform& f = m.transforms[k];
       std::string next;
       Pose2 T_base_next;
-      if (f.parent == frame) next = f.child, T_base_next = T_base_frame * T;
-      else if (f.child == frame) next = f.parent, T_base_next = T_base_frame * T.inverse();
+      if (f.parent == frame) next = f.child, T_base_next = T_base_frame * edges[k];
+      else if (f.child == frame) next = f.parent, T_base_next = T_base_frame * edges[k].inverse();
       else continue;
       if (next == laser) return T_base_next;
       const auto seen = [&next](const auto& r) { return r.first == next; };
