@@ -45,14 +45,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-nlohmann::json error_json(const RelationsError& e) {
-  if (e.relations == 0) return {{"relations", 0}, {"missing", e.missing}};
-  return {{"translation_m", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
-          {"rotation_deg", {{"mean", e.rotation_mean * kRadToDeg}, {"std", e.rotation_std * kRadToDeg}}},
-          {"relations", e.relations},
-          {"missing", e.missing}};
-}
-
 Scans with_poses(const Scans& scans, const std::vector<Pose2>& poses) {
   Scans out;
   out.reserve(scans.size());
@@ -271,9 +263,9 @@ int main(int argc, char** argv) {
     for (Scan& s : odometry) s.T_world_laser = s.T_world_odom;
     out["scans"] = r.scans.size();
     out["submaps"] = r.submaps.size();
-    out["slam"] = error_json(relations_error(r.scans, b.relations));
-    out["odometry"] = error_json(relations_error(odometry, b.relations));
-    out["front_end"] = error_json(relations_error(front_end_estimate, b.relations));
+    out["slam"] = io::relations_error_json(relations_error(r.scans, b.relations));
+    out["odometry"] = io::relations_error_json(relations_error(odometry, b.relations));
+    out["front_end"] = io::relations_error_json(relations_error(front_end_estimate, b.relations));
     out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", real}, {"injected", injected},
                        {"judged", judged}, {"wrong", wrong}, {"used", r.back_end.used_count},
                        {"used_wrong", used_wrong}, {"set_aside_right", aside_right}, {"injected_used", injected_used}};

@@ -42,16 +42,6 @@ struct SlamOptions {
 
 constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 
-// Relation errors with their units in the keys (translation in metres, rotation in degrees, as printed); without
-// a matched relation, no figure at all.
-nlohmann::json relations_json(const RelationsError& e) {
-  if (e.relations == 0) return {{"relations", 0}, {"missing", e.missing}, {"note", "no relation matched"}};
-  return {{"translation_m", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
-          {"rotation_deg", {{"mean", e.rotation_mean * kDegrees}, {"std", e.rotation_std * kDegrees}}},
-          {"relations", e.relations},
-          {"missing", e.missing}};
-}
-
 std::string relations_text(const RelationsError& e) {
   if (e.relations == 0) return "no relation matched";
   std::ostringstream out;
@@ -171,9 +161,10 @@ void run_slam_command(const SlamOptions& o) {
   if (!o.relations.empty()) {
     const RelationsError before = relations_error(source.scans, relations);
     const RelationsError after = relations_error(r.scans, relations);
-    summary["relations"] = {{"file", o.relations}, {"slam", relations_json(after)}, {"odometry", relations_json(before)}};
+    summary["relations"] = {
+        {"file", o.relations}, {"slam", io::relations_error_json(after)}, {"odometry", io::relations_error_json(before)}};
     io::write_atomically(dir / "relations_error.json",
-                         [&](std::ostream& out) { out << json_text(relations_json(after)); });
+                         [&](std::ostream& out) { out << json_text(io::relations_error_json(after)); });
     std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size()
               << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
     if (after.relations == 0)

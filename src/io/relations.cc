@@ -59,4 +59,13 @@ std::optional<std::size_t> find_scan_by_timestamp(const Scans& scans, double tim
   return best;
 }
 
+nlohmann::json relations_error_json(const RelationsError& e) {
+  if (e.relations == 0) return {{"relations", 0}, {"missing", e.missing}, {"note", "no relation matched"}};
+  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+  return {{"translation_m", {{"mean", e.translation_mean}, {"std", e.translation_std}}},
+          {"rotation_deg", {{"mean", e.rotation_mean * kDegrees}, {"std", e.rotation_std * kDegrees}}},
+          {"relations", e.relations},
+          {"missing", e.missing}};
+}
+
 }  // namespace partslam::io

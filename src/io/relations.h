@@ -10,7 +10,10 @@
 #include <optional>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/evaluation/relation_check.h"
+#include "core/evaluation/trajectory_check.h"
 #include "core/maps/scan.h"
 #include "core/types.h"
 
@@ -27,5 +30,9 @@ Relations read_relations(const std::filesystem::path& path);
 /// be sorted. Relation timestamps equal the raw logs' FLASER timestamps to the printed microsecond.
 std::optional<std::size_t> find_scan_by_timestamp(const Scans& scans, double timestamp,
                                                   double tolerance = 1e-4);
+
+/// Relation errors as JSON with their units in the keys: translation_m and rotation_deg (mean, std), relations,
+/// missing; without a matched relation, no figure at all (a note says so).
+nlohmann::json relations_error_json(const RelationsError& e);
 
 }  // namespace partslam::io
