@@ -11,6 +11,7 @@ PACKAGES=(
   libcli11-dev         # command-line parsing
   libsqlite3-dev       # map database
   zlib1g-dev           # gzip CARMEN logs
+  libzstd-dev liblz4-dev  # ROS 2 bags: MCAP chunks (io/mcap_file.h)
   libcairo2-dev        # PNG rendering (Fig. D, Fig. E)
   nlohmann-json3-dev   # --json output
   libgtest-dev libgmock-dev  # tests
@@ -26,6 +27,11 @@ missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# make test only: tests/ros2 writes ROS 2 bags with independent libraries from npm. Any node >= 18 with npm will do
+# (a machine may carry its own, e.g. NodeSource's, which bundles npm); Debian's otherwise.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  missing+=(nodejs npm)
+fi
 [ ${#missing[@]} -eq 0 ] && exit 0
 echo "install-deps: installing ${missing[*]}"
 SUDO=""

@@ -50,6 +50,14 @@ struct LogReadOptions {
   /// A log with more valid beams than this is refused (a small gzip file can expand to gigabytes of points;
   /// the largest log here, intel, has 2.3 M; 20 M points take ~320 MB) [points].
   std::size_t max_points = 20'000'000;
+  /// Bags (ROS 1 and 2): the sensor_msgs LaserScan topic to read; empty: the first one in the bag.
+  std::string scan_topic;
+  /// Bags: the nav_msgs Odometry topic that poses the scans, or a tf topic whose odom -> base_link transforms do;
+  /// empty: the first Odometry topic, else the odom -> base_link transforms of the first tf topic with them.
+  std::string odom_topic;
+  /// Damage in the middle of a file (a corrupt chunk, message or line) is skipped and counted, with a warning,
+  /// instead of refusing the file. A file cut short is always read up to its last whole record, with a warning.
+  bool skip_damaged = false;
 };
 
 /// Throws InputError naming the offending field.

@@ -113,6 +113,11 @@ RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& 
   } catch (const rosbag_messages::BagError& e) {
     throw InputError(name + ": " + e.what());
   }
+  return scans_from_bag_messages(messages, options, name);
+}
+
+RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, const LogReadOptions& options,
+                                  const std::string& name) {
   if (messages.scans.empty()) throw InputError(name + ": the bag holds no sensor_msgs/LaserScan messages");
   RosBagLog log;
   log.scan_topic = messages.scan_topic;

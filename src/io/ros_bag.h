@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/maps/scan.h"
 #include "io/carmen_log.h"
@@ -29,7 +30,19 @@ struct RosBagLog {
   /// Identity, with laser_frame empty, when the bag has no such chain.
   Pose2 T_base_laser;
   std::string laser_frame;
+  /// What the reader could not read whole (a recording cut short, damaged parts skipped), for the user.
+  std::vector<std::string> warnings;
 };
+
+namespace rosbag_messages {
+struct BagMessages;
+}
+
+/// The scans of a bag's selected messages (ROS 1 or ROS 2, io/bag_selection.h), posed as described above. name
+/// prefixes every error. Throws InputError for a bag without scans, a scan with non-finite fields, or an
+/// implausible odometry pose.
+RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, const LogReadOptions& options,
+                                  const std::string& name);
 
 /// Throws InputError naming the file for a missing, truncated or foreign file, a bag without LaserScan messages,
 /// a scan with non-finite fields, or more than options.max_points valid beams.

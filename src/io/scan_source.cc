@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/sim/simulator.h"
+#include "io/ros2_bag.h"
 #include "io/ros_bag.h"
 
 namespace partslam::io {
@@ -27,9 +28,12 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
     return out;
   }
   std::string name = std::filesystem::path(spec).filename().string();
-  if (is_ros_bag(spec)) {
-    out.name = std::filesystem::path(spec).stem().string();
-    out.scans = read_ros_bag(spec, options).scans;
+  if (is_ros_bag(spec) || is_ros2_bag(spec)) {
+    const std::filesystem::path path = std::filesystem::path(spec).lexically_normal();
+    out.name = (path.has_filename() ? path : path.parent_path()).stem().string();
+    RosBagLog log = is_ros_bag(spec) ? read_ros_bag(spec, options) : read_ros2_bag(spec, options);
+    out.scans = std::move(log.scans);
+    out.warnings = std::move(log.warnings);
     return out;
   }
   for (const char* ext : {".gz", ".log", ".clf"}) {

@@ -1,9 +1,11 @@
-// Where scans come from on the command line: a CARMEN log (plain or gzip), a ROS 1 bag (*.bag, io/ros_bag.h), or
+// Where scans come from on the command line: a CARMEN log (plain or gzip), a ROS 1 bag (*.bag, io/ros_bag.h), a
+// ROS 2 bag (*.mcap, *.db3 or a rosbag2 folder, io/ros2_bag.h), or
 // "sim[:SEED]" for the built-in simulated building (docs/DESIGN.md, "Embedded default"), so every command also
 // runs without ../shared/data.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/maps/scan.h"
 #include "io/carmen_log.h"
@@ -14,6 +16,8 @@ struct ScanSource {
   std::string name;    ///< dataset name: the log's file name without .gz/.log/.clf, or "sim-SEED"
   std::string source;  ///< the spec it was loaded from
   Scans scans;
+  /// What the reader could not read whole (a recording cut short, damaged parts skipped), for the user.
+  std::vector<std::string> warnings;
 };
 
 /// True for "sim" and "sim:SEED".
