@@ -4,6 +4,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -158,11 +159,17 @@ class Reader {
         break;
       }
       const std::uint64_t len = le64(head + 1);
+      const std::uint8_t op = head[0];
       if (len > report_.file_bytes - at - 9) {
         report_.truncated = true;
+        if (op == kChunk) {
+          bytes.resize(static_cast<std::size_t>(std::min<std::uint64_t>(report_.file_bytes - at - 9,
+                                                                         kMaxRecordBytes)));
+          if (in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+            cut_chunk(bytes, at);
+        }
         break;
       }
-      const std::uint8_t op = head[0];
       if (op == kDataEnd || op == kFooter) break;
       if (op != kChunk && op != kSchema && op != kChannel && op != kMessage) {
         in.seekg(static_cast<std::streamoff>(len), std::ios::cur);
@@ -193,6 +200,71 @@ class Reader {
   void damaged(const std::string& what) {
     if (!skip_damaged_) throw InputError(name_ + ": " + what + " (--skip-damaged skips damaged chunks)");
     if (report_.damaged_chunks++ == 0) report_.first_damage = what;
+  }
+
+  // The records of the chunk the file was cut in: its compressed bytes up to the cut, decompressed as far as they
+  // go, and every whole record in them (a recorder killed mid-write leaves its last chunk so).
+  void cut_chunk(std::span<const std::uint8_t> bytes, std::uint64_t offset) {
+    std::vector<std::uint8_t> records;
+    try {
+      Fields f{bytes};
+      f.number<std::uint64_t>();
+      f.number<std::uint64_t>();
+      const std::uint64_t size = f.number<std::uint64_t>();
+      f.number<std::uint32_t>();
+      const std::string compression = f.string();
+      f.number<std::uint64_t>();
+      if (size > kMaxRecordBytes) return;
+      records = decompress_prefix(compression, f.rest(), static_cast<std::size_t>(size));
+    } catch (const Malformed&) {
+      return;  // the cut came before the chunk's data
+    }
+    for (std::size_t at = 0; records.size() - at >= 9;) {
+      const std::uint64_t len = le64(records.data() + at + 1);
+      if (len > records.size() - at - 9) break;
+      try {
+        record(records[at], {records.data() + at + 9, static_cast<std::size_t>(len)}, offset);
+      } catch (const Malformed& e) {
+        throw InputError(name_ + ": the chunk at byte " + std::to_string(offset) + ": " + e.what());
+      }
+      at += 9 + static_cast<std::size_t>(len);
+    }
+  }
+
+  // As much of a compressed stream's output as its first bytes give (none when they do not decompress).
+  static std::vector<std::uint8_t> decompress_prefix(const std::string& compression,
+                                                     std::span<const std::uint8_t> data, std::size_t size) {
+    std::vector<std::uint8_t> out(size);
+    std::size_t produced = 0;
+    if (compression.empty()) {
+      produced = std::min(size, data.size());
+      std::memcpy(out.data(), data.data(), produced);
+    } else if (compression == "zstd") {
+      const std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+      ZSTD_inBuffer in{data.data(), data.size(), 0};
+      ZSTD_outBuffer o{out.data(), out.size(), 0};
+      while (in.pos < in.size && o.pos < o.size) {
+        const std::size_t before = in.pos + o.pos;
+        if (ZSTD_isError(ZSTD_decompressStream(ctx.get(), &o, &in)) || in.pos + o.pos == before) break;
+      }
+      produced = o.pos;
+    } else if (compression == "lz4") {
+      LZ4F_dctx* raw = nullptr;
+      if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION))) return {};
+      const std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> ctx(raw,
+                                                                                      LZ4F_freeDecompressionContext);
+      std::size_t consumed = 0;
+      while (consumed < data.size() && produced < out.size()) {
+        std::size_t dst = out.size() - produced, src = data.size() - consumed;
+        const std::size_t hint = LZ4F_decompress(ctx.get(), out.data() + produced, &dst, data.data() + consumed, &src,
+                                                 nullptr);
+        if (LZ4F_isError(hint)) break;
+        produced += dst, consumed += src;
+        if (hint == 0 || (dst == 0 && src == 0)) break;
+      }
+    }
+    out.resize(produced);
+    return out;
   }
 
   static std::vector<std::uint8_t> decompress(const std::string& compression, std::span<const std::uint8_t> data,

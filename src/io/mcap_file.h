@@ -26,7 +26,8 @@ struct ReadReport {
   std::uint64_t file_bytes = 0;
   std::uint64_t messages = 0;
   /// The file ends inside a record (or before the data section's end): it was read up to the last whole record,
-  /// which ends at byte read_bytes.
+  /// which ends at byte read_bytes, and the whole messages of a chunk cut short (as far as its compressed bytes
+  /// decompress).
   bool truncated = false;
   std::uint64_t read_bytes = 0;
   /// Chunks that could not be opened (corrupt compression, CRC mismatch, malformed records inside), skipped

@@ -14,6 +14,7 @@
 #include "io/cdr.h"
 #include "io/mcap_file.h"
 #include "io/sqlite.h"
+#include "io/sqlite_salvage.h"
 
 namespace partslam::io {
 namespace {
@@ -48,6 +49,7 @@ struct FileRead {
 class Decoder {
  public:
   Decoder(const LogReadOptions& options, bool zstd_messages) : options_(options), zstd_messages_(zstd_messages) {}
+  bool skip_damaged() const { return options_.skip_damaged; }
 
   // Decodes one message; "where" names it for errors. Damage is counted when skip_damaged, else thrown.
   void add(FileRead& out, const std::string& topic, const std::string& type, const std::string& encoding,
@@ -132,41 +134,94 @@ bool sqlite_cut_short(const std::filesystem::path& path, std::uint64_t file_byte
   return file_bytes < page * pages;
 }
 
+// The rows of a .db3 cut short, from its pages (io/sqlite_salvage.h): topics rows (id, name, type, format, qos,
+// ...) and messages rows (id, topic_id, timestamp, data), each whole before the cut.
+void salvage_db3(const std::filesystem::path& path, Decoder& decoder, FileRead& out) {
+  using Text = std::span<const std::uint8_t>;
+  struct Topic {
+    std::string name, type, format;
+  };
+  struct Row {
+    std::int64_t topic;
+    std::uint64_t time;
+    std::vector<std::uint8_t> data;
+  };
+  std::map<std::int64_t, Topic> topics;
+  std::map<std::int64_t, Row> rows;
+  const auto text = [](const sqlite::Value& v) {
+    const Text t = std::get<Text>(v);
+    return std::string(t.begin(), t.end());
+  };
+  sqlite::salvage_rows(path, [&](std::int64_t rowid, const std::vector<sqlite::Value>& v) {
+    if (v.empty() || !std::holds_alternative<std::monostate>(v[0])) return;  // rosbag2's ids alias the rowid
+    if (v.size() >= 5 && std::holds_alternative<Text>(v[1]) && std::holds_alternative<Text>(v[2]) &&
+        std::holds_alternative<Text>(v[3]))
+      topics[rowid] = {text(v[1]), text(v[2]), text(v[3])};
+    else if (v.size() == 4 && std::holds_alternative<std::int64_t>(v[1]) &&
+             std::holds_alternative<std::int64_t>(v[2]) && std::holds_alternative<Text>(v[3])) {
+      const Text d = std::get<Text>(v[3]);
+      rows[rowid] = {std::get<std::int64_t>(v[1]), static_cast<std::uint64_t>(std::get<std::int64_t>(v[2])),
+                     {d.begin(), d.end()}};
+    }
+  });
+  const std::string name = path.string();
+  std::int64_t last = 0;
+  for (const auto& [id, row] : rows) {
+    const auto topic = topics.find(row.topic);
+    if (topic == topics.end()) continue;  // its topics row lay past the cut
+    decoder.add(out, topic->second.name, topic->second.type, topic->second.format, row.time, row.data,
+                name + ": messages row " + std::to_string(id));
+    last = id;
+  }
+  out.cut = "messages row " + std::to_string(last) + " (" + std::to_string(rows.size()) +
+            " whole rows in the pages before the cut)";
+}
+
 FileRead read_db3(const std::filesystem::path& path, Decoder& decoder) {
   FileRead out;
   const std::string name = path.string();
   std::error_code ec;
   const std::uint64_t bytes = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(name + ": " + ec.message());
-  const bool cut = sqlite_cut_short(path, bytes);
+  if (sqlite_cut_short(path, bytes)) {
+    salvage_db3(path, decoder, out);
+    return out;
+  }
   const sqlite::Connection db = sqlite::Connection::open(path, sqlite::Connection::Access::kReadOnly);
   struct Topic {
     std::string name, type, format;
   };
   std::map<std::int64_t, Topic> topics;
-  std::int64_t last_row = 0;
   try {
     sqlite::Statement t(db, "SELECT id, name, type, serialization_format FROM topics");
     while (t.step()) topics[t.int64(0)] = {t.text(1), t.text(2), t.text(3)};
+  } catch (const InputError& e) {
+    throw InputError(name + ": not a rosbag2 SQLite file (" + e.what() + ")");
+  }
+  std::int64_t row = 0;
+  try {
     sqlite::Statement m(db, "SELECT id, topic_id, timestamp, data FROM messages ORDER BY id");
     while (m.step()) {
-      last_row = m.int64(0);
+      row = m.int64(0);
       const auto topic = topics.find(m.int64(1));
       if (topic == topics.end())
-        throw InputError(name + ": messages row " + std::to_string(last_row) + " names topic " +
+        throw InputError(name + ": messages row " + std::to_string(row) + " names topic " +
                          std::to_string(m.int64(1)) + ", which the topics table does not hold");
       decoder.add(out, topic->second.name, topic->second.type, topic->second.format,
-                  static_cast<std::uint64_t>(m.int64(2)), m.blob(3), name + ": messages row " +
-                  std::to_string(last_row));
+                  static_cast<std::uint64_t>(m.int64(2)), m.blob(3), name + ": messages row " + std::to_string(row));
     }
   } catch (const InputError& e) {
-    if (!cut) {
-      if (std::string(e.what()).find("no such table") != std::string::npos)
-        throw InputError(name + ": not a rosbag2 SQLite file (" + e.what() + ")");
-      throw;
-    }
+    // A damaged page: SQLite stops there. With skip_damaged, every row the pages still hold whole is read instead.
+    if (!decoder.skip_damaged()) throw InputError(std::string(e.what()) + " (after messages row " +
+                                                  std::to_string(row) + "; --skip-damaged reads the rest)");
+    FileRead salvaged;
+    salvage_db3(path, decoder, salvaged);
+    salvaged.cut.clear();
+    salvaged.damaged += 1;
+    salvaged.first_damage = std::string(e.what()) + " after messages row " + std::to_string(row) +
+                            "; the rows the file's pages still hold were read";
+    return salvaged;
   }
-  if (cut) out.cut = "messages row " + std::to_string(last_row) + " (the file is shorter than its header states)";
   return out;
 }
 
