@@ -199,7 +199,7 @@ async function main() {
   else if (format === "db3") await writeDb3(out, bag, kind);
   else {
     fs.mkdirSync(out, { recursive: true });
-    const file = path.basename(out) + "_0.db3";
+    const file = "bag_0.db3";  // as rosbag2 names its first file, less the folder name
     await writeDb3(path.join(out, file), bag, kind);
     writeMetadata(out, file, bag);
   }
