@@ -1,4 +1,5 @@
 // CLI tests of the outside-world entry points: export-map, locate, match --query-points.
+#include <cairo.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include "apps/cli_testing.h"
 #include "core/maps/submap.h"
 #include "io/scan_source.h"
+#include "plot/answer_image.h"
 
 namespace partslam {
 namespace {
@@ -35,6 +37,52 @@ class CliLocateTest : public ::testing::Test {
   }
   fs::path dir_;
 };
+
+// How many pixels of a PNG have exactly this colour; -1 when it is not a readable PNG.
+long pixels_of(const fs::path& png, const plot::Rgb& c) {
+  cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
+  long n = -1;
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    const auto byte = [](double v) { return static_cast<std::uint32_t>(std::lround(v * 255)); };
+    const std::uint32_t want = byte(c.r) << 16 | byte(c.g) << 8 | byte(c.b);
+    const unsigned char* data = cairo_image_surface_get_data(s);
+    n = 0;
+    for (int y = 0; y < cairo_image_surface_get_height(s); ++y)
+      for (int x = 0; x < cairo_image_surface_get_width(s); ++x)
+        n += (reinterpret_cast<const std::uint32_t*>(data + y * cairo_image_surface_get_stride(s))[x] & 0xFFFFFFu) ==
+             want;
+  }
+  cairo_surface_destroy(s);
+  return n;
+}
+
+// A picture of every answer: export-map's preview, locate's points on the map (confident: green) and its
+// trajectory, match's best stored maps with the query on them.
+TEST_F(CliLocateTest, PicturesOfEveryAnswer) {
+  const fs::path yaml = dir_ / "building.yaml", db = dir_ / "maps.db";
+  CliRun run = run_partslam("export-map sim:1 --out " + quoted(yaml));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("building.png (preview)"));
+  EXPECT_GT(pixels_of(dir_ / "building.png", {0, 0, 0}), 100);  // walls
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --from 30 --to 32 --plot " +
+                     quoted(dir_ / "one.png"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_GT(pixels_of(dir_ / "one.png", plot::kGood), 100);
+  EXPECT_EQ(pixels_of(dir_ / "one.png", plot::kDoubtful), 0);
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet --plot " +
+                     quoted(dir_ / "every.png"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_GT(pixels_of(dir_ / "every.png", plot::kGood), 20);
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db) + " --quiet").exit_code, 0);
+  run = run_partslam("match " + quoted(db) + " --query-log sim:1 --from 30 --to 32 --plot " + quoted(dir_ / "m.png"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_GT(pixels_of(dir_ / "m.png", plot::kMapGrey) + pixels_of(dir_ / "m.png", plot::kGood), 100);
+  // An unwritable picture is refused before any work.
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --from 30 --to 32 --plot " +
+                     quoted(dir_ / "no" / "such" / "dir.png"));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_THAT(run.output, HasSubstr("dir.png"));
+}
 
 // The round trip a user makes: the simulated building's map exported as map_server files, then a stretch of the
 // same log located in it: the robot's pose is the log's own (the map frame is the log's world frame).

@@ -1,8 +1,10 @@
 // partslam export-map LOG --out map.yaml: a log's map as ROS map_server writes one (map.yaml + map.pgm, trinary:
 // occupied, free, unknown), by ray casting its scans at their poses (core/maps/grid_map.h) — a corrected log, a
 // raw one with --scan-match, or the corrected.log of `partslam slam`. --until M keeps the scans before M m of
-// travel (a map of the first visit, to localise the rest of the log in). Both files are written atomically.
+// travel (a map of the first visit, to localise the rest of the log in). A PNG preview (map.png) goes beside them.
+// All files are written atomically.
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 
@@ -15,6 +17,7 @@
 #include "io/atomic_file.h"
 #include "io/map_server.h"
 #include "io/scan_source.h"
+#include "plot/grid_map_image.h"
 
 namespace partslam::apps {
 namespace {
@@ -35,6 +38,9 @@ void run_export_map(const ExportMapOptions& o) {
   image.replace_extension(".pgm");
   io::check_writable(o.out);
   io::check_writable(image);
+  std::filesystem::path preview(o.out);
+  preview.replace_extension(".png");
+  io::check_writable(preview);
   const auto t0 = Clock::now();
   Scans scans = io::load_scan_source(o.log).scans;
   if (o.scan_match) scans = scan_match_log(scans).scans;
@@ -47,9 +53,13 @@ void run_export_map(const ExportMapOptions& o) {
   }
   const GridMap map = build_grid_map(scans, o.grid);
   io::write_map_yaml(o.out, map);
+  char title[200];
+  std::snprintf(title, sizeof title, "%s: %d x %d cells at %.3g m", std::filesystem::path(o.log).filename().c_str(),
+                map.width, map.height, map.resolution);
+  plot::write_grid_maps_png(preview, {{&map, title}});
   std::size_t occupied = 0, free = 0;
   for (const CellState c : map.cells) occupied += c == CellState::kOccupied, free += c == CellState::kFree;
-  std::cout << "wrote " << o.out << " and " << image.string() << ": " << map.width << " x " << map.height
+  std::cout << "wrote " << o.out << ", " << image.string() << " and " << preview.string() << " (preview): " << map.width << " x " << map.height
             << " cells at " << map.resolution << " m (" << occupied << " occupied, " << free << " free) from "
             << scans.size() << " scans in " << static_cast<long>(ms_since(t0)) << " ms\n";
 }
@@ -60,7 +70,7 @@ void register_export_map(CLI::App& app) {
   auto o = std::make_shared<ExportMapOptions>();
   CLI::App* cmd = app.add_subcommand("export-map", "Write a log's map as a ROS map_server map (map.yaml + PGM)");
   cmd->add_option("log", o->log, "a log with good poses (corrected CARMEN log, ROS bag, sim[:SEED])")->required();
-  cmd->add_option("--out", o->out, "the map's YAML file; the PGM is written beside it")->required();
+  cmd->add_option("--out", o->out, "the map's YAML file; the PGM and a PNG preview are written beside it")->required();
   cmd->add_option("--resolution", o->grid.resolution, "cell side [m]")->capture_default_str();
   cmd->add_option("--max-range", o->grid.max_range, "beams longer than this are not used [m]")->capture_default_str();
   cmd->add_option("--until", o->until, "use only the scans before this travel along the log [m]");

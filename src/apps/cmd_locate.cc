@@ -4,7 +4,7 @@
 // read from a point file. Prints, per local map, its pose in the map frame, where that puts the robot (the
 // first scan of the stretch) or the point file's frame, the inlier share, the confidence (score minus the best
 // other candidate's; >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate") and the time; --json writes the
-// same. --every M locates a local map every M of travel along the whole log, with a progress bar.
+// same; --plot draws it. --every M locates a local map every M of travel along the whole log, with a progress bar.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -21,6 +21,7 @@
 #include "core/timing.h"
 #include "io/atomic_file.h"
 #include "io/map_server.h"
+#include "plot/answer_image.h"
 
 namespace partslam::apps {
 namespace {
@@ -34,6 +35,7 @@ struct LocateOptions {
   SubmapConfig submap;
   LocalizerConfig localizer;
   std::string json;
+  std::string plot;
   bool quiet = false;
 };
 
@@ -44,6 +46,7 @@ struct Located {
   Localization result;
   Pose2 T_map_source;            // the log's world frame or the point file's frame, in the map
   std::optional<Pose2> robot;    // the stretch's first laser pose in the map (logs)
+  Points2 points_in_map;         // the local map's points where they were found (kept for --plot)
 };
 
 void print(const Located& l) {
@@ -74,13 +77,47 @@ nlohmann::json located_json(const Located& l) {
   return j;
 }
 
-Located locate_one(const Localizer& localizer, const Submap& query, const Scans& scans, std::string label) {
+Located locate_one(const Localizer& localizer, const Submap& query, const Scans& scans, std::string label,
+                   bool keep_points) {
   Located l;
   l.label = std::move(label);
   l.result = localizer.locate(query.points);
+  if (keep_points) l.points_in_map = plot::transformed(query.points, l.result.T_map_query);
   l.T_map_source = l.result.T_map_query * query.T_world_map.inverse();
   if (!scans.empty()) l.robot = l.T_map_source * scans[static_cast<std::size_t>(query.anchor_scan)].T_world_laser;
   return l;
+}
+
+// --plot: the building map with the local map's points where they were found (green when confident, orange
+// when not), or, for --every, the located robot poses joined in travel order and coloured so.
+void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Located>& located) {
+  plot::Panel panel;
+  panel.map = &map;
+  char title[240];
+  if (located.size() == 1) {
+    const Located& l = located.front();
+    const Pose2& p = l.robot ? *l.robot : l.T_map_source;
+    const bool confident = l.result.confidence >= kConfident;
+    std::snprintf(title, sizeof title, "%s at x %.2f m, y %.2f m, %.1f deg; inliers %.0f %%; confidence %.2f (%s)",
+                  l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
+                  100 * l.result.inlier_fraction, l.result.confidence, confident ? "confident" : "low");
+    panel.layers.push_back({l.points_in_map, confident ? plot::kGood : plot::kDoubtful, 1.5});
+    panel.path = {p.translation()};  // the robot (or the points' frame) as a dot
+  } else {
+    std::size_t confident = 0;
+    for (const Located& l : located) {
+      const Pose2& p = l.robot ? *l.robot : l.T_map_source;
+      panel.path.push_back(p.translation());
+      const bool sure = l.result.confidence >= kConfident;
+      panel.path_colours.push_back(sure ? plot::kGood : plot::kDoubtful);
+      confident += sure;
+    }
+    std::snprintf(title, sizeof title, "%zu local maps located every %.1f m: %zu confident (green), %zu low (orange)",
+                  located.size(), o.every, confident, located.size() - confident);
+  }
+  panel.title = title;
+  plot::write_panels_png(o.plot, {panel});
+  std::printf("wrote %s\n", o.plot.c_str());
 }
 
 void run_locate(const LocateOptions& o) {
@@ -92,6 +129,7 @@ void run_locate(const LocateOptions& o) {
   validate(o.submap);
   validate(o.localizer);
   if (!o.json.empty()) io::check_writable(o.json);
+  if (!o.plot.empty()) io::check_writable(o.plot);
 
   auto t0 = Clock::now();
   const GridMap map = io::read_map_yaml(o.map);
@@ -116,13 +154,13 @@ void run_locate(const LocateOptions& o) {
       }
       char label[120];
       std::snprintf(label, sizeof label, "%.1f .. %.1f m", from, from + o.submap.window_length);
-      located.push_back(locate_one(localizer, query, scans, label));
+      located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
     }
     if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
   } else {
     std::string label;
     const Submap query = build_query(o.query, scans, o.submap, label);
-    located.push_back(locate_one(localizer, query, scans, label));
+    located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
   }
   std::vector<double> times;
   std::size_t confident = 0;
@@ -136,6 +174,7 @@ void run_locate(const LocateOptions& o) {
     std::printf("%zu local maps, %zu confident (>= %.1f); time per local map: median %.1f ms, max %.1f ms\n",
                 located.size(), confident, kConfident, times[times.size() / 2], times.back());
   }
+  if (!o.plot.empty() && !located.empty()) write_plot(o, map, located);
   if (!o.json.empty()) {
     nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident}};
     out["located"] = nlohmann::json::array();
@@ -157,6 +196,9 @@ void register_locate(CLI::App& app) {
   cmd->add_option("--candidates", o->localizer.candidates, "distinct poses examined per local map")
       ->capture_default_str();
   cmd->add_option("--json", o->json, "write every localisation (pose, confidence, time) as JSON");
+  cmd->add_option("--plot", o->plot,
+                  "draw the answer as a PNG: the local map's points on the building map where they were found "
+                  "(--every: the located trajectory), green when confident, orange when not");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   cmd->callback([o] { run_locate(*o); });
 }

@@ -27,6 +27,7 @@
 #include "apps/mpi_split.h"
 #include "apps/query_options.h"
 #include "io/descriptor_store.h"
+#include "core/matching/localizer.h"  // kConfidentLocalization: the confidence called confident
 #include "core/matching/ranking.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"
@@ -34,6 +35,7 @@
 #include "core/matching/method_spec.h"
 #include "io/atomic_file.h"
 #include "io/map_database.h"
+#include "plot/answer_image.h"
 
 namespace partslam::apps {
 namespace {
@@ -43,6 +45,7 @@ struct MatchOptions {
   std::int64_t query = -1;
   QueryOptions new_query;  ///< a new local map from a log or a point file, instead of a stored one
   std::string json;
+  std::string plot;
   std::string method = "dmm";
   int top = 10;
   std::string dictionary;
@@ -288,6 +291,38 @@ nlohmann::json ranking_json(const std::string& query, const MethodSpec& method, 
   return out;
 }
 
+// --plot: the best stored maps (up to three), each with the query's points where the match puts them (green on
+// the first when the match is confident, else orange); a method without poses draws the stored maps alone.
+void write_match_plot(const std::string& path, const Submap& query, const std::vector<Row>& rows,
+                      const std::vector<Candidate>& candidates, std::size_t shown,
+                      const std::optional<double>& confidence) {
+  std::vector<plot::Panel> panels;
+  for (std::size_t r = 0; r < std::min<std::size_t>(shown, 3); ++r) {
+    const Row& row = rows[r];
+    const Candidate& c = candidates[row.candidate];
+    plot::Panel panel;
+    panel.layers.push_back({c.map->points, plot::kMapGrey, 1.2});
+    char title[200];
+    int len = std::snprintf(title, sizeof title, "#%zu: map %lld (%s)", r + 1, static_cast<long long>(c.map->id),
+                            c.dataset.c_str());
+    if (row.dmm) {
+      const bool sure = r == 0 && confidence && *confidence >= kConfidentLocalization;
+      panel.layers.push_back({plot::transformed(query.points, row.dmm->T_map_query),
+                              sure ? plot::kGood : plot::kDoubtful, 1.5});
+      len += std::snprintf(title + len, sizeof title - static_cast<std::size_t>(len), ", %.0f %% inliers",
+                           100 * row.dmm->inlier_fraction);
+      if (r == 0 && confidence)
+        std::snprintf(title + len, sizeof title - static_cast<std::size_t>(len), ", confidence %.2f", *confidence);
+    } else {
+      std::snprintf(title + len, sizeof title - static_cast<std::size_t>(len), ", score %.3g (no pose)", row.score);
+    }
+    panel.title = title;
+    panels.push_back(std::move(panel));
+  }
+  plot::write_panels_png(path, panels, 500);
+  std::cout << "wrote " << path << "\n";
+}
+
 void run_match(const MatchOptions& o) {
   const MethodSpec method = parse_method_spec(o.method);
   if (o.top < 1) throw InputError("--top must be >= 1, got " + std::to_string(o.top));
@@ -307,6 +342,7 @@ void run_match(const MatchOptions& o) {
     throw InputError("a new local map: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
                      "(dmm, succinct, grid, sc, rerank:R)");
   if (!o.json.empty()) io::check_writable(o.json);
+  if (!o.plot.empty()) io::check_writable(o.plot);
   const WorkSplit& split = world_split();
   if (split.size() > 1 && !shardable(method))
     throw InputError("mpirun: method '" + o.method + "' cannot be sharded (it learns from all stored maps or "
@@ -420,6 +456,7 @@ void run_match(const MatchOptions& o) {
     print_row(r + 1, rows[r], candidates[rows[r].candidate], query, where.dataset_name, all, pose);
   if (confidence) std::printf("confidence %.3f (the best dMM inlier share minus the best one more than 4 m away)\n", *confidence);
   std::cout << "time: load " << static_cast<long>(load_ms) << " ms; " << timing << "\n";
+  if (!o.plot.empty()) write_match_plot(o.plot, query, rows, candidates, shown, confidence);
   if (!o.json.empty())
     io::write_atomically(o.json, [&](std::ostream& out) {
       out << json_text(ranking_json(query_label, method, rows, candidates, shown, confidence));
@@ -440,6 +477,8 @@ void register_match(CLI::App& app) {
          "--method", o->method, method_syntax_list())
       ->capture_default_str();
   cmd->add_option("--top", o->top, "rows of the ranking to print")->capture_default_str();
+  cmd->add_option("--plot", o->plot,
+                  "draw the best three stored maps as a PNG, each with the query's points at the found pose");
   cmd->add_option("--dict", o->dictionary,
                   "dictionary of the descriptors (default: the only one with descriptors)");
   cmd->add_flag("--all", o->all, "rank the maps of every submaps dataset, not only the query's");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "core/error.h"
 #include "plot/png_file.h"
@@ -67,22 +68,32 @@ cairo_surface_t* grid_image(const GridMap& m, int max_side, int& f) {
   return s;
 }
 
-void draw_panel(cairo_t* cr, const Panel& p, double left, int side) {
+// A panel's size in pixels: its longer side `side`, the other as the drawing's aspect asks (at least a quarter).
+std::pair<int, int> panel_size(const Panel& p, int side) {
   const Box b = bounds(p);
-  const double extent = std::max({b.x1 - b.x0, b.y1 - b.y0, 1e-3});
-  const double scale = (side - 2 * kMargin) / extent;
+  const double w = std::max(b.x1 - b.x0, 1e-3), h = std::max(b.y1 - b.y0, 1e-3);
+  const auto other = [side](double ratio) {
+    return std::max(side / 4, static_cast<int>(std::lround(2 * kMargin + (side - 2 * kMargin) * ratio)));
+  };
+  return w >= h ? std::pair{side, other(h / w)} : std::pair{other(w / h), side};
+}
+
+void draw_panel(cairo_t* cr, const Panel& p, double left, int width, int height) {
+  const Box b = bounds(p);
+  const double scale = std::min((width - 2 * kMargin) / std::max(b.x1 - b.x0, 1e-3),
+                                (height - 2 * kMargin) / std::max(b.y1 - b.y0, 1e-3));
   // The panel's frame to pixels: x right, y up, the box centred.
-  const double cx = left + side / 2.0, cy = kTitleHeight + side / 2.0;
+  const double cx = left + width / 2.0, cy = kTitleHeight + height / 2.0;
   const double mx = (b.x0 + b.x1) / 2, my = (b.y0 + b.y1) / 2;
   const auto px = [&](const Vec2& q) { return Vec2(cx + (q.x() - mx) * scale, cy - (q.y() - my) * scale); };
   cairo_save(cr);
-  cairo_rectangle(cr, left, kTitleHeight, side, side);
+  cairo_rectangle(cr, left, kTitleHeight, width, height);
   cairo_clip(cr);
   cairo_set_source_rgb(cr, 0.97, 0.97, 0.97);
   cairo_paint(cr);
   if (p.map) {
     int f = 1;
-    cairo_surface_t* image = grid_image(*p.map, 2 * side, f);
+    cairo_surface_t* image = grid_image(*p.map, 2 * std::max(width, height), f);
     const int h = cairo_image_surface_get_height(image);
     cairo_save(cr);
     cairo_translate(cr, cx - mx * scale, cy + my * scale);
@@ -126,11 +137,11 @@ void draw_panel(cairo_t* cr, const Panel& p, double left, int side) {
   const double metres = scale >= 20 ? 1 : scale >= 2 ? 10 : 100;
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_line_width(cr, 3);
-  cairo_move_to(cr, left + kMargin, kTitleHeight + side - kMargin);
-  cairo_line_to(cr, left + kMargin + metres * scale, kTitleHeight + side - kMargin);
+  cairo_move_to(cr, left + kMargin, kTitleHeight + height - kMargin);
+  cairo_line_to(cr, left + kMargin + metres * scale, kTitleHeight + height - kMargin);
   cairo_stroke(cr);
   cairo_set_font_size(cr, 12);
-  cairo_move_to(cr, left + kMargin, kTitleHeight + side - kMargin - 6);
+  cairo_move_to(cr, left + kMargin, kTitleHeight + height - kMargin - 6);
   cairo_show_text(cr, (std::to_string(static_cast<int>(metres)) + " m").c_str());
   cairo_restore(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
@@ -157,14 +168,22 @@ void write_panels_png(const std::filesystem::path& path, const std::vector<Panel
       throw InputError(path.string() + ": panel '" + p.title + "': one path colour per path point");
     if (bounds(p).empty()) throw InputError(path.string() + ": panel '" + p.title + "' has nothing to draw");
   }
-  const int n = static_cast<int>(panels.size());
-  cairo_surface_t* surface =
-      cairo_image_surface_create(CAIRO_FORMAT_RGB24, n * panel_side + (n - 1) * kGap, panel_side + kTitleHeight);
+  int width = -kGap, height = 0;
+  for (const Panel& p : panels) {
+    const auto [w, h] = panel_size(p, panel_side);
+    width += w + kGap, height = std::max(height, h);
+  }
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, std::max(width, 300), height + kTitleHeight);
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  for (int i = 0; i < n; ++i) draw_panel(cr, panels[static_cast<std::size_t>(i)], i * (panel_side + kGap), panel_side);
+  int left = 0;
+  for (const Panel& p : panels) {
+    const int w = panel_size(p, panel_side).first;
+    draw_panel(cr, p, left, w, height);
+    left += w + kGap;
+  }
   cairo_destroy(cr);
   write_png_atomically(path, surface);
 }

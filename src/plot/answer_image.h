@@ -36,7 +36,8 @@ struct Panel {
   std::vector<Rgb> path_colours;  ///< one per path point (the dot's colour); empty: kGood
 };
 
-/// Writes the panels side by side as a PNG, atomically, each panel_side pixels square (plus its title). Throws
+/// Writes the panels side by side as a PNG, atomically, each panel_side pixels on its longer side and as its
+/// drawing's aspect asks on the other (all as high as the highest), under its title. Throws
 /// InputError for no panel, an invalid map, path_colours of another length than path, a panel with nothing to
 /// draw, or a PNG that cannot be written.
 void write_panels_png(const std::filesystem::path& path, const std::vector<Panel>& panels, int panel_side = 800);
