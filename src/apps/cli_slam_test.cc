@@ -50,6 +50,35 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_THAT(located.output, HasSubstr("robot in the map"));
 }
 
+// A ROS 2 bag wherever a log is accepted: the shared MCAP (fr079, odometry poses) cut to its first fifth, so slam
+// runs in seconds and says the recording was cut short; export-map, locate and match read it too.
+TEST(CliSlam, Ros2BagsAreLogsLikeAnyOther) {
+  const io::testing::TempDir dir;
+  const fs::path mcap = io::testing::shared_data() / "bags" / "fr079.mcap";
+  ASSERT_TRUE(fs::exists(mcap)) << mcap;
+  const fs::path cut = dir / "fr079-cut.mcap";
+  {
+    std::ifstream in(mcap, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 5));
+  }
+  CliRun run = run_partslam("slam " + quoted(cut) + " --out " + quoted(dir / "out") + " --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("warning: "));
+  EXPECT_THAT(run.output, HasSubstr("fr079-cut.mcap: the recording is cut short"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "map.yaml"));
+  run = run_partslam("export-map " + quoted(mcap) + " --until 60 --out " + quoted(dir / "first.yaml"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_partslam("locate --map " + quoted(dir / "first.yaml") + " --query-log " + quoted(mcap) +
+                     " --from 20 --to 22");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("robot in the map"));
+  ASSERT_EQ(run_partslam("submaps " + quoted(cut) + " --db " + quoted(dir / "m.db") + " --quiet").exit_code, 0);
+  run = run_partslam("match " + quoted(dir / "m.db") + " --query-log " + quoted(mcap) + " --from 20 --to 22");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("fr079-cut"));  // the dataset, named after the file
+}
+
 TEST(CliSlam, RefusesAbsurdThreadCounts) {
   const io::testing::TempDir dir;
   const CliRun run = run_partslam("slam sim:2 --out " + quoted(dir / "x") + " --threads 0");
