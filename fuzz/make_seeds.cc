@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -21,8 +22,10 @@
 #include "io/carmen_log.h"
 #include "io/line_reader.h"
 #include "io/map_server.h"
+#include "io/mcap_file.h"
 #include "io/point_export.h"
 #include "io/ros_bag_messages.h"
+#include "io/sqlite.h"
 
 namespace fs = std::filesystem;
 using namespace partslam;
@@ -189,6 +192,55 @@ void bag_seeds(const Scans& scans) {
   if (have("bags/aces.clf2bag.bag")) put("fuzz_ros_bag", "aces-prefix.bag", slurp(shared / "bags/aces.clf2bag.bag", 24000));
 }
 
+// ROS 2: the start of the shared MCAP (its first lz4 chunk, cut), and a small .db3 of its first messages.
+void ros2_seeds() {
+  if (!have("bags/fr079.mcap")) return;
+  put("fuzz_ros2_mcap", "fr079-prefix.mcap", slurp(shared / "bags/fr079.mcap", 40000));
+  struct Raw {
+    std::string topic, type;
+    std::uint64_t time;
+    std::string data;
+  };
+  std::vector<Raw> raw;
+  io::mcap::read_messages(
+      shared / "bags/fr079.mcap",
+      [&](const io::mcap::Channel& c, std::uint64_t t, std::span<const std::uint8_t> d) {
+        if (raw.size() < 12) raw.push_back({c.topic, c.schema_name, t, std::string(d.begin(), d.end())});
+      },
+      false);
+  const fs::path tmp = out_root / "tmp.db3";
+  fs::remove(tmp);
+  {
+    const io::sqlite::Connection db = io::sqlite::Connection::open(tmp, io::sqlite::Connection::Access::kCreate);
+    db.exec(
+        "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, serialization_format "
+        "TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL); CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id "
+        "INTEGER NOT NULL, timestamp INTEGER NOT NULL, data BLOB NOT NULL);");
+    std::vector<std::string> topics;
+    for (const Raw& m : raw) {
+      auto at = std::find(topics.begin(), topics.end(), m.topic);
+      if (at == topics.end()) {
+        topics.push_back(m.topic);
+        io::sqlite::Statement(db, "INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')")
+            .bind_int(1, static_cast<std::int64_t>(topics.size()))
+            .bind_text(2, m.topic)
+            .bind_text(3, m.type)
+            .run();
+        at = topics.end() - 1;
+      }
+      io::sqlite::Statement(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)")
+          .bind_int(1, at - topics.begin() + 1)
+          .bind_int(2, static_cast<std::int64_t>(m.time))
+          .bind_blob(3, std::span(reinterpret_cast<const std::uint8_t*>(m.data.data()), m.data.size()))
+          .run();
+    }
+  }
+  const std::string db3 = slurp(tmp);
+  put("fuzz_ros2_db3", "fr079-first.db3", db3);
+  put("fuzz_ros2_db3", "fr079-first-cut.db3", db3.substr(0, db3.size() * 2 / 3));
+  fs::remove(tmp);
+}
+
 void map_server_seeds(const Scans& scans) {
   GridMap map;
   if (!scans.empty()) {
@@ -257,6 +309,7 @@ int main(int argc, char** argv) {
     text_seeds();
     database_seeds(scans);
     bag_seeds(scans);
+    ros2_seeds();
     map_server_seeds(scans);
     point_seeds(scans);
   } catch (const std::exception& e) {

@@ -238,7 +238,7 @@ class Reader {
     std::size_t produced = 0;
     if (compression.empty()) {
       produced = std::min(size, data.size());
-      std::memcpy(out.data(), data.data(), produced);
+      if (produced > 0) std::memcpy(out.data(), data.data(), produced);
     } else if (compression == "zstd") {
       const std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
       ZSTD_inBuffer in{data.data(), data.size(), 0};
@@ -272,7 +272,7 @@ class Reader {
     std::vector<std::uint8_t> out(size);
     if (compression.empty()) {
       if (data.size() != size) throw Malformed("its uncompressed records are not the size it states");
-      std::memcpy(out.data(), data.data(), size);
+      if (size > 0) std::memcpy(out.data(), data.data(), size);
     } else if (compression == "zstd") {
       const std::size_t n = ZSTD_decompress(out.data(), out.size(), data.data(), data.size());
       if (ZSTD_isError(n)) throw Malformed(std::string("zstd: ") + ZSTD_getErrorName(n));
