@@ -29,7 +29,9 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
   std::string name = std::filesystem::path(spec).filename().string();
   if (is_ros_bag(spec)) {
     out.name = std::filesystem::path(spec).stem().string();
-    out.scans = read_ros_bag(spec, options).scans;
+    RosBagLog log = read_ros_bag(spec, options);
+    out.scans = std::move(log.scans);
+    out.warnings = std::move(log.warnings);
     return out;
   }
   for (const char* ext : {".gz", ".log", ".clf"}) {
@@ -38,8 +40,14 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
       name.resize(name.size() - e.size());
   }
   out.name = name;
-  out.scans = read_carmen_log(spec, options).scans;
-  if (out.scans.empty()) throw InputError(spec + ": the log holds no laser scans");
+  CarmenLog log = read_carmen_log(spec, options);
+  out.scans = std::move(log.scans);
+  out.warnings = std::move(log.warnings);
+  if (out.scans.empty()) {
+    std::string why;
+    for (const std::string& w : out.warnings) why += "; " + w;
+    throw InputError(spec + ": the log holds no laser scans" + why);
+  }
   return out;
 }
 

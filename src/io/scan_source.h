@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/maps/scan.h"
 #include "io/carmen_log.h"
@@ -14,6 +15,8 @@ struct ScanSource {
   std::string name;    ///< dataset name: the log's file name without .gz/.log/.clf, or "sim-SEED"
   std::string source;  ///< the spec it was loaded from
   Scans scans;
+  /// The reader's warnings (a recording cut short, damage skipped), "<file>: ..." each; the apps print them.
+  std::vector<std::string> warnings;
 };
 
 /// True for "sim" and "sim:SEED".
