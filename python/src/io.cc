@@ -53,6 +53,10 @@ void define_logs(py::module_& m) {
       .def_readwrite("no_return_range", &io::LogReadOptions::no_return_range, "[m]")
       .def_readwrite("flaser_spacing", &io::LogReadOptions::flaser_spacing)
       .def_readwrite("max_points", &io::LogReadOptions::max_points, "a log with more valid beams is refused")
+      .def_readwrite("skip_damaged", &io::LogReadOptions::skip_damaged,
+                     "skip (and count) damaged records in the middle of a log instead of raising InputError")
+      .def_readwrite("max_scan_jump", &io::LogReadOptions::max_scan_jump,
+                     "largest distance between consecutive scans' poses [m]")
       .def("validate", py::overload_cast<const io::LogReadOptions&>(&io::validate),
            "Raises InputError naming the field that is out of range.");
   def_keyword_init(options);
@@ -72,11 +76,15 @@ void define_logs(py::module_& m) {
       .def_readonly("blank", &io::CarmenLogStats::blank)
       .def_readonly("beams", &io::CarmenLogStats::beams)
       .def_readonly("valid_beams", &io::CarmenLogStats::valid_beams)
-      .def_readonly("skipped", &io::CarmenLogStats::skipped, "skipped messages by name");
+      .def_readonly("skipped", &io::CarmenLogStats::skipped, "skipped messages by name")
+      .def_readonly("damaged", &io::CarmenLogStats::damaged, "damaged lines skipped (skip_damaged)")
+      .def_readonly("pose_jumps", &io::CarmenLogStats::pose_jumps, "scans skipped for a pose jump (skip_damaged)")
+      .def_readonly("cut_short", &io::CarmenLogStats::cut_short, "the file ended mid-record");
   py::class_<io::CarmenLog>(m, "CarmenLog", "A whole CARMEN log")
       .def_readonly("scans", &io::CarmenLog::scans)
       .def_readonly("odometry", &io::CarmenLog::odometry)
-      .def_readonly("stats", &io::CarmenLog::stats);
+      .def_readonly("stats", &io::CarmenLog::stats)
+      .def_readonly("warnings", &io::CarmenLog::warnings, "a cut-off end, damage skipped");
   m.def("read_carmen_log", &io::read_carmen_log, "path"_a, "options"_a = io::LogReadOptions{}, release_gil(),
         "Reads a whole CARMEN log (plain or gzip); InputError names the file, line and field of anything "
         "malformed.");
@@ -86,7 +94,8 @@ void define_logs(py::module_& m) {
   py::class_<io::ScanSource>(m, "ScanSource", "Scans of a log or of the simulator, with the dataset's name")
       .def_readonly("name", &io::ScanSource::name, "the log's file name without .gz/.log/.clf, or 'sim-SEED'")
       .def_readonly("source", &io::ScanSource::source, "the spec it was loaded from")
-      .def_readonly("scans", &io::ScanSource::scans);
+      .def_readonly("scans", &io::ScanSource::scans)
+      .def_readonly("warnings", &io::ScanSource::warnings, "the reader's warnings: a cut-off end, damage skipped");
   m.def("is_simulator_spec", &io::is_simulator_spec, "spec"_a, "True for 'sim' and 'sim:SEED'.");
   m.def("load_scan_source", &io::load_scan_source, "spec"_a, "options"_a = io::LogReadOptions{},
         release_gil(),

@@ -49,6 +49,23 @@ def test_malformed_and_missing_logs_raise_value_error_naming_file_and_line(tmp_p
         partslam.read_carmen_log(bad, partslam.LogReadOptions(max_usable_range=-1.0))
 
 
+def test_cut_and_damaged_logs_warn_or_skip_with_skip_damaged(tmp_path):
+    lines = [f"FLASER 4 1 2 3 4 {0.1 * i} 0 0 {0.1 * i} 0 0 {i} host {i}\n" for i in range(10)]
+    cut = tmp_path / "cut.log"
+    cut.write_text("".join(lines)[:-20])
+    log = partslam.read_carmen_log(cut)
+    assert len(log.scans) == 9 and log.stats.cut_short
+    assert len(log.warnings) == 1 and "cut.log: the file ends mid-record after byte" in log.warnings[0]
+    assert partslam.load_scan_source(str(cut)).warnings == log.warnings
+    damaged = tmp_path / "damaged.log"
+    damaged.write_text("".join(lines[:4]) + "FLASER 4 1 x\n" + "".join(lines[4:]))
+    with pytest.raises(ValueError, match=r"damaged.log:5: FLASER"):
+        partslam.read_carmen_log(damaged)
+    log = partslam.read_carmen_log(damaged, partslam.LogReadOptions(skip_damaged=True))
+    assert len(log.scans) == 10 and log.stats.damaged == 1
+    assert "skipped 1 damaged line(s)" in log.warnings[0]
+
+
 def test_simulator_source_is_seeded():
     assert partslam.is_simulator_spec("sim:7") and not partslam.is_simulator_spec("simulator.log")
     a, b, c = (partslam.load_scan_source(s) for s in ("sim", "sim:1", "sim:2"))

@@ -13,12 +13,14 @@
 #include "io/map_database.h"
 #include "io/map_server.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 
 namespace partslam::apps {
 namespace {
 
 struct DictionaryOptions {
   std::string log;
+  io::LogReadOptions read;
   std::string db;
   std::string name;
   DictionaryConfig config;
@@ -33,7 +35,7 @@ void run_dictionary(const DictionaryOptions& o) {
     d = build_dictionary(o.name.empty() ? path.stem().string() : o.name, occupied_points(io::read_map_yaml(path)),
                          o.config);
   } else {
-    const io::ScanSource source = io::load_scan_source(o.log);
+    const io::ScanSource source = load_scans(o.log, o.read);
     d = build_dictionary(o.name.empty() ? source.name : o.name, source.scans, o.config);
   }
   d.source = o.log;
@@ -58,6 +60,7 @@ void register_dictionary(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("dictionary", "Build a whole-building dictionary map and store it");
   cmd->add_option("log", o->log, "corrected CARMEN log (plain or .gz), ROS bag, sim[:SEED], or a map_server map.yaml")
       ->required();
+  add_log_read_options(*cmd, o->read);
   cmd->add_option("--db", o->db, "map database file (created when missing)")->required();
   cmd->add_option("--name", o->name, "dictionary name (default: the log's file name)");
   cmd->add_option("--resolution", o->config.resolution, "downsampling cell [m]")->capture_default_str();

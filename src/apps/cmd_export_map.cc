@@ -17,6 +17,7 @@
 #include "io/atomic_file.h"
 #include "io/map_server.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 #include "plot/grid_map_image.h"
 
 namespace partslam::apps {
@@ -24,6 +25,7 @@ namespace {
 
 struct ExportMapOptions {
   std::string log;
+  io::LogReadOptions read;
   std::string out;
   GridMapConfig grid;
   double until = -1;
@@ -42,7 +44,7 @@ void run_export_map(const ExportMapOptions& o) {
   preview.replace_extension(".png");
   io::check_writable(preview);
   const auto t0 = Clock::now();
-  Scans scans = io::load_scan_source(o.log).scans;
+  Scans scans = load_scans(o.log, o.read).scans;
   if (o.scan_match) scans = scan_match_log(scans).scans;
   if (o.until >= 0) {
     const std::vector<double> s = travel_distances(scans);
@@ -75,6 +77,7 @@ void register_export_map(CLI::App& app) {
   cmd->add_option("--max-range", o->grid.max_range, "beams longer than this are not used [m]")->capture_default_str();
   cmd->add_option("--until", o->until, "use only the scans before this travel along the log [m]");
   cmd->add_flag("--scan-match", o->scan_match, "poses from scan matching (raw logs)");
+  add_log_read_options(*cmd, o->read);
   cmd->callback([o] { run_export_map(*o); });
 }
 

@@ -27,6 +27,7 @@
 #include "io/ground_truth.h"
 #include "io/map_database.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 #include "plot/line_plot.h"
 
 namespace partslam::apps {
@@ -34,6 +35,7 @@ namespace {
 
 struct LoopsOptions {
   std::string db;
+  io::LogReadOptions read;  ///< reading the dataset's log (--truth)
   std::string dataset;
   LoopClosureConfig config;
   LoopTruthConfig truth_config;
@@ -74,7 +76,7 @@ std::vector<std::optional<Pose2>> true_frames(const io::DatasetInfo& d, const Su
     for (const Submap& m : maps) frames.emplace_back(m.T_world_map);
     return frames;
   }
-  Scans scans = io::load_scan_source(d.spec.source).scans;
+  Scans scans = load_scans(d.spec.source, o.read).scans;
   if (d.spec.scan_matched) scans = scan_match_log(scans, d.spec.front_end).scans;
   const Submaps rebuilt = build_submaps(scans, d.spec.config);
   bool same = rebuilt.size() == maps.size();
@@ -201,6 +203,7 @@ void register_loops(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("loops", "Find loop closures among the submaps of a dataset (shortlist, dMM verification)");
   cmd->add_option("db", o->db, "map database")->required();
   cmd->add_option("--dataset", o->dataset, "dataset of submaps (default: the only one)");
+  add_log_read_options(*cmd, o->read);
   cmd->add_option("--method", o->config.method, "shortlist and verification: rerank:R[:SPEC] or dmm")->capture_default_str();
   cmd->add_option("--gap", o->config.min_travel_gap, "G: min travel between a submap and its matches [m]")
       ->capture_default_str();

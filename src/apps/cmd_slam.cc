@@ -23,6 +23,7 @@
 #include "io/carmen_log.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 #include "core/maps/grid_map.h"
 #include "io/map_server.h"
 #include "plot/grid_map_image.h"
@@ -32,6 +33,7 @@ namespace {
 
 struct SlamOptions {
   std::string log;
+  io::LogReadOptions read;
   std::string out;
   std::string relations;
   SlamConfig config;
@@ -108,7 +110,7 @@ void run_slam_command(const SlamOptions& o) {
        {"corrected.log", "map.png", "map.yaml", "map.pgm", "loops.json", "slam.json", "relations_error.json"})
     io::check_writable(dir / name);
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
-  const io::ScanSource source = io::load_scan_source(o.log);
+  const io::ScanSource source = load_scans(o.log, o.read);
 
   SlamResult r;
   {
@@ -182,6 +184,7 @@ void register_slam(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("slam", "Raw log -> front end, loop closures, pose graph -> corrected log and map");
   cmd->add_option("log", o->log, "raw log: CARMEN (odometry in the pose fields) or ROS 1 bag (.bag), or sim[:SEED]")
       ->required();
+  add_log_read_options(*cmd, o->read);
   cmd->add_option("--out", o->out, "output folder (created when missing)")->required();
   cmd->add_option("--relations", o->relations, "Freiburg .relations file: report the relation errors");
   cmd->add_option("--min-confidence", o->config.min_confidence, "loop closures at least this confident join the graph")

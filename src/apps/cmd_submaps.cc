@@ -18,6 +18,7 @@
 #include "io/map_database.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 #include "apps/progress_bar.h"
 #include "apps/json_text.h"
 #include "io/atomic_file.h"
@@ -28,6 +29,7 @@ namespace {
 
 struct SubmapsOptions {
   std::string log;
+  io::LogReadOptions read;  ///< LOG and --raw
   std::string db;
   std::string name;
   SubmapConfig config;
@@ -77,11 +79,11 @@ void run_submaps(SubmapsOptions o) {
   validate(o.front_end);
   if (!o.json.empty()) io::check_writable(o.json);
   nlohmann::json report;
-  io::ScanSource source = io::load_scan_source(o.log);
+  io::ScanSource source = load_scans(o.log, o.read);
   const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();
   // Everything else that is read, before anything is stored.
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
-  const Scans raw = o.raw.empty() ? Scans{} : io::load_scan_source(o.raw).scans;
+  const Scans raw = o.raw.empty() ? Scans{} : load_scans(o.raw, o.read).scans;
   if (o.scan_match) scan_match(source, o, report);
   const auto t1 = Clock::now();
   const Submaps submaps = build_submaps(source.scans, o.config);
@@ -138,7 +140,9 @@ void run_submaps(SubmapsOptions o) {
 void register_submaps(CLI::App& app) {
   auto o = std::make_shared<SubmapsOptions>();
   CLI::App* cmd = app.add_subcommand("submaps", "Build submaps from a laser log and store them in a map database");
-  cmd->add_option("log", o->log, "CARMEN log (plain or .gz), or sim[:SEED] for the built-in simulator")->required();
+  cmd->add_option("log", o->log, "CARMEN log (plain or .gz), ROS 1 bag, or sim[:SEED] for the built-in simulator")
+      ->required();
+  add_log_read_options(*cmd, o->read);
   cmd->add_option("--db", o->db, "map database file (created when missing)")->required();
   cmd->add_option("--name", o->name, "dataset name (default: the log's file name)");
   cmd->add_option("--window", o->config.window_length, "travel covered by one submap [m]")->capture_default_str();

@@ -14,6 +14,7 @@
 #include "core/maps/submap.h"
 #include "io/ground_truth.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 #include "apps/mpi_split.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
@@ -26,6 +27,7 @@ namespace partslam::apps {
 void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--input", o.input, "input CARMEN log (corrected), or sim[:SEED]")->required();
   cmd.add_option("--dict", o.dictionary, "dictionary CARMEN log (another building), or sim[:SEED]")->required();
+  add_log_read_options(cmd, o.read);
   cmd.add_option("--methods", o.methods, "comma-separated: " + method_syntax_list())
       ->capture_default_str();
   cmd.add_option("--db-size", o.config.tasks.db_size, "N: maps per task database")->capture_default_str();
@@ -63,8 +65,8 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
   validate(o.config);
-  const io::ScanSource input = io::load_scan_source(o.input);
-  const io::ScanSource dict = io::load_scan_source(o.dictionary);
+  const io::ScanSource input = load_scans(o.input, o.read);
+  const io::ScanSource dict = load_scans(o.dictionary, o.read);
   run.input_name = input.name;
   run.dictionary_name = dict.name;
   SubmapConfig submap_config;

@@ -10,12 +10,14 @@
 
 #include "core/evaluation/evaluation.h"
 #include "core/maps/scan.h"
+#include "io/carmen_log.h"
 
 namespace partslam::apps {
 
 struct EvalOptions {
   std::string input;       ///< CARMEN log or sim[:SEED]
   std::string dictionary;  ///< CARMEN log or sim[:SEED] (another building)
+  io::LogReadOptions read;  ///< reading both (--skip-damaged)
   std::string methods = "dmm,succinct,grid:11,sc:128,imm:3,hmm:3,rerank:20";
   EvalConfig config;
   double max_range = kDefaultMaxRange;  ///< usable range of the input's submaps and the dictionary [m]

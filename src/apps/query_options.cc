@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "io/point_export.h"
 #include "io/scan_source.h"
+#include "apps/scan_input.h"
 
 namespace partslam::apps {
 
@@ -17,6 +18,7 @@ void add_query_options(CLI::App& cmd, QueryOptions& q) {
   cmd.add_option("--to", q.to, "--query-log: travel along the log where the local map ends [m]");
   cmd.add_option("--at", q.at, "--query-log: the local map starts at the first scan at or after this log time [s]");
   cmd.add_flag("--scan-match", q.scan_match, "--query-log: poses from scan matching (raw logs)");
+  add_log_read_options(cmd, q.read);
 }
 
 void check_query_options(const QueryOptions& q, bool with_every) {
@@ -31,7 +33,7 @@ void check_query_options(const QueryOptions& q, bool with_every) {
 }
 
 Scans load_query_scans(const QueryOptions& q, const FrontEndConfig& front_end) {
-  Scans scans = io::load_scan_source(q.log).scans;
+  Scans scans = load_scans(q.log, q.read).scans;
   if (q.scan_match) scans = scan_match_log(scans, front_end).scans;
   return scans;
 }

@@ -9,6 +9,7 @@
 
 #include "core/maps/submap.h"
 #include "core/slam/front_end.h"
+#include "io/carmen_log.h"
 
 namespace partslam::apps {
 
@@ -17,11 +18,12 @@ struct QueryOptions {
   std::string points;  ///< --query-points
   double from = -1, to = -1, at = -1;
   bool scan_match = false;
+  io::LogReadOptions read;  ///< reading --query-log (--skip-damaged)
 
   bool given() const { return !log.empty() || !points.empty(); }
 };
 
-/// --query-log, --query-points, --from, --to, --at, --scan-match on `cmd`.
+/// --query-log, --query-points, --from, --to, --at, --scan-match, --skip-damaged on `cmd`.
 void add_query_options(CLI::App& cmd, QueryOptions& query);
 
 /// Checks the combination before any work: exactly one source, and a stretch for a log (with_every: --every

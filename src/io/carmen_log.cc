@@ -93,6 +93,9 @@ void validate(const LogReadOptions& options) {
     throw InputError("LogReadOptions.no_return_range: must exceed min_range, got " +
                      std::to_string(options.no_return_range));
   }
+  if (!(options.max_scan_jump > 0.0)) {
+    throw InputError("LogReadOptions.max_scan_jump: must be positive, got " + std::to_string(options.max_scan_jump));
+  }
   switch (options.flaser_spacing) {
     case FlaserSpacing::kCarmen:
     case FlaserSpacing::kPiOverN:
@@ -119,7 +122,7 @@ double flaser_angle_increment(int num_beams, FlaserSpacing spacing) {
 CarmenReader::CarmenReader(const std::filesystem::path& path, const LogReadOptions& options)
     : options_(options) {
   validate(options_);
-  lines_ = std::make_unique<LineReader>(path);
+  lines_ = std::make_unique<LineReader>(path, LineReader::Tolerance::kCutAndBinary);
 }
 
 CarmenReader::~CarmenReader() = default;
@@ -127,9 +130,17 @@ CarmenReader::~CarmenReader() = default;
 std::size_t CarmenReader::line() const { return lines_->line_number(); }
 
 std::optional<Scan> CarmenReader::next() {
+  if (finished_) return std::nullopt;
   std::string_view line;
   while (lines_->next(line)) {
     ++stats_.lines;
+    if (lines_->binary_column() != 0) {
+      char what[64];
+      std::snprintf(what, sizeof what, "binary data (byte 0x%02x at column %zu)", lines_->binary_byte(),
+                    lines_->binary_column());
+      if (damaged(lines_->name() + ":" + std::to_string(lines_->line_number()) + ": " + what, false)) continue;
+      break;
+    }
     const std::size_t start = line.find_first_not_of(" \t");
     if (start == std::string_view::npos) {
       ++stats_.blank;
@@ -141,39 +152,111 @@ std::optional<Scan> CarmenReader::next() {
     }
     const std::size_t stop = line.find_first_of(" \t", start);
     const std::string_view name = line.substr(start, stop == std::string_view::npos ? stop : stop - start);
-    if (name == kFlaser) {
-      split_fields(line, tokens_);
-      Scan scan = parse_flaser();
-      ++stats_.flaser;
-      return scan;
+    const bool known = name == kFlaser || name == kRobotLaser || name == kOdom;
+    // The last line of a gzip stream cut short, or a last line without its '\n' that is no scan or odometry
+    // ("FLAS", "NEFF 1"): the end of a recording cut short, whatever it parses to.
+    if (lines_->unterminated() && (lines_->cut_short() || !known)) {
+      damaged("", true);  // the cut: reading stops
+      break;
     }
-    if (name == kRobotLaser) {
-      split_fields(line, tokens_);
-      Scan scan = parse_robotlaser();
-      ++stats_.robotlaser;
-      return scan;
+    std::optional<Scan> scan;
+    try {
+      if (name == kFlaser) {
+        split_fields(line, tokens_);
+        scan = parse_flaser();
+      } else if (name == kRobotLaser) {
+        split_fields(line, tokens_);
+        scan = parse_robotlaser();
+      } else if (name == kOdom) {
+        split_fields(line, tokens_);
+        parse_odom();
+        ++stats_.odom;
+        continue;
+      } else if (!is_message_name(name)) {
+        lines_->fail("not a CARMEN message: line starts with '" + std::string(name.substr(0, 40)) + "'");
+      }
+    } catch (const InputError& e) {
+      if (damaged(e.what(), known)) continue;
+      break;
     }
-    if (name == kOdom) {
-      split_fields(line, tokens_);
-      parse_odom();
-      ++stats_.odom;
+    if (!scan) {
+      const auto it = stats_.skipped.find(name);
+      if (it != stats_.skipped.end()) {
+        ++it->second;
+      } else {
+        stats_.skipped.emplace(std::string(name), 1);
+      }
       continue;
     }
-    if (!is_message_name(name)) {
-      lines_->fail("not a CARMEN message: line starts with '" + std::string(name.substr(0, 40)) + "'");
+    if (jumps(*scan)) continue;
+    stats_.beams += static_cast<std::size_t>(scan->num_beams);
+    stats_.valid_beams += scan->points_laser.size();
+    if (stats_.valid_beams > options_.max_points) {
+      lines_->fail("the log holds more than " + std::to_string(options_.max_points) +
+                   " valid beams (LogReadOptions.max_points); split it or raise the limit");
     }
-    const auto it = stats_.skipped.find(name);
-    if (it != stats_.skipped.end()) {
-      ++it->second;
-    } else {
-      stats_.skipped.emplace(std::string(name), 1);
-    }
+    ++(name == kFlaser ? stats_.flaser : stats_.robotlaser);
+    previous_pose_ = scan->T_world_laser;
+    previous_line_ = lines_->line_number();
+    return scan;
   }
+  finish();
+  return std::nullopt;
+}
+
+bool CarmenReader::damaged(const std::string& what, bool known_message) {
+  // The last line, without its '\n', is the end of a recording cut short when it does not parse (a line that
+  // parses without its '\n' is whole: the file simply lacks the final newline).
+  if (lines_->unterminated() && (known_message || lines_->cut_short() || lines_->binary_column() != 0)) {
+    stats_.cut_short = true;
+    cut_line_ = lines_->line_number();
+    cut_offset_ = lines_->line_offset();
+    return false;
+  }
+  if (!options_.skip_damaged) throw InputError(what);
+  if (stats_.damaged++ == 0) first_damage_ = what;
+  return true;
+}
+
+bool CarmenReader::jumps(const Scan& scan) {
+  if (!previous_pose_) return false;
+  const double d = std::hypot(scan.T_world_laser.x - previous_pose_->x, scan.T_world_laser.y - previous_pose_->y);
+  if (!(d > options_.max_scan_jump)) return false;
+  char numbers[200];
+  std::snprintf(numbers, sizeof numbers,
+                "the scan's pose (x %g, y %g) lies %.1f m from the previous scan's (line %zu), beyond "
+                "LogReadOptions.max_scan_jump %g m: a damaged pose",
+                scan.T_world_laser.x, scan.T_world_laser.y, d, previous_line_, options_.max_scan_jump);
+  const std::string text = lines_->name() + ":" + std::to_string(lines_->line_number()) + ": " + numbers;
+  if (!options_.skip_damaged) throw InputError(text + " (--skip-damaged skips such scans)");
+  if (stats_.pose_jumps++ == 0) first_jump_ = text;
+  return true;
+}
+
+void CarmenReader::finish() {
+  finished_ = true;
+  if (lines_->cut_short()) stats_.cut_short = true;
+  const std::string& name = lines_->name();
+  if (cut_line_ == 0) cut_offset_ = lines_->text_bytes();
+  const std::string where = " after byte " + std::to_string(cut_offset_) + " (line " +
+                            std::to_string(cut_line_ != 0 ? cut_line_ : lines_->line_number()) + ")";
+  const std::string ends = std::string(lines_->cut_short() ? "the gzip data is cut short: its text ends"
+                                                           : "the file ends") +
+                           (cut_line_ != 0 ? " mid-record" : "") + where;
   if (stats_.flaser + stats_.robotlaser + stats_.odom == 0) {
-    throw InputError(lines_->name() + ": not a CARMEN log (no FLASER, ROBOTLASER1 or ODOM message in " +
+    if (stats_.cut_short) throw InputError(name + ": " + ends + ", before any whole FLASER, ROBOTLASER1 or ODOM message");
+    throw InputError(name + ": not a CARMEN log (no FLASER, ROBOTLASER1 or ODOM message in " +
                      std::to_string(stats_.lines) + " lines)");
   }
-  return std::nullopt;
+  if (stats_.cut_short)
+    warnings_.push_back(name + ": " + ends + "; read the " + std::to_string(stats_.flaser + stats_.robotlaser) +
+                        " scans before it");
+  if (stats_.damaged > 0)
+    warnings_.push_back(name + ": skipped " + std::to_string(stats_.damaged) +
+                        " damaged line(s) (--skip-damaged); the first: " + first_damage_);
+  if (stats_.pose_jumps > 0)
+    warnings_.push_back(name + ": skipped " + std::to_string(stats_.pose_jumps) +
+                        " scan(s) whose pose jumps (--skip-damaged); the first: " + first_jump_);
 }
 
 void CarmenReader::add_points(Scan& scan, std::size_t first, int n, double start, double increment,
@@ -195,12 +278,6 @@ void CarmenReader::add_points(Scan& scan, std::size_t first, int n, double start
         parse_number(*lines_, tokens_[first + static_cast<std::size_t>(i)], {message, "range", i});
     if (r > options_.min_range && r < limit)
       scan.points_laser.push_back(r * directions_[static_cast<std::size_t>(i)]);
-  }
-  stats_.beams += static_cast<std::size_t>(n);
-  stats_.valid_beams += scan.points_laser.size();
-  if (stats_.valid_beams > options_.max_points) {
-    lines_->fail("the log holds more than " + std::to_string(options_.max_points) +
-                 " valid beams (LogReadOptions.max_points); split it or raise the limit");
   }
 }
 
@@ -306,6 +383,7 @@ CarmenLog read_carmen_log(const std::filesystem::path& path, const LogReadOption
   while (std::optional<Scan> scan = reader.next()) log.scans.push_back(std::move(*scan));
   log.odometry = reader.take_odometry();
   log.stats = reader.stats();
+  log.warnings = reader.warnings();
   return log;
 }
 

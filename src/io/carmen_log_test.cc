@@ -177,6 +177,16 @@ TEST_P(MalformedLine, ThrowsNamingFileLineAndField) {
   write_text(path, "ODOM 0 0 0 0 0 0 1.0 host 1.0\n" + bad.line + "\nODOM 0 0 0 0 0 0 2.0 host 2.0\n", gz);
   EXPECT_THAT([&] { read_carmen_log(path); },
               ::testing::ThrowsMessage<InputError>(HasSubstr("bad.clf.gz:2: " + std::string(bad.expected))));
+  // skip_damaged: the line is skipped and counted, the warning names it.
+  LogReadOptions skip;
+  skip.skip_damaged = true;
+  const CarmenLog log = read_carmen_log(path, skip);
+  EXPECT_EQ(log.scans.size(), 0u);
+  EXPECT_EQ(log.odometry.size(), 2u);
+  EXPECT_EQ(log.stats.damaged, 1u);
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("bad.clf.gz: skipped 1 damaged line(s) (--skip-damaged); the first: "));
+  EXPECT_THAT(log.warnings[0], HasSubstr("bad.clf.gz:2: " + std::string(bad.expected)));
 }
 
 const std::string kRanges4 = "FLASER 4 1 2 3 4 ";
@@ -283,31 +293,34 @@ std::string random_log(int n) {
   return out.str();
 }
 
-TEST(CarmenLog, TruncatedAndCorruptGzipThrowAfterTheGoodScans) {
+TEST(CarmenLog, TruncatedGzipReadsTheGoodScansWithAWarningCorruptGzipThrows) {
   TempDir dir;
   const auto path = dir / "cut.clf.gz";
   write_text(path, random_log(200), true);
   const std::string full = testing::read_bytes(path);
   EXPECT_EQ(read_carmen_log(path).scans.size(), 200u);
+  EXPECT_TRUE(read_carmen_log(path).warnings.empty());
   testing::write_bytes(path, std::string_view(full).substr(0, full.size() * 6 / 10));
-  CarmenReader reader(path);
-  std::size_t scans = 0;
-  EXPECT_THAT(
-      [&] {
-        while (reader.next()) ++scans;
-      },
-      ::testing::ThrowsMessage<InputError>(HasSubstr("truncated gzip data")));
-  EXPECT_GT(scans, 50u);
-  EXPECT_LT(scans, 200u);
+  const CarmenLog cut = read_carmen_log(path);
+  EXPECT_GT(cut.scans.size(), 50u);
+  EXPECT_LT(cut.scans.size(), 200u);
+  EXPECT_TRUE(cut.stats.cut_short);
+  ASSERT_EQ(cut.warnings.size(), 1u);
+  EXPECT_THAT(cut.warnings[0], HasSubstr("cut.clf.gz: the gzip data is cut short: its text ends mid-record after byte "));
+  EXPECT_THAT(cut.warnings[0], HasSubstr("read the " + std::to_string(cut.scans.size()) + " scans before it"));
 
   testing::write_bytes(path, std::string_view(full).substr(0, 2));  // magic bytes only
   EXPECT_THAT([&] { read_carmen_log(path); },
-              ::testing::ThrowsMessage<InputError>(HasSubstr("cut.clf.gz:1: truncated")));
+              ::testing::ThrowsMessage<InputError>(HasSubstr("cut.clf.gz: the gzip data is cut short: its text ends "
+                                                             "after byte 0 (line 0), before any whole FLASER")));
 
   std::string corrupt = full;
   for (std::size_t i = 20; i < 60; ++i) corrupt[i] = static_cast<char>(i * 37);
   testing::write_bytes(path, corrupt);
   EXPECT_THAT([&] { read_carmen_log(path); }, ::testing::ThrowsMessage<InputError>(HasSubstr("gzip data")));
+  LogReadOptions skip;
+  skip.skip_damaged = true;  // corrupt deflate data cannot be read past
+  EXPECT_THAT([&] { read_carmen_log(path, skip); }, ::testing::ThrowsMessage<InputError>(HasSubstr("gzip data")));
 }
 
 TEST(CarmenLog, DetectsGzipByContentNotNameAndAcceptsCrlf) {
@@ -395,6 +408,184 @@ TEST(CarmenLog, WrittenLogsReadBackToTheSamePointsAndPoses) {
   Scans bad(1);
   EXPECT_THROW(write_carmen_log(dir / "bad.log", bad), InputError);
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.log"));
+}
+
+}  // namespace
+}  // namespace partslam::io
+
+namespace partslam::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+// ---- recordings cut short, damage in the middle (issue 24) ----
+
+/// The FLASER / ROBOTLASER1 lines of text that end with '\n'.
+std::size_t whole_scan_lines(std::string_view text) {
+  std::size_t n = 0;
+  for (std::size_t at = 0, end; (end = text.find('\n', at)) != std::string_view::npos; at = end + 1) {
+    const std::string_view line = text.substr(at, end - at);
+    if (line.starts_with("FLASER ") || line.starts_with("ROBOTLASER1 ")) ++n;
+  }
+  return n;
+}
+
+/// The text zlib inflates from a gzip stream, whole or cut short.
+std::string inflate_prefix(std::string_view gz) {
+  z_stream z{};
+  EXPECT_EQ(inflateInit2(&z, 16 + MAX_WBITS), Z_OK);
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data()));
+  z.avail_in = static_cast<uInt>(gz.size());
+  std::string out;
+  char buffer[1 << 16];
+  int ret = Z_OK;
+  while (ret == Z_OK) {
+    z.next_out = reinterpret_cast<Bytef*>(buffer);
+    z.avail_out = sizeof buffer;
+    ret = inflate(&z, Z_NO_FLUSH);
+    out.append(buffer, sizeof buffer - z.avail_out);
+    if (ret == Z_BUF_ERROR && z.avail_in == 0) break;  // the input is cut short
+  }
+  inflateEnd(&z);
+  return out;
+}
+
+void expect_prefix(const Scans& part, const Scans& whole) {
+  ASSERT_LE(part.size(), whole.size());
+  for (std::size_t i = 0; i < part.size(); ++i) {
+    ASSERT_EQ(part[i].timestamp, whole[i].timestamp) << i;
+    ASSERT_EQ(part[i].T_world_laser.x, whole[i].T_world_laser.x) << i;
+    ASSERT_EQ(part[i].T_world_odom.theta, whole[i].T_world_odom.theta) << i;
+    ASSERT_EQ(part[i].points_laser, whole[i].points_laser) << i;
+  }
+}
+
+// Two shared logs, plain and gzip, cut at 20 random places each: every cut reads the whole lines before the cut
+// (the scans a prefix of the whole log's), with a warning saying where the file stopped.
+TEST(CarmenLog, RecordingsCutShortReadUpToTheirLastWholeLine) {
+  std::mt19937_64 rng(24);
+  for (const char* name : {"corrected/orebro-corrected.log.gz", "fr101/fr101-corrected.log.gz"}) {
+    const std::filesystem::path source = testing::shared_data() / name;
+    if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
+    SCOPED_TRACE(name);
+    const CarmenLog whole = read_carmen_log(source);
+    EXPECT_TRUE(whole.warnings.empty());
+    const std::string gz = testing::read_bytes(source);
+    const std::string text = inflate_prefix(gz);
+    ASSERT_EQ(whole_scan_lines(text), whole.scans.size());
+    testing::TempDir dir;
+    // Ending in a whole FLASER line without its '\n', the file is whole: no warning.
+    const std::size_t last_scan = text.rfind("\nFLASER ");
+    testing::write_bytes(dir / "no-newline.log", std::string_view(text).substr(0, text.find('\n', last_scan + 1)));
+    const CarmenLog no_newline = read_carmen_log(dir / "no-newline.log");
+    EXPECT_EQ(no_newline.scans.size(), whole.scans.size());
+    EXPECT_TRUE(no_newline.warnings.empty());
+    for (int k = 0; k < 20; ++k) {
+      const std::size_t cut = text.size() / 10 + rng() % (text.size() * 9 / 10);
+      SCOPED_TRACE("plain cut at " + std::to_string(cut));
+      testing::write_bytes(dir / "cut.log", std::string_view(text).substr(0, cut));
+      const CarmenLog part = read_carmen_log(dir / "cut.log");
+      const std::size_t before = whole_scan_lines(std::string_view(text).substr(0, cut));
+      EXPECT_GE(part.scans.size(), before);
+      EXPECT_LE(part.scans.size(), before + 1);  // the last line without its '\n' may still parse
+      expect_prefix(part.scans, whole.scans);
+      // The cut line: its fields as far as the cut, and all of them (when they agree, it may parse whole).
+      const std::size_t line_start = text.rfind('\n', cut - 1) + 1;
+      const auto fields = [](std::string_view line) {
+        std::istringstream in{std::string(line)};
+        std::size_t n = 0;
+        for (std::string f; in >> f;) ++n;
+        return n;
+      };
+      const std::size_t have = fields(std::string_view(text).substr(line_start, cut - line_start));
+      const std::size_t want = fields(std::string_view(text).substr(line_start, text.find('\n', line_start) - line_start));
+      if (line_start != cut && have != want) {
+        ASSERT_EQ(part.warnings.size(), 1u);
+        EXPECT_THAT(part.warnings[0], HasSubstr("cut.log: the file ends mid-record after byte "));
+        EXPECT_THAT(part.warnings[0], HasSubstr("; read the " + std::to_string(before) + " scans before it"));
+      }
+
+      const std::size_t gz_cut = gz.size() / 10 + rng() % (gz.size() * 9 / 10);
+      SCOPED_TRACE("gzip cut at " + std::to_string(gz_cut));
+      testing::write_bytes(dir / "cut.log.gz", std::string_view(gz).substr(0, gz_cut));
+      const CarmenLog gz_part = read_carmen_log(dir / "cut.log.gz");
+      EXPECT_EQ(gz_part.scans.size(), whole_scan_lines(inflate_prefix(std::string_view(gz).substr(0, gz_cut))));
+      EXPECT_GT(gz_part.scans.size(), 0u);
+      expect_prefix(gz_part.scans, whole.scans);
+      ASSERT_EQ(gz_part.warnings.size(), 1u);
+      EXPECT_THAT(gz_part.warnings[0], HasSubstr("cut.log.gz: the gzip data is cut short: its text ends "));
+      EXPECT_THAT(gz_part.warnings[0],
+                  HasSubstr("; read the " + std::to_string(gz_part.scans.size()) + " scans before it"));
+    }
+  }
+}
+
+std::string flaser_line(int i, double x) {
+  return "FLASER 4 1 2 3 4 " + std::to_string(x) + " 0 0 " + std::to_string(x) + " 0 0 " + std::to_string(i) +
+         " host " + std::to_string(i) + "\n";
+}
+
+TEST(CarmenLog, DamageInTheMiddleIsAnErrorOrWithSkipDamagedSkippedAndCounted) {
+  for (const bool gz : {false, true}) {
+    SCOPED_TRACE(gz ? "gzip" : "plain");
+    std::string text;
+    for (int i = 0; i < 200; ++i) {
+      std::string line = flaser_line(i, 0.1 * i);
+      if (i == 50) line = line.substr(0, 14) + "\n";  // a line cut short, with more lines after it
+      if (i == 120) line = std::string("FLASER 4 \0\0\0\0\n", 14);  // zeros, as a crash leaves in a file
+      text += line;
+    }
+    testing::TempDir dir;
+    const auto path = dir / "mid.log";
+    testing::write_text(path, text, gz);
+    EXPECT_THAT([&] { read_carmen_log(path); },
+                ::testing::ThrowsMessage<InputError>(HasSubstr("mid.log:51: FLASER range[3]: missing")));
+    LogReadOptions skip;
+    skip.skip_damaged = true;
+    const CarmenLog log = read_carmen_log(path, skip);
+    EXPECT_EQ(log.scans.size(), 198u);
+    EXPECT_EQ(log.stats.damaged, 2u);
+    EXPECT_FALSE(log.stats.cut_short);
+    for (const Scan& s : log.scans) EXPECT_TRUE(s.timestamp != 50 && s.timestamp != 120);
+    ASSERT_EQ(log.warnings.size(), 1u);
+    EXPECT_THAT(log.warnings[0], HasSubstr("mid.log: skipped 2 damaged line(s) (--skip-damaged); the first: "));
+    EXPECT_THAT(log.warnings[0], HasSubstr("mid.log:51: FLASER range[3]: missing"));
+    // A cut end and damage in the middle: both reported.
+    testing::write_text(path, text.substr(0, text.size() - 30), gz);
+    const CarmenLog both = read_carmen_log(path, skip);
+    EXPECT_EQ(both.scans.size(), 197u);
+    ASSERT_EQ(both.warnings.size(), 2u);
+    EXPECT_THAT(both.warnings[0], HasSubstr("mid-record after byte "));
+    EXPECT_THAT(both.warnings[0], HasSubstr("(line 200); read the 197 scans before it"));
+  }
+}
+
+// Issue 24's rough edge: a corrected log with one scan moved 3 km was stored as a submap without comment.
+TEST(CarmenLog, AScanWhosePoseJumpsIsRefusedNamingItsLineOrSkipped) {
+  std::string text = "# a corrected log\n";
+  for (int i = 0; i < 200; ++i) text += flaser_line(i, i == 100 ? 3000.0 : 0.1 * i);
+  testing::TempDir dir;
+  const auto path = dir / "jump.log";
+  testing::write_text(path, text, false);
+  EXPECT_THAT([&] { read_carmen_log(path); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr(
+                  "jump.log:102: the scan's pose (x 3000, y 0) lies 2990.1 m from the previous scan's (line 101), "
+                  "beyond LogReadOptions.max_scan_jump 20 m")));
+  LogReadOptions skip;
+  skip.skip_damaged = true;
+  const CarmenLog log = read_carmen_log(path, skip);
+  EXPECT_EQ(log.scans.size(), 199u);
+  EXPECT_EQ(log.stats.pose_jumps, 1u);
+  EXPECT_EQ(log.stats.valid_beams, 199u * 4u);
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("jump.log: skipped 1 scan(s) whose pose jumps (--skip-damaged); the first: "));
+  EXPECT_THAT(log.warnings[0], HasSubstr("jump.log:102: the scan's pose"));
+  // A jump just within the limit is a scan like any other; the limit is an option.
+  LogReadOptions wide;
+  wide.max_scan_jump = 5000.0;
+  EXPECT_EQ(read_carmen_log(path, wide).scans.size(), 200u);
+  wide.max_scan_jump = 0.0;
+  EXPECT_THROW(validate(wide), InputError);
 }
 
 }  // namespace

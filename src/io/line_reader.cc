@@ -30,8 +30,8 @@ struct LineReader::Source {
   }
 };
 
-LineReader::LineReader(const std::filesystem::path& path)
-    : name_(path.string()), source_(std::make_unique<Source>()) {
+LineReader::LineReader(const std::filesystem::path& path, Tolerance tolerance)
+    : name_(path.string()), tolerance_(tolerance), source_(std::make_unique<Source>()) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(name_ + ": is a directory, not a file");
   source_->file = std::fopen(path.c_str(), "rb");
@@ -66,6 +66,10 @@ bool LineReader::fill() {
     const int n = gzread(source_->gz, dst, static_cast<unsigned>(room));
     int errnum = Z_OK;
     const char* message = gzerror(source_->gz, &errnum);
+    if (n <= 0 && errnum == Z_BUF_ERROR && tolerance_ == Tolerance::kCutAndBinary) {
+      cut_short_ = true;  // the stream ends early: what was decompressed is the input
+      return false;
+    }
     if (n < 0 || (n == 0 && errnum != Z_OK)) {
       ++line_number_;  // the line being read when the data ran out
       if (errnum == Z_BUF_ERROR) fail("truncated gzip data (unexpected end of file)");
@@ -97,6 +101,7 @@ bool LineReader::next(std::string_view& line) {
     }
     if (begin_ > 0) {  // move the partial line to the front to make room
       std::memmove(buffer_.data(), buffer_.data() + begin_, scanned);
+      buffer_offset_ += begin_;
       begin_ = 0;
       end_ = scanned;
     }
@@ -104,6 +109,8 @@ bool LineReader::next(std::string_view& line) {
     if (!fill()) eof_ = true;
   }
   const char* start = buffer_.data() + begin_;
+  line_offset_ = buffer_offset_ + begin_;
+  unterminated_ = newline == nullptr;
   std::size_t length = 0;
   if (newline != nullptr) {
     length = static_cast<std::size_t>(newline - start);
@@ -116,10 +123,15 @@ bool LineReader::next(std::string_view& line) {
   ++line_number_;
   if (length > kMaxLineBytes) fail("line longer than " + std::to_string(kMaxLineBytes) + " bytes");
   if (length > 0 && start[length - 1] == '\r') --length;
+  binary_column_ = 0;
   for (std::size_t i = 0; i < length; ++i) {
     const auto c = static_cast<unsigned char>(start[i]);
     if ((c < 0x20 && c != '\t') || c == 0x7f) {
-      fail("binary data (byte " + hex_byte(c) + " at column " + std::to_string(i + 1) + ")");
+      if (tolerance_ == Tolerance::kNone)
+        fail("binary data (byte " + hex_byte(c) + " at column " + std::to_string(i + 1) + ")");
+      binary_column_ = i + 1;
+      binary_byte_ = c;
+      break;
     }
   }
   line = std::string_view(start, length);

@@ -321,7 +321,7 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
     throw InputError(name + ": " + e.what());
   }
   RosBagLog log = scans_from_bag_messages(messages, options, name);
-  log.warnings = std::move(warnings);
+  log.warnings.insert(log.warnings.end(), warnings.begin(), warnings.end());
   return log;
 }
 

@@ -109,7 +109,7 @@ RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& 
   if (!std::filesystem::is_regular_file(status)) throw InputError(name + ": not a regular file");
   rosbag_messages::BagMessages messages;
   try {
-    messages = rosbag_messages::read_bag_messages(name, options.max_points);
+    messages = rosbag_messages::read_bag_messages(name, options.max_points, options.skip_damaged);
   } catch (const rosbag_messages::BagError& e) {
     throw InputError(name + ": " + e.what());
   }
@@ -118,8 +118,13 @@ RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& 
 
 RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, const LogReadOptions& options,
                                   const std::string& name) {
-  if (messages.scans.empty()) throw InputError(name + ": the bag holds no sensor_msgs/LaserScan messages");
+  if (messages.scans.empty()) {
+    std::string why;
+    for (const std::string& w : messages.warnings) why += "; " + w;
+    throw InputError(name + ": the bag holds no sensor_msgs/LaserScan messages" + why);
+  }
   RosBagLog log;
+  for (const std::string& w : messages.warnings) log.warnings.push_back(name + ": " + w);
   log.scan_topic = messages.scan_topic;
   log.odometry_topic = messages.odometry_topic;
   log.odometry_messages = messages.odometry.size();

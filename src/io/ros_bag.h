@@ -30,7 +30,8 @@ struct RosBagLog {
   /// Identity, with laser_frame empty, when the bag has no such chain.
   Pose2 T_base_laser;
   std::string laser_frame;
-  /// What the reader could not read whole (a recording cut short, damaged parts skipped), for the user.
+  /// What was read past, "<file>: ..." each: a bag cut short or never closed (read up to its last whole chunk, as
+  /// `rosbag reindex` would), damaged chunks or messages skipped with LogReadOptions::skip_damaged.
   std::vector<std::string> warnings;
 };
 
@@ -44,8 +45,10 @@ struct BagMessages;
 RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, const LogReadOptions& options,
                                   const std::string& name);
 
-/// Throws InputError naming the file for a missing, truncated or foreign file, a bag without LaserScan messages,
-/// a scan with non-finite fields, or more than options.max_points valid beams.
+/// Throws InputError naming the file for a missing or foreign file, damage before the end of the file (a corrupt
+/// chunk or message, a damaged index; unless options.skip_damaged), a bag without LaserScan messages, a scan with
+/// non-finite fields, or more than options.max_points valid beams. A bag cut short is read up to its last whole
+/// chunk, with a warning.
 RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& options = {});
 
 }  // namespace partslam::io

@@ -3,7 +3,8 @@
 // record header of 2^32 - 1 bytes made it allocate 4 GB, and an index entry pointing past its chunk made it read
 // beyond its buffer (fuzz_ros_bag). This walk checks each of them against the file and the chunks' contents. It
 // needs no ROS headers (C++20); it reads the file piecewise and decompresses each chunk (bz2, lz4) once more to check
-// the message offsets, so a bag costs about twice its reading time.
+// the message offsets, so a bag costs about twice its reading time. walk_bag_chunks reads the records without the
+// index, for bags cut short (whose index, written last, is gone).
 #include <bzlib.h>
 #include <roslz4/lz4s.h>
 
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -88,16 +90,23 @@ class FileSource : public Source {
   std::uint64_t size_ = 0;
 };
 
+// A chunk's uncompressed records. Not zero-filled when allocated: a hostile chunk claiming kMaxChunkBytes costs
+// only the pages its data fills (a run of such chunks used to cost a 256 MB memset each).
+struct ChunkBytes {
+  std::unique_ptr<std::uint8_t[]> data;
+  std::size_t size = 0;
+};
+
 class BufferSource : public Source {
  public:
-  explicit BufferSource(const std::vector<std::uint8_t>& bytes) : bytes_(bytes) {}
-  std::uint64_t size() const override { return bytes_.size(); }
+  explicit BufferSource(const ChunkBytes& bytes) : bytes_(bytes) {}
+  std::uint64_t size() const override { return bytes_.size; }
   std::vector<std::uint8_t> read(std::uint64_t pos, std::size_t n) override {
-    return {bytes_.begin() + static_cast<long>(pos), bytes_.begin() + static_cast<long>(pos + n)};
+    return {bytes_.data.get() + pos, bytes_.data.get() + pos + n};
   }
 
  private:
-  const std::vector<std::uint8_t>& bytes_;
+  const ChunkBytes& bytes_;
 };
 
 // Longest record header, and connection header, read [bytes]: real ones hold a few fields and a message definition.
@@ -149,26 +158,26 @@ std::uint64_t field_u64(const Record& r, const char* name, const char* what) {
 }
 
 // The uncompressed records of a chunk.
-std::vector<std::uint8_t> chunk_contents(Source& file, const Record& chunk) {
+ChunkBytes chunk_contents(Source& file, const Record& chunk) {
   const std::string& compression = field(chunk, "compression", 0, "chunk");
   const std::uint32_t size = field_u32(chunk, "size", "chunk");
   if (size > kMaxChunkBytes || chunk.data_len > kMaxChunkBytes)
     fail("a chunk of more than " + std::to_string(kMaxChunkBytes) + " bytes");
-  std::vector<std::uint8_t> out(size);
+  ChunkBytes out{std::unique_ptr<std::uint8_t[]>(new std::uint8_t[std::max<std::uint32_t>(size, 1)]), size};
   const std::vector<std::uint8_t> data = file.read(chunk.data, chunk.data_len);
   const auto* in = reinterpret_cast<const char*>(data.data());
   if (compression == "none") {
     if (chunk.data_len != size) fail("an uncompressed chunk whose size disagrees with its data");
-    std::memcpy(out.data(), in, size);
+    std::memcpy(out.data.get(), in, size);
   } else if (compression == "bz2") {
     unsigned int got = size;
-    if (BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &got, const_cast<char*>(in), chunk.data_len,
+    if (BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data.get()), &got, const_cast<char*>(in), chunk.data_len,
                                    0, 0) != BZ_OK ||
         got != size)
       fail("a bz2 chunk that does not decompress to its size");
   } else if (compression == "lz4") {
     unsigned int got = size;
-    if (roslz4_buffToBuffDecompress(const_cast<char*>(in), chunk.data_len, reinterpret_cast<char*>(out.data()),
+    if (roslz4_buffToBuffDecompress(const_cast<char*>(in), chunk.data_len, reinterpret_cast<char*>(out.data.get()),
                                     &got) != ROSLZ4_OK ||
         got != size)
       fail("an lz4 chunk that does not decompress to its size");
@@ -178,10 +187,8 @@ std::vector<std::uint8_t> chunk_contents(Source& file, const Record& chunk) {
   return out;
 }
 
-}  // namespace
-
-void check_bag_structure(const std::string& path) {
-  FileSource file(path);
+// The bag header: checks the magic line and returns the record (its data is padding).
+Record read_bag_header(Source& file) {
   const std::size_t head = static_cast<std::size_t>(std::min<std::uint64_t>(file.size(), kMagic.size()));
   const std::vector<std::uint8_t> magic = file.read(0, head);
   if (head < kMagic.size() || std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0) {
@@ -191,6 +198,14 @@ void check_bag_structure(const std::string& path) {
   }
   const Record header = read_record(file, kMagic.size(), "bag header");
   require_op(header, kOpBagHeader, "bag header");
+  return header;
+}
+
+}  // namespace
+
+void check_bag_structure(const std::string& path) {
+  FileSource file(path);
+  const Record header = read_bag_header(file);
   const std::uint64_t index_pos = field_u64(header, "index_pos", "bag header");
   const std::uint32_t connections = field_u32(header, "conn_count", "bag header");
   const std::uint32_t chunks = field_u32(header, "chunk_count", "bag header");
@@ -227,7 +242,7 @@ void check_bag_structure(const std::string& path) {
     if (chunk_pos >= file.size()) fail("chunk position outside the file");
     const Record chunk = read_record(file, chunk_pos, "chunk");
     require_op(chunk, kOpChunk, "chunk");
-    const std::vector<std::uint8_t> contents = chunk_contents(file, chunk);
+    const ChunkBytes contents = chunk_contents(file, chunk);
     BufferSource records(contents);
     std::uint64_t next = chunk.end;
     for (std::uint32_t i = 0; i < index_records; ++i) {
@@ -247,6 +262,138 @@ void check_bag_structure(const std::string& path) {
       next = index.end;
     }
   }
+}
+
+namespace {
+
+// The text inside "not a readable ROS 1 bag (...)".
+std::string problem_of(const BagError& e) {
+  std::string_view what = e.what();
+  constexpr std::string_view kPrefix = "not a readable ROS 1 bag (";
+  if (what.starts_with(kPrefix) && what.ends_with(")")) what = what.substr(kPrefix.size(), what.size() - kPrefix.size() - 1);
+  return std::string(what);
+}
+
+// Whether the record at pos runs past the end of the source (or its length fields do).
+bool runs_past_end(Source& source, std::uint64_t pos) {
+  const std::uint64_t size = source.size();
+  if (size - pos < 8) return true;
+  const std::uint32_t header_len = u32(source.read(pos, 4).data());
+  if (header_len > size - pos - 8) return true;
+  const std::uint32_t data_len = u32(source.read(pos + 4 + header_len, 4).data());
+  return data_len > size - pos - 8 - header_len;
+}
+
+class Walker {
+ public:
+  Walker(const std::vector<std::string>& keep, std::size_t max_bytes, ChunkWalk& out)
+      : keep_(keep), max_bytes_(max_bytes), out_(out) {}
+
+  void connection(Source& source, const Record& r) {
+    const std::uint32_t id = field_u32(r, "conn", "connection record");
+    if (r.data_len > kMaxHeaderBytes) fail("connection record: header of more than 16 MB");
+    const std::vector<std::uint8_t> bytes = source.read(r.data, r.data_len);
+    const Fields header = parse_fields(bytes.data(), bytes.size(), "connection header");
+    const auto get = [&header](const char* name) {
+      const auto it = header.find(name);
+      return it == header.end() ? std::string() : it->second;
+    };
+    BagConnection c{field(r, "topic", 0, "connection record"), get("type"), get("md5sum")};
+    const auto same = [&c](const BagConnection& o) {
+      return o.topic == c.topic && o.datatype == c.datatype && o.md5sum == c.md5sum;
+    };
+    const auto it = std::find_if(out_.connections.begin(), out_.connections.end(), same);
+    connections_[id] = static_cast<std::size_t>(it - out_.connections.begin());
+    if (it == out_.connections.end()) {
+      if (out_.connections.size() >= 4096) fail("more than 4096 different connections");
+      out_.connections.push_back(std::move(c));
+    }
+  }
+
+  void message(Source& source, const Record& r, std::uint64_t position, std::vector<RawMessage>& to) {
+    const auto it = connections_.find(field_u32(r, "conn", "message data record"));
+    if (it == connections_.end()) fail("message data record: a connection not defined before it");
+    const std::string& time = field(r, "time", 8, "message data record");
+    const std::string& datatype = out_.connections[it->second].datatype;
+    if (std::find(keep_.begin(), keep_.end(), datatype) == keep_.end()) return;
+    bytes_ += std::size_t{r.data_len} + 64;  // 64: what a message costs besides its data
+    if (bytes_ > max_bytes_) throw BagError("more than " + std::to_string(max_bytes_) + " bytes of messages");
+    RawMessage m{it->second, 0, position, source.read(r.data, r.data_len)};
+    const auto* t = reinterpret_cast<const std::uint8_t*>(time.data());
+    m.time = std::uint64_t{u32(t)} << 32 | u32(t + 4);
+    to.push_back(std::move(m));
+  }
+
+  // The records of a chunk: connections and messages, all or none.
+  void chunk(Source& file, const Record& r, std::uint64_t position) {
+    require_op(r, kOpChunk, "chunk");
+    const ChunkBytes contents = chunk_contents(file, r);
+    BufferSource records(contents);
+    std::vector<RawMessage> messages;
+    const auto saved = connections_;
+    try {
+      for (std::uint64_t pos = 0; pos < contents.size;) {
+        const Record inner = read_record(records, pos, "record in the chunk");
+        const std::uint8_t op = static_cast<std::uint8_t>(field(inner, "op", 1, "record in the chunk")[0]);
+        if (op == kOpConnection) connection(records, inner);
+        else if (op == kOpMessage) message(records, inner, position, messages);
+        else fail("a record of type " + std::to_string(op) + " in a chunk");
+        pos = inner.end;
+      }
+    } catch (const BagError&) {
+      connections_ = saved;
+      throw;
+    }
+    for (RawMessage& m : messages) out_.messages.push_back(std::move(m));
+    ++out_.chunks;
+  }
+
+  void top_level_message(Source& file, const Record& r, std::uint64_t position) {
+    message(file, r, position, out_.messages);
+  }
+
+ private:
+  const std::vector<std::string>& keep_;
+  const std::size_t max_bytes_;
+  ChunkWalk& out_;
+  std::map<std::uint32_t, std::size_t> connections_;  ///< connection id -> index in out_.connections
+  std::size_t bytes_ = 0;
+};
+
+}  // namespace
+
+ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string>& keep_types, bool skip_damaged,
+                          std::size_t max_bytes) {
+  FileSource file(path);
+  ChunkWalk out;
+  out.file_size = file.size();
+  const Record header = read_bag_header(file);
+  out.index_pos = field_u64(header, "index_pos", "bag header");
+  Walker walker(keep_types, max_bytes, out);
+  for (std::uint64_t pos = header.end; pos < file.size();) {
+    if (runs_past_end(file, pos)) {
+      out.cut_at = pos;
+      break;
+    }
+    std::uint64_t next = 0;
+    try {
+      const Record r = read_record(file, pos, "record");
+      next = r.end;  // the lengths are within the file: the next record is found even when this one is damaged
+      const std::uint8_t op = static_cast<std::uint8_t>(field(r, "op", 1, "record")[0]);
+      if (op == kOpChunk) walker.chunk(file, r, pos);
+      else if (op == kOpConnection) walker.connection(file, r);
+      else if (op == kOpMessage) walker.top_level_message(file, r, pos);  // an unfinished uncompressed chunk's
+      else if (op != kOpIndex && op != kOpChunkInfo) fail("a record of type " + std::to_string(op));
+    } catch (const BagError& e) {
+      if (std::string_view(e.what()).starts_with("more than ")) throw;  // the size limit, not damage
+      const std::string what = "the record at byte " + std::to_string(pos) + " is damaged: " + problem_of(e);
+      if (!skip_damaged) throw BagError("not a readable ROS 1 bag (" + what + ")");
+      if (out.damaged++ == 0) out.first_damage = what;
+      if (next == 0) break;  // its lengths cannot be trusted: the rest of the file is lost
+    }
+    pos = next;
+  }
+  return out;
 }
 
 }  // namespace partslam::io::rosbag_messages

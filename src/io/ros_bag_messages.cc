@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <string_view>
 
 namespace partslam::io::rosbag_messages {
 
@@ -60,86 +61,188 @@ bool tf_message_fits(Cursor c) {
   return true;
 }
 
-// The message deserialized, after its array lengths were checked against its size; null for another message type.
+// The message deserialized from its bytes, after its array lengths were checked against its size.
 template <typename T>
-boost::shared_ptr<T> decode(const rosbag::MessageInstance& m, bool (*fits)(Cursor)) {
-  if (!m.isType<T>()) return {};
-  std::vector<std::uint8_t> bytes(m.size());
-  ros::serialization::OStream out(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
-  m.write(out);
-  if (!fits(Cursor{bytes.data(), bytes.size()}))
-    throw BagError("a " + m.getDataType() + " message on " + m.getTopic() + " holds an array longer than the message");
-  auto msg = boost::make_shared<T>();
-  ros::serialization::IStream in(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
-  ros::serialization::deserialize(in, *msg);
+T decode(const std::vector<std::uint8_t>& bytes, const std::string& datatype, const std::string& topic,
+         bool (*fits)(Cursor)) {
+  if (fits != nullptr && !fits(Cursor{bytes.data(), bytes.size()}))
+    throw BagError("a " + datatype + " message on " + topic + " holds an array longer than the message");
+  T msg;
+  ros::serialization::IStream in(const_cast<std::uint8_t*>(bytes.data()), static_cast<std::uint32_t>(bytes.size()));
+  ros::serialization::deserialize(in, msg);
   return msg;
+}
+
+template <typename T>
+bool is_type(const std::string& datatype, const std::string& md5sum) {
+  return datatype == ros::message_traits::DataType<T>::value() &&
+         (md5sum == "*" || md5sum == ros::message_traits::MD5Sum<T>::value());
+}
+
+// Turns the bag's messages, one at a time and in bag order, into BagMessages.
+class Collector {
+ public:
+  Collector(std::size_t max_ranges, bool skip_damaged) : max_ranges_(max_ranges), skip_damaged_(skip_damaged) {}
+
+  /// One message; a damaged one throws BagError, or with skip_damaged is counted.
+  void add(const std::string& topic, const std::string& datatype, const std::string& md5sum,
+           const std::vector<std::uint8_t>& bytes) {
+    try {
+      add_message(topic, datatype, md5sum, bytes);
+    } catch (const ros::Exception& e) {
+      damaged(std::string("cannot decode a message (") + e.what() + ")");
+    } catch (const BagError& e) {
+      if (std::string(e.what()).rfind("more than ", 0) == 0) throw;  // the max_ranges limit
+      damaged(e.what());
+    }
+  }
+
+  BagMessages finish() {
+    if (out_.odometry_topic.empty() && !tf_odometry_.empty()) {
+      out_.odometry_topic = tf_topic_ + " (odom -> " + tf_child_ + ")";
+      out_.base_frame = tf_child_;
+      out_.odometry = std::move(tf_odometry_);
+    }
+    if (damaged_ > 0)
+      out_.warnings.push_back("skipped " + std::to_string(damaged_) + " damaged message(s) (--skip-damaged); the first: " +
+                              first_damage_);
+    return std::move(out_);
+  }
+
+ private:
+  void damaged(const std::string& what) {
+    if (!skip_damaged_) throw BagError(what);
+    if (damaged_++ == 0) first_damage_ = what;
+  }
+
+  void add_message(const std::string& topic, const std::string& datatype, const std::string& md5sum,
+                   const std::vector<std::uint8_t>& bytes) {
+    if (is_type<sensor_msgs::LaserScan>(datatype, md5sum)) {
+      if (out_.scan_topic.empty()) out_.scan_topic = topic;
+      if (topic != out_.scan_topic) return;
+      const auto msg = decode<sensor_msgs::LaserScan>(bytes, datatype, topic, laser_scan_fits);
+      ranges_ += msg.ranges.size();
+      if (ranges_ > max_ranges_)
+        throw BagError("more than " + std::to_string(max_ranges_) + " ranges (LogReadOptions.max_points)");
+      out_.scans.push_back({msg.header.stamp.toSec(), msg.angle_min, msg.angle_increment, msg.range_min, msg.range_max,
+                            msg.ranges, bare_frame(msg.header.frame_id)});
+    } else if (is_type<nav_msgs::Odometry>(datatype, md5sum)) {
+      if (out_.odometry_topic.empty()) out_.odometry_topic = topic;
+      if (topic != out_.odometry_topic) return;
+      const auto msg = decode<nav_msgs::Odometry>(bytes, datatype, topic, nullptr);
+      if (out_.base_frame.empty()) out_.base_frame = bare_frame(msg.child_frame_id);
+      const auto& p = msg.pose.pose;
+      out_.odometry.push_back({msg.header.stamp.toSec(), p.position.x, p.position.y, p.orientation.x, p.orientation.y,
+                               p.orientation.z, p.orientation.w});
+    } else if (is_type<tf2_msgs::TFMessage>(datatype, md5sum)) {
+      const auto msg = decode<tf2_msgs::TFMessage>(bytes, datatype, topic, tf_message_fits);
+      for (const geometry_msgs::TransformStamped& t : msg.transforms) {
+        const std::string child = bare_frame(t.child_frame_id), parent = bare_frame(t.header.frame_id);
+        if (parent != "odom" || (child != "base_link" && child != "base_footprint")) {
+          const auto same = [&](const FrameTransform& f) { return f.parent == parent && f.child == child; };
+          if (std::none_of(out_.transforms.begin(), out_.transforms.end(), same)) {
+            const auto& q = t.transform.rotation;
+            out_.transforms.push_back({parent, child, t.transform.translation.x, t.transform.translation.y, q.x, q.y,
+                                       q.z, q.w});
+          }
+          continue;
+        }
+        if (!tf_topic_.empty() && topic != tf_topic_) continue;
+        if (tf_child_.empty()) tf_topic_ = topic, tf_child_ = child;
+        if (child != tf_child_) continue;
+        const auto& q = t.transform.rotation;
+        tf_odometry_.push_back({t.header.stamp.toSec(), t.transform.translation.x, t.transform.translation.y, q.x, q.y,
+                                q.z, q.w});
+      }
+    }
+  }
+
+  const std::size_t max_ranges_;
+  const bool skip_damaged_;
+  BagMessages out_;
+  std::string tf_topic_, tf_child_;
+  std::vector<OdometryMessage> tf_odometry_;  // used when the bag has no Odometry topic
+  std::size_t ranges_ = 0;
+  std::size_t damaged_ = 0;
+  std::string first_damage_;
+};
+
+const std::vector<std::string>& kept_types() {
+  static const std::vector<std::string> types{ros::message_traits::DataType<sensor_msgs::LaserScan>::value(),
+                                              ros::message_traits::DataType<nav_msgs::Odometry>::value(),
+                                              ros::message_traits::DataType<tf2_msgs::TFMessage>::value()};
+  return types;
+}
+
+// A bag whose structure check failed (structure_error): its chunks walked without the index. A bag cut short or
+// never closed is read up to its last whole record, with a warning; one whose index alone is damaged only with
+// skip_damaged.
+BagMessages read_without_index(const std::string& path, std::size_t max_ranges, bool skip_damaged,
+                               const std::string& structure_error) {
+  // Serialized LaserScans take about 4 bytes a range (8 allows for their headers and intensities); 256 MB more for
+  // the odometry and transforms of a long recording (and a bound on a hostile file's millions of tiny messages).
+  const std::size_t max_bytes = max_ranges * 8 + (std::size_t{256} << 20);
+  ChunkWalk walk = walk_bag_chunks(path, kept_types(), skip_damaged, max_bytes);
+  const bool index_gone = walk.index_pos == 0 || walk.index_pos >= walk.file_size;
+  if (walk.cut_at == 0 && walk.damaged == 0 && !index_gone && !skip_damaged) throw BagError(structure_error);
+  // In the order librosbag's View gives: by time, file order among equal times.
+  std::stable_sort(walk.messages.begin(), walk.messages.end(),
+                   [](const RawMessage& a, const RawMessage& b) { return a.time < b.time; });
+  Collector collector(max_ranges, skip_damaged);
+  for (const RawMessage& m : walk.messages) {
+    const BagConnection& c = walk.connections[m.connection];
+    collector.add(c.topic, c.datatype, c.md5sum, m.data);
+  }
+  BagMessages out = collector.finish();
+  std::vector<std::string> warnings;
+  const std::string read = "read the " + std::to_string(out.scans.size()) + " scans of its " +
+                           std::to_string(walk.chunks) + " whole chunks";
+  if (walk.cut_at != 0) {
+    warnings.push_back("the file ends mid-record after byte " + std::to_string(walk.cut_at) +
+                       " (the record starting there runs past the end at byte " + std::to_string(walk.file_size) +
+                       "); " + read + " before it, as 'rosbag reindex' would");
+  } else if (walk.index_pos == 0) {
+    warnings.push_back("the bag has no index (the recording was not closed); " + read + " without it");
+  } else if (index_gone) {
+    warnings.push_back("the file ends at byte " + std::to_string(walk.file_size) + ", before its index at byte " +
+                       std::to_string(walk.index_pos) + " (cut short); " + read + " before it");
+  } else if (walk.damaged == 0) {
+    warnings.push_back("the bag's index is damaged (" + structure_error + "); " + read + " without it (--skip-damaged)");
+  }
+  if (walk.damaged > 0)
+    warnings.push_back("skipped " + std::to_string(walk.damaged) + " damaged record(s) (--skip-damaged); the first: " +
+                       walk.first_damage);
+  out.warnings.insert(out.warnings.begin(), warnings.begin(), warnings.end());
+  return out;
 }
 
 }  // namespace
 
-BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges) {
-  BagMessages out;
-  std::string tf_topic, tf_child;
-  std::vector<OdometryMessage> tf_odometry;  // used when the bag has no Odometry topic
-  std::size_t ranges = 0;
-  check_bag_structure(path);
+BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged) {
+  try {
+    check_bag_structure(path);
+  } catch (const BagError& e) {
+    return read_without_index(path, max_ranges, skip_damaged, e.what());
+  }
+  Collector collector(max_ranges, skip_damaged);
   try {
     rosbag::Bag bag(path, rosbag::bagmode::Read);
     rosbag::View view(bag);
+    std::vector<std::uint8_t> bytes;
     for (const rosbag::MessageInstance& m : view) {
-      if (m.getDataType() == "sensor_msgs/LaserScan") {
-        if (out.scan_topic.empty()) out.scan_topic = m.getTopic();
-        if (m.getTopic() != out.scan_topic) continue;
-        const auto msg = decode<sensor_msgs::LaserScan>(m, laser_scan_fits);
-        if (!msg) continue;
-        ranges += msg->ranges.size();
-        if (ranges > max_ranges)
-          throw BagError("more than " + std::to_string(max_ranges) + " ranges (LogReadOptions.max_points)");
-        out.scans.push_back({msg->header.stamp.toSec(), msg->angle_min, msg->angle_increment, msg->range_min,
-                             msg->range_max, msg->ranges, bare_frame(msg->header.frame_id)});
-      } else if (m.getDataType() == "nav_msgs/Odometry") {
-        if (out.odometry_topic.empty()) out.odometry_topic = m.getTopic();
-        if (m.getTopic() != out.odometry_topic) continue;
-        const auto msg = m.instantiate<nav_msgs::Odometry>();
-        if (!msg) continue;
-        if (out.base_frame.empty()) out.base_frame = bare_frame(msg->child_frame_id);
-        const auto& p = msg->pose.pose;
-        out.odometry.push_back({msg->header.stamp.toSec(), p.position.x, p.position.y, p.orientation.x,
-                                p.orientation.y, p.orientation.z, p.orientation.w});
-      } else if (m.getDataType() == "tf2_msgs/TFMessage") {
-        const auto msg = decode<tf2_msgs::TFMessage>(m, tf_message_fits);
-        if (!msg) continue;
-        for (const geometry_msgs::TransformStamped& t : msg->transforms) {
-          const std::string child = bare_frame(t.child_frame_id), parent = bare_frame(t.header.frame_id);
-          if (parent != "odom" || (child != "base_link" && child != "base_footprint")) {
-            const auto same = [&](const FrameTransform& f) { return f.parent == parent && f.child == child; };
-            if (std::none_of(out.transforms.begin(), out.transforms.end(), same)) {
-              const auto& q = t.transform.rotation;
-              out.transforms.push_back({parent, child, t.transform.translation.x, t.transform.translation.y, q.x, q.y,
-                                        q.z, q.w});
-            }
-            continue;
-          }
-          if (!tf_topic.empty() && m.getTopic() != tf_topic) continue;
-          if (tf_child.empty()) tf_topic = m.getTopic(), tf_child = child;
-          if (child != tf_child) continue;
-          const auto& q = t.transform.rotation;
-          tf_odometry.push_back({t.header.stamp.toSec(), t.transform.translation.x, t.transform.translation.y, q.x,
-                                 q.y, q.z, q.w});
-        }
-      }
+      const std::string& datatype = m.getDataType();
+      if (std::find(kept_types().begin(), kept_types().end(), datatype) == kept_types().end()) continue;
+      bytes.resize(m.size());
+      ros::serialization::OStream out(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+      m.write(out);
+      collector.add(m.getTopic(), datatype, m.getMD5Sum(), bytes);
     }
   } catch (const rosbag::BagException& e) {
     throw BagError(std::string("not a readable ROS 1 bag (") + e.what() + ")");
   } catch (const ros::Exception& e) {
     throw BagError(std::string("cannot decode a message (") + e.what() + ")");
   }
-  if (out.odometry_topic.empty() && !tf_odometry.empty()) {
-    out.odometry_topic = tf_topic + " (odom -> " + tf_child + ")";
-    out.base_frame = tf_child;
-    out.odometry = std::move(tf_odometry);
-  }
-  return out;
+  return collector.finish();
 }
 
 void write_bag_messages(const std::string& path, const BagMessages& messages, bool as_tf) {

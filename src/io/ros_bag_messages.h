@@ -41,6 +41,9 @@ struct BagMessages {
   std::vector<LaserScanMessage> scans;
   std::vector<OdometryMessage> odometry;
   std::vector<FrameTransform> transforms;  ///< the first of every other parent -> child pair, on any tf topic
+  /// What was read past: a bag cut short or without its index, damaged chunks or messages skipped (skip_damaged).
+  /// Without the file's name (the caller adds it).
+  std::vector<std::string> warnings;
 };
 
 /// Why a bag could not be read (the caller names the file).
@@ -57,8 +60,47 @@ inline constexpr std::uint32_t kMaxChunkBytes = 256u << 20;
 /// first: librosbag trusts all of these. (io/ros_bag_check.cc; no ROS headers)
 void check_bag_structure(const std::string& path);
 
-/// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read.
-BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges);
+/// A connection (topic and message type) of a bag.
+struct BagConnection {
+  std::string topic, datatype, md5sum;
+};
+
+/// A message record met by walk_bag_chunks.
+struct RawMessage {
+  std::size_t connection = 0;  ///< index in ChunkWalk::connections
+  std::uint64_t time = 0;      ///< the record's time: seconds << 32 | nanoseconds
+  std::uint64_t position = 0;  ///< where its chunk (or the record itself) starts in the file [bytes]
+  std::vector<std::uint8_t> data;
+};
+
+/// What walk_bag_chunks found.
+struct ChunkWalk {
+  std::vector<BagConnection> connections;
+  std::vector<RawMessage> messages;  ///< the kept messages, in file order
+  std::size_t chunks = 0;            ///< whole chunks read
+  std::uint64_t file_size = 0;
+  std::uint64_t index_pos = 0;       ///< the bag header's index_pos (0: the recording was never closed)
+  std::uint64_t cut_at = 0;          ///< start of the record the file ends in the middle of; 0: none
+  std::size_t damaged = 0;           ///< damaged chunks or records skipped (skip_damaged)
+  std::string first_damage;          ///< "chunk at byte P: problem" of the first
+};
+
+/// Walks a ROS bag 2.0 file record by record from its bag header on, as `rosbag reindex` does, without its index:
+/// the connection records and the messages in the chunks (bz2, lz4 or none), keeping only the messages whose type
+/// is one of keep_types. A record running past the end of the file ends the walk (cut_at). A damaged record or
+/// chunk before it throws BagError naming its position, or with skip_damaged is skipped and counted (a chunk
+/// whose record lengths cannot be trusted ends the walk: the next record cannot be found). Throws BagError when
+/// the kept messages pass max_bytes (their data and 64 bytes each), and for a file that is not a bag. Reads one chunk at a time (at most
+/// kMaxChunkBytes). (io/ros_bag_check.cc; no ROS headers)
+ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string>& keep_types, bool skip_damaged,
+                          std::size_t max_bytes);
+
+/// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read. A bag whose
+/// index is missing or cut off (a recording cut short or never closed) is read by walk_bag_chunks up to its last
+/// whole chunk, in the order of the messages' times, with a warning. Damage elsewhere (a corrupt chunk, a message
+/// whose arrays do not fit it, a damaged index) throws BagError naming the place, or with skip_damaged is skipped
+/// and counted in a warning.
+BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged = false);
 
 /// Writes the scans on /scan (frame "laser") and the odometry on /odom (nav_msgs/Odometry, frame odom ->
 /// base_link) or, with as_tf, as /tf transforms odom -> base_link, and the other transforms once on /tf_static:

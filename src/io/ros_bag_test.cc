@@ -9,6 +9,8 @@
 #include <string_view>
 #include <fstream>
 #include <optional>
+#include <random>
+#include <vector>
 
 #include "core/error.h"
 #include "core/maps/submap.h"
@@ -268,10 +270,24 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   std::memcpy(&index_pos, good.data() + good.find("index_pos=") + 10, 8);
   std::string index = good;
   std::memcpy(index.data() + index_pos, &many, 4);
-  EXPECT_THAT(error(index), HasSubstr("bad.bag: not a readable ROS 1 bag (connection record at"));
-  // The index section past the end of the file; a chunk claiming 4 GB uncompressed; an index entry past its chunk.
-  EXPECT_THAT(error(patched(good, "index_pos=", 0, 0x7fffffff)), HasSubstr("index position outside the file"));
-  EXPECT_THAT(error(patched(good, "size=", 0, 0xffffffff)), HasSubstr("a chunk of more than"));
+  // It runs past the end of the file, as when the file is cut there: the chunks before it are read, with a warning.
+  const auto warnings = [&](const std::string& bytes) {
+    testing::write_bytes(dir / "bad.bag", bytes);
+    const RosBagLog log = read_ros_bag(dir / "bad.bag");
+    EXPECT_EQ(log.scans.size(), 3u);
+    std::string all;
+    for (const std::string& w : log.warnings) all += w + "\n";
+    return all;
+  };
+  EXPECT_THAT(warnings(index), HasSubstr("bad.bag: the file ends mid-record after byte " + std::to_string(index_pos)));
+  // The index section past the end of the file (as in a file cut short between its chunks and its index); a chunk
+  // claiming 4 GB uncompressed; an index entry past its chunk.
+  EXPECT_THAT(warnings(patched(good, "index_pos=", 0, 0x7fffffff)),
+              HasSubstr("bad.bag: the file ends at byte " + std::to_string(good.size()) +
+                        ", before its index at byte 2147483647 (cut short); read the 3 scans of its 1 whole chunks"));
+  EXPECT_THAT(error(patched(good, "size=", 0, 0xffffffff)),
+              HasSubstr("bad.bag: not a readable ROS 1 bag (the record at byte " +
+                                  std::to_string(good.find("compression=") - 8) + " is damaged: a chunk of more than"));
   // The first index data record (op 4), found by walking the records after the chunk: its first entry's offset.
   std::string offset = good;
   for (std::size_t pos = 13; pos + 8 <= good.size();) {
@@ -287,8 +303,158 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   }
   ASSERT_NE(offset, good);
   EXPECT_THAT(error(offset), HasSubstr("message data record at 4294967295: past the end"));
+  // With skip_damaged a damaged index is read past: the chunks are walked without it.
+  testing::write_bytes(dir / "bad.bag", offset);
+  LogReadOptions skip;
+  skip.skip_damaged = true;
+  const RosBagLog skipped = read_ros_bag(dir / "bad.bag", skip);
+  EXPECT_EQ(skipped.scans.size(), 3u);
+  ASSERT_EQ(skipped.warnings.size(), 1u);
+  EXPECT_THAT(skipped.warnings[0], HasSubstr("bad.bag: the bag's index is damaged (not a readable ROS 1 bag (message "
+                                             "data record at 4294967295: past the end)); read the 3 scans"));
+  // A recording never closed (index_pos 0, as rosbag record leaves it until the end): read without its index.
+  EXPECT_THAT(warnings(patched(good, "index_pos=", 0, 0)),
+              HasSubstr("bad.bag: the bag has no index (the recording was not closed); read the 3 scans of its 1 whole "
+                        "chunks without it"));
   // Another bag format version.
   EXPECT_THAT(error("#ROSBAG V1.2\n" + good.substr(13)), HasSubstr("only ROS bag format 2.0 is read"));
+}
+
+// ---- bags cut short, corrupt chunks (issue 24) ----
+
+// A top-level record of a bag file.
+struct TopRecord {
+  std::size_t pos = 0, end = 0;
+  std::string header;  ///< the header's fields, each "length name=value"
+};
+
+std::vector<TopRecord> top_records(const std::string& bag) {
+  std::vector<TopRecord> out;
+  for (std::size_t pos = 13; pos + 8 <= bag.size();) {
+    std::uint32_t header_len = 0, data_len = 0;
+    std::memcpy(&header_len, bag.data() + pos, 4);
+    std::memcpy(&data_len, bag.data() + pos + 4 + header_len, 4);
+    const std::size_t end = pos + 8 + header_len + data_len;
+    out.push_back({pos, end, bag.substr(pos + 4, header_len)});
+    pos = end;
+  }
+  return out;
+}
+
+// The value of a header field, empty when there is none.
+std::string header_field(const std::string& header, const std::string& name) {
+  for (std::size_t at = 0; at + 4 <= header.size();) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, header.data() + at, 4);
+    const std::string field = header.substr(at + 4, n);
+    if (field.rfind(name + "=", 0) == 0) return field.substr(name.size() + 1);
+    at += 4 + n;
+  }
+  return {};
+}
+
+std::uint32_t u32_of(const std::string& bytes) {
+  std::uint32_t v = 0;
+  std::memcpy(&v, bytes.data(), std::min<std::size_t>(4, bytes.size()));
+  return v;
+}
+
+// The chunks of a bag, from its index: where each ends and how many messages of `topic` it holds.
+std::vector<std::pair<std::size_t, std::size_t>> chunks_of(const std::string& bag, const std::string& topic,
+                                                           std::vector<std::size_t>* starts = nullptr) {
+  const std::vector<TopRecord> records = top_records(bag);
+  std::vector<std::uint32_t> connections;  // of the topic
+  for (const TopRecord& r : records)
+    if (header_field(r.header, "op") == "\x07" && header_field(r.header, "topic") == topic)
+      connections.push_back(u32_of(header_field(r.header, "conn")));
+  std::vector<std::pair<std::size_t, std::size_t>> chunks;
+  for (const TopRecord& r : records) {
+    const std::string op = header_field(r.header, "op");
+    if (op == "\x05") {
+      chunks.emplace_back(r.end, 0);
+      if (starts != nullptr) starts->push_back(r.pos);
+    } else if (op == "\x04" && !chunks.empty()) {
+      const std::uint32_t conn = u32_of(header_field(r.header, "conn"));
+      if (std::find(connections.begin(), connections.end(), conn) != connections.end())
+        chunks.back().second += u32_of(header_field(r.header, "count"));
+    }
+  }
+  return chunks;
+}
+
+void expect_same_scans(const Scans& part, const Scans& whole) {
+  ASSERT_LE(part.size(), whole.size());
+  for (std::size_t i = 0; i < part.size(); ++i) {
+    ASSERT_EQ(part[i].timestamp, whole[i].timestamp) << i;
+    ASSERT_EQ(part[i].points_laser, whole[i].points_laser) << i;
+  }
+}
+
+// The aces bag cut at 20 random places: each cut reads the scans of the chunks wholly before the cut (as `rosbag
+// reindex` recovers them), the first scans of the whole bag, with a warning.
+TEST(RosBag, BagsCutShortReadTheScansOfTheirWholeChunks) {
+  const std::filesystem::path source = testing::shared_data() / "bags" / "aces.clf2bag.bag";
+  if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
+  const RosBagLog whole = read_ros_bag(source);
+  EXPECT_TRUE(whole.warnings.empty());
+  const std::string bytes = testing::read_bytes(source);
+  const auto chunks = chunks_of(bytes, "/scan");
+  ASSERT_GT(chunks.size(), 5u);
+  std::size_t total = 0;
+  for (const auto& c : chunks) total += c.second;
+  ASSERT_EQ(total, whole.scans.size());
+  testing::TempDir dir;
+  std::mt19937_64 rng(24);
+  for (int k = 0; k < 20; ++k) {
+    const std::size_t cut = 4200 + rng() % (bytes.size() - 4200);
+    SCOPED_TRACE("cut at " + std::to_string(cut));
+    std::size_t before = 0;
+    for (const auto& c : chunks) before += c.second * (c.first <= cut);
+    testing::write_bytes(dir / "cut.bag", std::string_view(bytes).substr(0, cut));
+    if (before == 0) {
+      EXPECT_THAT([&] { read_ros_bag(dir / "cut.bag"); },
+                  ::testing::ThrowsMessage<InputError>(HasSubstr("no sensor_msgs/LaserScan messages; the file ends")));
+      continue;
+    }
+    const RosBagLog part = read_ros_bag(dir / "cut.bag");
+    EXPECT_EQ(part.scans.size(), before);
+    expect_same_scans(part.scans, whole.scans);
+    ASSERT_EQ(part.warnings.size(), 1u);
+    EXPECT_THAT(part.warnings[0], HasSubstr("cut.bag: the file ends mid-record after byte "));
+    EXPECT_THAT(part.warnings[0], HasSubstr("; read the " + std::to_string(before) + " scans of its "));
+  }
+  // Cut just after a chunk: a file of whole records without its index.
+  testing::write_bytes(dir / "cut.bag", std::string_view(bytes).substr(0, chunks[3].first));
+  const RosBagLog part = read_ros_bag(dir / "cut.bag");
+  EXPECT_EQ(part.scans.size(), chunks[0].second + chunks[1].second + chunks[2].second + chunks[3].second);
+  ASSERT_EQ(part.warnings.size(), 1u);
+  EXPECT_THAT(part.warnings[0], HasSubstr("cut.bag: the file ends at byte " + std::to_string(chunks[3].first) +
+                                          ", before its index at byte "));
+}
+
+TEST(RosBag, ACorruptChunkInTheMiddleIsAnErrorOrWithSkipDamagedSkippedAndCounted) {
+  const std::filesystem::path source = testing::shared_data() / "bags" / "aces.clf2bag.bag";
+  if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
+  const RosBagLog whole = read_ros_bag(source);
+  std::string bytes = testing::read_bytes(source);
+  std::vector<std::size_t> starts;
+  const auto chunks = chunks_of(bytes, "/scan", &starts);
+  ASSERT_GT(chunks.size(), 5u);
+  for (std::size_t i = 0; i < 64; ++i) bytes[starts[2] + 2000 + i] = static_cast<char>(i * 37);  // its bz2 data
+  testing::TempDir dir;
+  testing::write_bytes(dir / "corrupt.bag", bytes);
+  const std::string place = "the record at byte " + std::to_string(starts[2]) + " is damaged: ";
+  EXPECT_THAT([&] { read_ros_bag(dir / "corrupt.bag"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("corrupt.bag: not a readable ROS 1 bag (" + place +
+                                                             "a bz2 chunk that does not decompress to its size)")));
+  LogReadOptions skip;
+  skip.skip_damaged = true;
+  const RosBagLog log = read_ros_bag(dir / "corrupt.bag", skip);
+  EXPECT_EQ(log.scans.size(), whole.scans.size() - chunks[2].second);
+  expect_same_scans(Scans(log.scans.begin(), log.scans.begin() + static_cast<long>(chunks[0].second + chunks[1].second)),
+                    whole.scans);
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("corrupt.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " + place));
 }
 
 }  // namespace

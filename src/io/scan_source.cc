@@ -42,8 +42,14 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
       name.resize(name.size() - e.size());
   }
   out.name = name;
-  out.scans = read_carmen_log(spec, options).scans;
-  if (out.scans.empty()) throw InputError(spec + ": the log holds no laser scans");
+  CarmenLog log = read_carmen_log(spec, options);
+  out.scans = std::move(log.scans);
+  out.warnings = std::move(log.warnings);
+  if (out.scans.empty()) {
+    std::string why;
+    for (const std::string& w : out.warnings) why += "; " + w;
+    throw InputError(spec + ": the log holds no laser scans" + why);
+  }
   return out;
 }
 

@@ -16,7 +16,7 @@ struct ScanSource {
   std::string name;    ///< dataset name: the log's file name without .gz/.log/.clf, or "sim-SEED"
   std::string source;  ///< the spec it was loaded from
   Scans scans;
-  /// What the reader could not read whole (a recording cut short, damaged parts skipped), for the user.
+  /// The reader's warnings (a recording cut short, damage skipped), "<file>: ..." each; the apps print them.
   std::vector<std::string> warnings;
 };
 
