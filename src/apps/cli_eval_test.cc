@@ -45,6 +45,10 @@ TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
                                   " --plot " + quoted(plot));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("hMM cpd:3"));
+  // N = 20: R@1 % is R@1 (rank <= max(1, 1 % of N)), so the table leaves that column out and says so.
+  EXPECT_THAT(run.output, HasSubstr("R@5%"));
+  EXPECT_THAT(run.output, Not(HasSubstr("R@1%")));
+  EXPECT_THAT(run.output, HasSubstr("R@1 % is R@1 below N = 200"));
   const nlohmann::json j = read_json(json);
   EXPECT_TRUE(j["input"].is_string());
   EXPECT_TRUE(j["dictionary"].is_string());
