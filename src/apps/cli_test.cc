@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/cli_testing.h"
+#include "apps/log_inputs.h"
 #include "io/sqlite.h"
 #include "io/map_database.h"
 
@@ -167,6 +168,16 @@ TEST_F(CliTest, InfoRefusesNonDatabase) {
   const CliRun missing = run_partslam("info " + quoted(dir_ / "nope.db"));
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_THAT(missing.output, HasSubstr("no such file"));
+}
+
+// Every command that reads a log names every input the readers take, in the one wording (issue 24: submaps and
+// slam named CARMEN logs and sim only). CLI11 wraps nothing, so the wording appears whole.
+TEST(CliHelp, EveryLogReadingCommandNamesEveryInput) {
+  for (const char* command : {"submaps", "slam", "dictionary", "export-map", "eval", "match", "locate"}) {
+    const CliRun run = run_partslam(std::string(command) + " --help");
+    EXPECT_EQ(run.exit_code, 0) << command;
+    EXPECT_THAT(run.output, HasSubstr(apps::kLogInputs)) << command << ":\n" << run.output;
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/log_inputs.h"
 #include "core/error.h"
 #include "core/evaluation/relation_check.h"
 #include "core/maps/submap.h"
@@ -138,7 +139,7 @@ void run_submaps(SubmapsOptions o) {
 void register_submaps(CLI::App& app) {
   auto o = std::make_shared<SubmapsOptions>();
   CLI::App* cmd = app.add_subcommand("submaps", "Build submaps from a laser log and store them in a map database");
-  cmd->add_option("log", o->log, "CARMEN log (plain or .gz), or sim[:SEED] for the built-in simulator")->required();
+  cmd->add_option("log", o->log, "the log: " + kLogInputs + " (sim: the built-in simulator)")->required();
   cmd->add_option("--db", o->db, "map database file (created when missing)")->required();
   cmd->add_option("--name", o->name, "dataset name (default: the log's file name)");
   cmd->add_option("--window", o->config.window_length, "travel covered by one submap [m]")->capture_default_str();

@@ -1,6 +1,7 @@
 #include "apps/eval_run.h"
 
 #include "apps/cpd_options.h"
+#include "apps/log_inputs.h"
 #include "io/descriptor_store.h"
 
 #include <unistd.h>
@@ -24,8 +25,8 @@ namespace partslam::apps {
 
 
 void add_eval_options(CLI::App& cmd, EvalOptions& o) {
-  cmd.add_option("--input", o.input, "input CARMEN log (corrected), or sim[:SEED]")->required();
-  cmd.add_option("--dict", o.dictionary, "dictionary CARMEN log (another building), or sim[:SEED]")->required();
+  cmd.add_option("--input", o.input, "input log with good poses (corrected; raw with --scan-match): " + kLogInputs)->required();
+  cmd.add_option("--dict", o.dictionary, "dictionary log with good poses (another building): " + kLogInputs)->required();
   cmd.add_option("--methods", o.methods, "comma-separated: " + method_syntax_list())
       ->capture_default_str();
   cmd.add_option("--db-size", o.config.tasks.db_size, "N: maps per task database")->capture_default_str();
