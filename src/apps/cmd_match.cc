@@ -483,8 +483,11 @@ void register_match(CLI::App& app) {
   cmd->add_option("--dmm-dilation", o->dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd->add_option_function<double>(
          "--dmm-angular-window", [o](double deg) { o->dmm.angular_window = deg * std::numbers::pi / 180.0; },
-         "dMM: residual rotation window about each quarter turn [deg] (default 3)");
+         "dMM: residual rotation window about each quarter turn [deg]")
+      ->default_str("3");
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
+  cmd->footer(std::string("Columns: inliers, inl%: dMM's inlier count and share. ") + kPoseColumns + ". " +
+              kDistColumn + ". " + kNewMapDash + ". " + kOtherDatasetDash + ". " + kRerankDash + ".");
   cmd->callback([o] { run_match(*o); });
 }
 
