@@ -63,6 +63,7 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
   run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("local maps,"));
+  EXPECT_THAT(run.output, HasSubstr("0.0 .. 2.0 m of travel, log time "));  // both clocks, as match's label
   ASSERT_EQ(run_partslam("export-map sim:1 --until 10 --out " + quoted(dir_ / "first.yaml")).exit_code, 0);
   EXPECT_LT(fs::file_size(dir_ / "first.pgm"), fs::file_size(dir_ / "building.pgm"));
 }

@@ -118,8 +118,9 @@ void run_locate(const LocateOptions& o) {
         ++skipped;  // too few points in this stretch
         continue;
       }
-      char label[120];
-      std::snprintf(label, sizeof label, "%.1f .. %.1f m", from, from + o.submap.window_length);
+      char label[160];
+      std::snprintf(label, sizeof label, "%.1f .. %.1f m of travel, log time %.3f .. %.3f s", from,
+                    from + o.submap.window_length, query.scan_timestamps.front(), query.scan_timestamps.back());
       located.push_back(locate_one(localizer, query, scans, label));
     }
     if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
