@@ -103,7 +103,13 @@ TEST_F(CliTest, ExportWritesCsvAndPly) {
   const fs::path csv = dir_ / "map5.csv";
   const CliRun run = run_partslam("export " + quoted(db_) + " --map 5 --format csv --out " + quoted(csv));
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_EQ(count_lines(csv), 1 + 24);  // header + map 5 (index 4) has 24 points
+  EXPECT_EQ(count_lines(csv), 2 + 24);  // the frame's pose, the header + map 5 (index 4) has 24 points
+  {
+    std::ifstream in(csv);
+    std::string first;
+    std::getline(in, first);
+    EXPECT_EQ(first.rfind("# T_world_points ", 0), 0u) << first;  // the map frame names its pose in the world
+  }
   EXPECT_THAT(run.output, HasSubstr("wrote 24 points of map 5 (dataset 'sim-loop', submap 4)"));
 
   const fs::path ply = dir_ / "map1.ply";
