@@ -22,7 +22,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation slam-bench clean
+.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation slam-bench readme-usage clean
 
 all: build
 
@@ -62,6 +62,10 @@ relocalisation: build
 
 slam-bench: build
 	bash scripts/slam-bench.sh
+
+# The README's usage block, rewritten from `partslam CMD --help` (the ctest readme.usage checks they agree).
+readme-usage: build
+	/usr/bin/python3 scripts/readme-usage.py $(BUILD)/partslam README.md
 
 clean:
 	rm -rf $(BUILD) $(SANITIZE_BUILD) $(FUZZ_BUILD)

@@ -63,9 +63,22 @@ handle type_caster<partslam::Points2>::cast(const partslam::Points2& points, ret
   return out.release();
 }
 
+// Three (four) numbers that are not all finite are the right type with a bad value: InputError naming them
+// (a NaN pose would otherwise flow through compose, transform and matching as NaN results).
+template <std::size_t n>
+void check_finite(const char* what, const char* layout, const double (&v)[n]) {
+  for (double x : v) {
+    if (std::isfinite(x)) continue;
+    std::string text;
+    for (double y : v) text += (text.empty() ? "" : ", ") + number_text(y);
+    throw partslam::InputError(std::string(what) + ": " + layout + " must be finite, got (" + text + ")");
+  }
+}
+
 bool type_caster<partslam::Pose2>::load(handle src, bool convert) {
   double v[3];
   if (!load_numbers(src, convert, v)) return false;
+  check_finite("pose", "(x, y, theta)", v);
   value = {v[0], v[1], v[2]};
   return true;
 }
@@ -77,6 +90,7 @@ handle type_caster<partslam::Pose2>::cast(const partslam::Pose2& pose, return_va
 bool type_caster<partslam::Box2>::load(handle src, bool convert) {
   double v[4];
   if (!load_numbers(src, convert, v)) return false;
+  check_finite("box", "(x_min, x_max, y_min, y_max)", v);
   value = {v[0], v[1], v[2], v[3]};
   return true;
 }

@@ -4,8 +4,8 @@
 //   can
 //                                     turn into float64 is accepted, a wrong shape or a non-finite coordinate
 //                                     raises partslam.InputError (a ValueError) naming the row
-//   Pose2                        <->  tuple (x, y, theta) [m, m, rad]
-//   Box2                         <->  tuple (x_min, x_max, y_min, y_max) [m]
+//   Pose2                        <->  tuple (x, y, theta) [m, m, rad]; a non-finite one raises InputError
+//   Box2                         <->  tuple (x_min, x_max, y_min, y_max) [m]; a non-finite one raises InputError
 //   Scans                        opaque: partslam.Scans, a list-like held in C++ (a log is not copied per
 //   call) std::filesystem::path        <->  str or os.PathLike
 #pragma once

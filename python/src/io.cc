@@ -99,7 +99,9 @@ void define_logs(py::module_& m) {
   m.def("is_simulator_spec", &io::is_simulator_spec, "spec"_a, "True for 'sim' and 'sim:SEED'.");
   m.def("load_scan_source", &io::load_scan_source, "spec"_a, "options"_a = io::LogReadOptions{},
         release_gil(),
-        "Loads a CARMEN log (plain or gzip), a ROS 1 bag (*.bag) or 'sim[:SEED]' (the built-in simulator).");
+        "Loads a CARMEN log (.clf/.log, plain or .gz), a ROS 1 bag (.bag), a ROS 2 bag (.mcap, .db3, or a rosbag2 "
+        "folder with metadata.yaml), or 'sim[:SEED]' (the built-in simulator); InputError carries the reader's "
+        "message (file, line, field).");
 }
 
 void define_database_records(py::module_& m) {

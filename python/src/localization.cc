@@ -78,7 +78,17 @@ void define_localization(py::module_& m) {
         "Writes map.yaml and map.pgm beside it, atomically.");
   m.def(
       "read_points", [](const std::string& path) { return io::read_points(path); }, "path"_a, release_gil(),
-      "A point file (.ply ASCII or .csv) as an (n, 2) array.");
+      "A point file (.ply ASCII or .csv) as an (n, 2) array, in the file's own frame.");
+  m.def(
+      "read_point_file",
+      [](const std::string& path) {
+        io::PointFile file = io::read_point_file(path);
+        return py::make_tuple(py::cast(std::move(file.points)), py::cast(file.T_world_points));
+      },
+      "path"_a,
+      "(points, T_world_points): the file's points and, when its header names it (partslam export --frame map), "
+      "the pose of their frame in the world frame, else None. Take the points there with transform() before "
+      "local_map_from_points to build the local map the world-frame file gives.");
   m.def("local_map_from_points", &local_map_from_points, "points"_a, "config"_a = SubmapConfig{}, release_gil(),
         "A local map shaped as submaps are (one point per cell, centred, canonical, cropped) from bare points.");
 

@@ -67,6 +67,11 @@ class BoundRanker {
                const std::optional<std::vector<Part>>& query_parts,
                std::optional<std::vector<std::size_t>> candidates, int threads, int top_k) const {
     std::shared_lock lock(mutex_);
+    // Without stored maps there is no ranking: an empty result would read as "nothing matched".
+    if (size_ == 0) {
+      throw InputError("rank: no stored maps to rank (prepare() was not called, or was given none: map_points is "
+                       "empty)");
+    }
     if (!candidates) {
       candidates.emplace(size_);
       for (std::size_t i = 0; i < size_; ++i) (*candidates)[i] = i;
@@ -150,10 +155,13 @@ void define_dmm(py::module_& m) {
   m.def(
       "match_dmm",
       [](const Points2& query, const Points2& map, const DmmConfig& config) {
+        // No points on either side leaves nothing to match: 0 inliers would read as "not the same place".
+        if (query.empty()) throw InputError("match_dmm: query_points is empty (shape (0, 2)): nothing to match");
+        if (map.empty()) throw InputError("match_dmm: map_points is empty (shape (0, 2)): nothing to match against");
         return match_dmm(prepare_query(query, config), prepare_map(map, config));
       },
       "query_points"_a, "map_points"_a, "config"_a = DmmConfig{}, release_gil(),
-      "Prepares both point sets with config and matches them.");
+      "Prepares both point sets with config and matches them; raises InputError when either is empty.");
   m.def("match_exhaustive", &match_exhaustive, "query"_a, "map"_a, release_gil(),
         "The same maximum by scoring every candidate (the reference).");
   m.def(
@@ -262,7 +270,8 @@ void define_ranking(py::module_& m) {
       },
       "method"_a, "query_points"_a, "map_points"_a, "threads"_a = 1, "config"_a = RankingConfig{},
       "query_parts"_a = py::none(), "map_parts"_a = py::none(), "top_k"_a = 0, release_gil(),
-      "Ranks the maps for the query with any registered method (make_ranker, prepare, rank).");
+      "Ranks the maps for the query with any registered method (make_ranker, prepare, rank); raises InputError "
+      "when map_points is empty.");
   m.def("ranking_order", &ranking_order, "scores"_a,
         "Positions sorted by score, best first; ties keep their order.");
 }

@@ -61,3 +61,15 @@ def test_poses_are_three_numbers():
     with pytest.raises(TypeError):
         partslam.inverse((1.0, 2.0))
     assert partslam.inverse(np.array([0.0, 0.0, 0.5])) == pytest.approx((0.0, 0.0, -0.5))
+
+
+@pytest.mark.parametrize("bad", [(math.nan, 0.0, 0.0), (0.0, math.inf, 0.0), (0.0, 0.0, -math.inf)])
+def test_non_finite_poses_raise_naming_the_pose(bad):
+    with pytest.raises(partslam.InputError, match=r"pose: \(x, y, theta\) must be finite"):
+        partslam.compose(bad, (0.0, 0.0, 0.0))
+    with pytest.raises(partslam.InputError, match="must be finite"):
+        partslam.compose((0.0, 0.0, 0.0), bad)
+    with pytest.raises(partslam.InputError, match="must be finite"):
+        partslam.inverse(bad)
+    with pytest.raises(partslam.InputError, match="must be finite"):
+        partslam.transform(bad, np.zeros((1, 2)))

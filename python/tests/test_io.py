@@ -66,6 +66,17 @@ def test_cut_and_damaged_logs_warn_or_skip_with_skip_damaged(tmp_path):
     assert "skipped 1 damaged line(s)" in log.warnings[0]
 
 
+def test_a_binary_file_read_as_a_log_raises_with_the_readers_message(tmp_path):
+    # A PNG's bytes are not UTF-8: the message quoting them used to be dropped (InputError() with no text).
+    png = tmp_path / "a.png"
+    png.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe binary\n")
+    with pytest.raises(partslam.InputError) as error:
+        partslam.load_scan_source(str(png))
+    message = str(error.value)
+    assert message.startswith(str(png) + ":1: ")
+    assert "CARMEN" in message
+
+
 def test_simulator_source_is_seeded():
     assert partslam.is_simulator_spec("sim:7") and not partslam.is_simulator_spec("simulator.log")
     a, b, c = (partslam.load_scan_source(s) for s in ("sim", "sim:1", "sim:2"))

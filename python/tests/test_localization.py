@@ -44,3 +44,19 @@ def test_point_files_and_local_maps_from_points(tmp_path):
         partslam.read_points(str(tmp_path / "bad.csv"))
     with pytest.raises(ValueError, match="no occupied cell"):
         partslam.Localizer(np.zeros((0, 2)))
+
+
+def test_a_map_frame_point_file_names_its_frame_and_gives_the_world_files_local_map(tmp_path, cli):
+    import subprocess
+    db = tmp_path / "m.db"
+    subprocess.run([cli, "submaps", "sim:1", "--db", str(db)], check=True, capture_output=True)
+    for frame in ("map", "world"):
+        subprocess.run([cli, "export", str(db), "--map", "20", "--frame", frame, "--out", str(tmp_path / f"{frame}.csv")],
+                       check=True, capture_output=True)
+    points, T_world_points = partslam.read_point_file(str(tmp_path / "map.csv"))
+    world, none = partslam.read_point_file(str(tmp_path / "world.csv"))
+    assert none is None and T_world_points is not None
+    np.testing.assert_allclose(partslam.transform(T_world_points, points), world, atol=1e-5)
+    from_map = partslam.local_map_from_points(partslam.transform(T_world_points, points))
+    from_world = partslam.local_map_from_points(world)
+    assert len(from_map.points) == len(from_world.points)

@@ -121,6 +121,19 @@ def test_empty_query_scores_zero_and_bad_input_raises():
         partslam.DmmConfig(angular_window=1.0).validate()
 
 
+def test_matching_or_ranking_nothing_raises_instead_of_scoring_zero(sim_submaps):
+    points = sim_submaps[0].points
+    with pytest.raises(partslam.InputError, match="query_points is empty"):
+        partslam.match_dmm(np.empty((0, 2)), points)
+    with pytest.raises(partslam.InputError, match="map_points is empty"):
+        partslam.match_dmm(points, np.empty((0, 2)))
+    for method in ("dmm", "succinct"):
+        with pytest.raises(partslam.InputError, match="no stored maps to rank"):
+            partslam.rank(method, points, [])
+    with pytest.raises(partslam.InputError, match="no stored maps to rank"):
+        partslam.Ranker("dmm").rank(points)
+
+
 def test_match_many_equals_one_by_one_for_any_threads_and_top_k_drops_only_losers(sim_submaps):
     config = partslam.DmmConfig()
     query = partslam.prepare_query(sim_submaps[100].points, config)

@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "apps/cli_testing.h"
+#include "core/maps/submap.h"
 #include "io/scan_source.h"
 
 namespace partslam {
@@ -45,6 +47,10 @@ TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
                                   " --plot " + quoted(plot));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("hMM cpd:3"));
+  // N = 20: R@1 % is R@1 (rank <= max(1, 1 % of N)), so the table leaves that column out and says so.
+  EXPECT_THAT(run.output, HasSubstr("R@5%"));
+  EXPECT_THAT(run.output, Not(HasSubstr("R@1%")));
+  EXPECT_THAT(run.output, HasSubstr("R@1 % is R@1 below N = 200"));
   const nlohmann::json j = read_json(json);
   EXPECT_TRUE(j["input"].is_string());
   EXPECT_TRUE(j["dictionary"].is_string());
@@ -243,7 +249,10 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
   const CliRun run = run_partslam("match " + quoted(db) + " --query-log sim:1 --from 10 --to 12 --method dmm --top 3 --json " +
                                   quoted(json));
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_THAT(run.output, HasSubstr("local map of sim:1 (10.0 .. 12.0 m of travel"));
+  EXPECT_THAT(run.output, HasSubstr("local map of sim:1 (10.0 .. 12.0 m of travel, log time "));
+  // The dashes of a new local map are explained under the table (issue 24), as the columns are.
+  EXPECT_THAT(run.output, HasSubstr("-: a new local map has no pose in the stored dataset's world frame"));
+  EXPECT_THAT(run.output, HasSubstr("dx, dy, dth: where that puts the query"));
   EXPECT_THAT(run.output, HasSubstr("confidence"));
   const nlohmann::json j = read_json(json);
   ASSERT_EQ(j["ranking"].size(), 3u);
@@ -253,6 +262,10 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
   // --at: a log time instead of travel.
   EXPECT_EQ(run_partslam("match " + quoted(db) + " --query-log sim:1 --at 30 --method succinct").exit_code, 0);
   for (const std::string& bad : {std::string(" --query 3 --query-log sim:1 --from 1 --to 3"), std::string(" --query-log sim:1"),
+                                std::string(" --query-log sim:1 --from-m 1 --to-m 3 --at-m 5"),
+                                std::string(" --query-log sim:1 --from-time 5"),
+                                std::string(" --query-log sim:1 --from-time 5 --to-time 4"),
+                                std::string(" --query-log sim:1 --at-m -1"),
                                 std::string(" --query-log sim:1 --from 5 --to 4"),
                                 std::string(" --query-log sim:1 --at 1e9"),
                                 std::string(" --query-log sim:1 --at 3 --from 1 --to 2"),
@@ -261,6 +274,66 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
     EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.output;
     EXPECT_THAT(r.output, HasSubstr("partslam: error:")) << bad;
   }
+}
+
+// A stretch by the log's clock or by travel, alike (issue 24): the same scans give the same local map, and the
+// label says which travel and which log time they cover.
+TEST_F(CliEvalTest, MatchTakesAStretchByLogTimeOrByTravelAlike) {
+  const fs::path db = dir_ / "t.db";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
+  const Scans scans = io::load_scan_source("sim:1").scans;
+  const std::vector<double> s = travel_distances(scans);
+  std::size_t first = 0;
+  while (s[first] < 10) ++first;
+  std::size_t end = first;
+  while (s[end] < 12) ++end;
+  char times[120];
+  std::snprintf(times, sizeof times, " --from-time %.17g --to-time %.17g", scans[first].timestamp, scans[end].timestamp);
+  const std::string common = " --method dmm --top 1 --json ";
+  CliRun run = run_partslam("match " + quoted(db) + " --query-log sim:1 --from-m 10 --to-m 12" + common +
+                            quoted(dir_ / "m.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_partslam("match " + quoted(db) + " --query-log sim:1" + times + common + quoted(dir_ / "t.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr(std::to_string(end - first) + " scans"));
+  const nlohmann::json by_m = read_json(dir_ / "m.json"), by_time = read_json(dir_ / "t.json");
+  EXPECT_EQ(by_m["ranking"], by_time["ranking"]);
+  // One window from a travel (--at-m) or from a log time (--at): the same scans again.
+  char at[60], at_m[60];
+  std::snprintf(at, sizeof at, " --at %.17g", scans[first].timestamp);
+  std::snprintf(at_m, sizeof at_m, " --at-m %.17g", s[first]);
+  run = run_partslam("match " + quoted(db) + " --query-log sim:1" + at_m + common + quoted(dir_ / "am.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  run = run_partslam("match " + quoted(db) + " --query-log sim:1" + at + common + quoted(dir_ / "at.json"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(read_json(dir_ / "am.json")["ranking"], read_json(dir_ / "at.json")["ranking"]);
+  // Outside the log: the error names the option and the log's span on that clock.
+  run = run_partslam("match " + quoted(db) + " --query-log sim:1 --from-time 1e9 --to-time 2e9");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.output, HasSubstr("--from-time/--to-time, the log's clock; the log's scans are stamped "));
+  // The help says which clock: the scans' own stamps, not seconds since the first scan.
+  run = run_partslam("match --help");
+  EXPECT_THAT(run.output, HasSubstr("not seconds since the first scan"));
+  EXPECT_THAT(run.output, HasSubstr("--from-m"));
+  EXPECT_THAT(run.output, HasSubstr("--at-m"));
+}
+
+// --scan-match with a stretch runs the front end over the stretch and a margin before it, not the whole log (issue
+// 24: 6.9 s for a 2 m query of a bag), and still finds the stored map of that place.
+TEST_F(CliEvalTest, MatchScanMatchesOnlyTheQueryStretch) {
+  const fs::path db = dir_ / "sm.db", json = dir_ / "sm.json";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
+  const std::size_t log_scans = io::load_scan_source("sim:1").scans.size();
+  const CliRun run = run_partslam("match " + quoted(db) + " --query-log sim:1 --from-m 60 --to-m 62 --scan-match "
+                                  "--method dmm --top 1 --json " + quoted(json));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string key = "the front end ran over ";
+  const std::size_t at = run.output.find(key);
+  ASSERT_NE(at, std::string::npos) << run.output;
+  const std::size_t matched = std::stoul(run.output.substr(at + key.size()));
+  EXPECT_THAT(run.output, HasSubstr("of the log's " + std::to_string(log_scans) + " scans"));
+  EXPECT_LT(matched, log_scans / 4) << run.output;
+  EXPECT_GT(read_json(json)["ranking"][0]["inlier_fraction"].get<double>(), 0.9);
 }
 
 }  // namespace

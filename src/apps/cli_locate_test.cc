@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "apps/cli_testing.h"
 #include "core/maps/submap.h"
@@ -110,6 +111,7 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
   run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("local maps,"));
+  EXPECT_THAT(run.output, HasSubstr("0.0 .. 2.0 m of travel, log time "));  // both clocks, as match's label
   ASSERT_EQ(run_partslam("export-map sim:1 --until 10 --out " + quoted(dir_ / "first.yaml")).exit_code, 0);
   EXPECT_LT(fs::file_size(dir_ / "first.pgm"), fs::file_size(dir_ / "building.pgm"));
 }
@@ -134,6 +136,37 @@ TEST_F(CliLocateTest, QueryPointsFromAFile) {
   EXPECT_NEAR(frame["x"].get<double>(), 0.0, 0.2);
   EXPECT_NEAR(frame["y"].get<double>(), 0.0, 0.2);
   EXPECT_NEAR(frame["theta"].get<double>(), 0.0, 0.05);
+}
+
+// A stored map exported in either frame and either format gives the same local map (issue 24: the map-frame PLY
+// gave 141 of 180 points and -1.7 deg, the world-frame CSV 180 points and 0 deg): the map-frame file names its
+// frame's pose, and the query takes the points back into that world frame before building the local map.
+TEST_F(CliLocateTest, APointFileRoundTripsInEitherFrame) {
+  const fs::path db = dir_ / "f.db";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
+  std::vector<nlohmann::json> rankings;
+  std::vector<std::string> labels;
+  for (const std::string frame : {"world", "map"}) {
+    for (const std::string format : {"csv", "ply"}) {
+      const fs::path points = dir_ / ("map20_" + frame + "." + format), json = dir_ / ("r_" + frame + format + ".json");
+      CliRun run = run_partslam("export " + quoted(db) + " --map 20 --frame " + frame + " --out " + quoted(points));
+      ASSERT_EQ(run.exit_code, 0) << run.output;
+      run = run_partslam("match " + quoted(db) + " --query-points " + quoted(points) + " --method dmm --top 2 --json " +
+                         quoted(json));
+      ASSERT_EQ(run.exit_code, 0) << run.output;
+      const nlohmann::json j = read_json(json);
+      EXPECT_EQ(j["ranking"][0]["map"].get<int>(), 20) << frame << " " << format;
+      EXPECT_GT(j["ranking"][0]["inlier_fraction"].get<double>(), 0.95) << frame << " " << format;
+      EXPECT_NEAR(j["ranking"][0]["T_map_query"]["theta"].get<double>(), 0.0, 0.01) << frame << " " << format;
+      rankings.push_back(j["ranking"]);
+      const std::string label = j["query"].get<std::string>();
+      labels.push_back(label.substr(label.find(" points") - 4, 4));  // the point count
+    }
+  }
+  for (std::size_t i = 1; i < rankings.size(); ++i) {
+    EXPECT_EQ(rankings[i], rankings[0]) << i;
+    EXPECT_EQ(labels[i], labels[0]) << i;
+  }
 }
 
 // --json on the commands that build and store: what they printed, machine-readable; a map_server map as a
@@ -176,6 +209,10 @@ TEST_F(CliLocateTest, BadInputIsRefusedWithTheFileNamed) {
       {"locate --map " + quoted(yaml) + " --query-points " + quoted(dir_ / "nan.csv"), "nan.csv:2: x: not finite"},
       {"locate --map " + quoted(yaml), "give --query-log LOG or --query-points FILE"},
       {"locate --map " + quoted(yaml) + " --query-log sim:1 --every 5 --from 1 --to 3", "--every goes with"},
+      // --every 0 is a bad --every, not a missing stretch (issue 24); no stretch at all names --every among them.
+      {"locate --map " + quoted(yaml) + " --query-log sim:1 --every 0", "--every must be a positive number of metres, got 0"},
+      {"locate --map " + quoted(yaml) + " --query-log sim:1 --every -2", "--every must be a positive number"},
+      {"locate --map " + quoted(yaml) + " --query-log sim:1", "or --every M"},
       {"locate --map " + quoted(yaml) + " --query-log sim:1 --from 1 --to 3 --query-points " + quoted(dir_ / "nan.csv"),
        "not both"},
       {"export-map sim:1 --out " + quoted(dir_ / "map.png"), "--out must name the map's YAML"},

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/log_inputs.h"
 #include "apps/json_text.h"
 #include "core/maps/dictionary.h"
 #include "core/maps/grid_map.h"
@@ -58,7 +59,7 @@ void run_dictionary(const DictionaryOptions& o) {
 void register_dictionary(CLI::App& app) {
   auto o = std::make_shared<DictionaryOptions>();
   CLI::App* cmd = app.add_subcommand("dictionary", "Build a whole-building dictionary map and store it");
-  cmd->add_option("log", o->log, "corrected CARMEN log (plain or .gz), ROS bag, sim[:SEED], or a map_server map.yaml")
+  cmd->add_option("log", o->log, "a log with good poses (corrected): " + kLogInputs + "; or a map_server map.yaml")
       ->required();
   add_log_read_options(*cmd, o->read);
   cmd->add_option("--db", o->db, "map database file (created when missing)")->required();

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/log_inputs.h"
 #include "core/error.h"
 #include "core/maps/grid_map.h"
 #include "core/maps/submap.h"
@@ -71,7 +72,7 @@ void run_export_map(const ExportMapOptions& o) {
 void register_export_map(CLI::App& app) {
   auto o = std::make_shared<ExportMapOptions>();
   CLI::App* cmd = app.add_subcommand("export-map", "Write a log's map as a ROS map_server map (map.yaml + PGM)");
-  cmd->add_option("log", o->log, "a log with good poses (corrected CARMEN log, ROS bag, sim[:SEED])")->required();
+  cmd->add_option("log", o->log, "a log with good poses (corrected; raw with --scan-match): " + kLogInputs)->required();
   cmd->add_option("--out", o->out, "the map's YAML file; the PGM and a PNG preview are written beside it")->required();
   cmd->add_option("--resolution", o->grid.resolution, "cell side [m]")->capture_default_str();
   cmd->add_option("--max-range", o->grid.max_range, "beams longer than this are not used [m]")->capture_default_str();

@@ -1,4 +1,4 @@
-// partslam locate --map map.yaml --query-log LOG (--from M --to M | --at TIME | --every M) | --query-points FILE:
+// partslam locate --map map.yaml --query-log LOG (a stretch, apps/query_options.h | --every M) | --query-points FILE:
 // global localisation in a building map (core/matching/localizer.h). The map is a ROS map_server map (map.yaml +
 // PGM, thresholds, negate and origin honoured); the local map is built from a stretch of a log as submaps are, or
 // read from a point file. Prints, per local map, its pose in the map frame, where that puts the robot (the
@@ -10,6 +10,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "apps/commands.h"
 #include "apps/json_text.h"
@@ -31,7 +32,7 @@ constexpr double kConfident = kConfidentLocalization;
 struct LocateOptions {
   std::string map;
   QueryOptions query;
-  double every = 0;
+  std::optional<double> every;  ///< --every M: given (even as 0 or less) or not
   SubmapConfig submap;
   LocalizerConfig localizer;
   std::string json;
@@ -113,7 +114,7 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
       confident += sure;
     }
     std::snprintf(title, sizeof title, "%zu local maps located every %.1f m: %zu confident (green), %zu low (orange)",
-                  located.size(), o.every, confident, located.size() - confident);
+                  located.size(), o.every.value_or(0.0), confident, located.size() - confident);
   }
   panel.title = title;
   plot::write_panels_png(o.plot, {panel});
@@ -122,9 +123,10 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
 
 void run_locate(const LocateOptions& o) {
   if (!o.query.given()) throw InputError("locate: give --query-log LOG or --query-points FILE");
-  check_query_options(o.query, /*with_every=*/o.every > 0);
-  if (o.every < 0 || !std::isfinite(o.every)) throw InputError("--every must be a positive number of metres");
-  if (o.every > 0 && (o.query.log.empty() || o.query.at >= 0 || o.query.from >= 0))
+  if (o.every && (!(*o.every > 0) || !std::isfinite(*o.every)))
+    throw InputError("--every must be a positive number of metres, got " + std::to_string(*o.every));
+  check_query_options(o.query, /*with_every=*/o.every.has_value());
+  if (o.every && (o.query.log.empty() || o.query.stretch_given()))
     throw InputError("--every goes with --query-log alone (it sweeps the whole log)");
   validate(o.submap);
   validate(o.localizer);
@@ -136,14 +138,16 @@ void run_locate(const LocateOptions& o) {
   const Localizer localizer(map, o.localizer);
   std::printf("map %s: %d x %d cells at %.3f m; prepared in %.0f ms (read %.0f ms)\n", o.map.c_str(), map.width,
               map.height, map.resolution, localizer.prepare_ms(), ms_since(t0) - localizer.prepare_ms());
-  const Scans scans = o.query.log.empty() ? Scans{} : load_query_scans(o.query, {});
+  const QueryLog log = o.query.log.empty() ? QueryLog{} : load_query_log(o.query, {}, o.submap.window_length);
+  const Scans& scans = log.scans;
   std::vector<Located> located;
-  if (o.every > 0) {
+  if (o.every) {
+    const double every = *o.every;
     const std::vector<double> s = travel_distances(scans);
     ProgressBar bar(!o.quiet);
-    const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / o.every)) + 1;
+    const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / every)) + 1;
     std::size_t skipped = 0, done = 0;
-    for (double from = 0; !s.empty() && from + o.submap.window_length <= s.back(); from += o.every) {
+    for (double from = 0; !s.empty() && from + o.submap.window_length <= s.back(); from += every) {
       bar("locate", done++, total);
       Submap query;
       try {
@@ -152,14 +156,15 @@ void run_locate(const LocateOptions& o) {
         ++skipped;  // too few points in this stretch
         continue;
       }
-      char label[120];
-      std::snprintf(label, sizeof label, "%.1f .. %.1f m", from, from + o.submap.window_length);
+      char label[160];
+      std::snprintf(label, sizeof label, "%.1f .. %.1f m of travel, log time %.3f .. %.3f s", from,
+                    from + o.submap.window_length, query.scan_timestamps.front(), query.scan_timestamps.back());
       located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
     }
     if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
   } else {
     std::string label;
-    const Submap query = build_query(o.query, scans, o.submap, label);
+    const Submap query = build_query(o.query, log, o.submap, label);
     located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
   }
   std::vector<double> times;
@@ -189,6 +194,7 @@ void register_locate(CLI::App& app) {
   auto o = std::make_shared<LocateOptions>();
   CLI::App* cmd = app.add_subcommand("locate", "Find where a new local map lies in a building map (map_server)");
   cmd->add_option("--map", o->map, "the building map: a map_server map.yaml (PGM image)")->required();
+  o->query.offers_every = true;
   add_query_options(*cmd, o->query);
   cmd->add_option("--every", o->every, "--query-log: locate a local map every this much travel along the log [m]");
   cmd->add_option("--window", o->submap.window_length, "travel a local map covers [m]")->capture_default_str();

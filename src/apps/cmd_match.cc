@@ -1,6 +1,6 @@
 // partslam match DB --query ID --method SPEC: the online half of PartSLAM (docs/DESIGN.md, "Schemes"). Ranks every
 // other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map — or, with
-// --query-log LOG --from/--to|--at or --query-points FILE, for a new local map built as the stored ones were, against every
+// --query-log LOG and a stretch (apps/query_options.h) or --query-points FILE, for a new local map built as the stored ones were, against every
 // submaps dataset — through the library's one ranking entry point (core/matching/ranking.h), for any registered
 // method (a new local map: the point-based ones):
 //   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
@@ -57,6 +57,21 @@ struct MatchOptions {
   DmmConfig dmm;
   DmmRansacConfig ransac;
 };
+
+// What the ranking's columns mean (printed under the table and in --help; the README says the same).
+constexpr const char* kPoseColumns =
+    "x, y, th: T_map_query, the query's frame in the stored map's frame (dMM's relative pose); dx, dy, dth: where "
+    "that puts the query in the dataset's world frame (T_world_map * T_map_query) minus the query's own stored pose "
+    "(0 for a correct match of a stored query)";
+constexpr const char* kDistColumn =
+    "dist: the stored distance between the query's and the map's centres in the dataset's world frame";
+constexpr const char* kNewMapDash =
+    "-: a new local map has no pose in the stored dataset's world frame (its log's or file's frame is another "
+    "one), so dx, dy, dth and dist cannot be given; x, y, th are its pose in the stored map";
+constexpr const char* kOtherDatasetDash =
+    "-: dx, dy, dth and dist need the query and the map in the same dataset's world frame; this map is in another "
+    "dataset";
+constexpr const char* kRerankDash = "-: rerank scores only its top R by dMM; the rows below have no inliers or pose";
 
 struct Candidate {
   const Submap* map = nullptr;
@@ -184,8 +199,10 @@ Submap local_map(const io::MapDatabase& db, const MatchOptions& o, std::string& 
   for (const io::DatasetInfo& d : db.datasets())
     if (d.spec.kind == io::DatasetKind::kSubmaps && !dataset) dataset = d;
   if (!dataset) throw InputError(db.path().string() + ": no submaps stored to match against");
-  const Scans scans = o.new_query.log.empty() ? Scans{} : load_query_scans(o.new_query, dataset->spec.front_end);
-  const Submap m = build_query(o.new_query, scans, dataset->spec.config, label);
+  const QueryLog log = o.new_query.log.empty()
+                           ? QueryLog{}
+                           : load_query_log(o.new_query, dataset->spec.front_end, dataset->spec.config.window_length);
+  const Submap m = build_query(o.new_query, log, dataset->spec.config, label);
   label += ", settings of '" + dataset->spec.name + "'";
   return m;
 }
@@ -452,8 +469,17 @@ void run_match(const MatchOptions& o) {
   header += " dist [m]";
   std::cout << header << "\n";
   const std::size_t shown = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(o.top));
-  for (std::size_t r = 0; r < shown; ++r)
-    print_row(r + 1, rows[r], candidates[rows[r].candidate], query, where.dataset_name, all, pose);
+  bool other_world = false, below_rerank = false;
+  for (std::size_t r = 0; r < shown; ++r) {
+    const Candidate& c = candidates[rows[r].candidate];
+    print_row(r + 1, rows[r], c, query, where.dataset_name, all, pose);
+    other_world |= new_map || c.dataset != where.dataset_name;
+    below_rerank |= pose && !rows[r].dmm;
+  }
+  if (pose) std::cout << kPoseColumns << "\n";
+  std::cout << kDistColumn << "\n";
+  if (other_world) std::cout << (new_map ? kNewMapDash : kOtherDatasetDash) << "\n";
+  if (below_rerank) std::cout << kRerankDash << "\n";
   if (confidence) std::printf("confidence %.3f (the best dMM inlier share minus the best one more than 4 m away)\n", *confidence);
   std::cout << "time: load " << static_cast<long>(load_ms) << " ms; " << timing << "\n";
   if (!o.plot.empty()) write_match_plot(o.plot, query, rows, candidates, shown, confidence);
@@ -496,8 +522,11 @@ void register_match(CLI::App& app) {
   cmd->add_option("--dmm-dilation", o->dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd->add_option_function<double>(
          "--dmm-angular-window", [o](double deg) { o->dmm.angular_window = deg * std::numbers::pi / 180.0; },
-         "dMM: residual rotation window about each quarter turn [deg] (default 3)");
+         "dMM: residual rotation window about each quarter turn [deg]")
+      ->default_str("3");
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
+  cmd->footer(std::string("Columns: inliers, inl%: dMM's inlier count and share. ") + kPoseColumns + ". " +
+              kDistColumn + ". " + kNewMapDash + ". " + kOtherDatasetDash + ". " + kRerankDash + ".");
   cmd->callback([o] { run_match(*o); });
 }
 

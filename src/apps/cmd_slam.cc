@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "apps/commands.h"
+#include "apps/log_inputs.h"
 #include "apps/json_text.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
@@ -182,7 +183,7 @@ void run_slam_command(const SlamOptions& o) {
 void register_slam(CLI::App& app) {
   auto o = std::make_shared<SlamOptions>();
   CLI::App* cmd = app.add_subcommand("slam", "Raw log -> front end, loop closures, pose graph -> corrected log and map");
-  cmd->add_option("log", o->log, "raw log: CARMEN (odometry in the pose fields) or ROS 1 bag (.bag), or sim[:SEED]")
+  cmd->add_option("log", o->log, "raw log (odometry poses): " + kLogInputs)
       ->required();
   add_log_read_options(*cmd, o->read);
   cmd->add_option("--out", o->out, "output folder (created when missing)")->required();

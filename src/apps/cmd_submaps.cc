@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/log_inputs.h"
 #include "core/error.h"
 #include "core/evaluation/relation_check.h"
 #include "core/maps/submap.h"
@@ -140,8 +141,7 @@ void run_submaps(SubmapsOptions o) {
 void register_submaps(CLI::App& app) {
   auto o = std::make_shared<SubmapsOptions>();
   CLI::App* cmd = app.add_subcommand("submaps", "Build submaps from a laser log and store them in a map database");
-  cmd->add_option("log", o->log, "CARMEN log (plain or .gz), ROS 1 bag, or sim[:SEED] for the built-in simulator")
-      ->required();
+  cmd->add_option("log", o->log, "the log: " + kLogInputs + " (sim: the built-in simulator)")->required();
   add_log_read_options(*cmd, o->read);
   cmd->add_option("--db", o->db, "map database file (created when missing)")->required();
   cmd->add_option("--name", o->name, "dataset name (default: the log's file name)");

@@ -1,6 +1,7 @@
 #include "apps/eval_run.h"
 
 #include "apps/cpd_options.h"
+#include "apps/log_inputs.h"
 #include "io/descriptor_store.h"
 
 #include <unistd.h>
@@ -25,8 +26,8 @@ namespace partslam::apps {
 
 
 void add_eval_options(CLI::App& cmd, EvalOptions& o) {
-  cmd.add_option("--input", o.input, "input CARMEN log (corrected), or sim[:SEED]")->required();
-  cmd.add_option("--dict", o.dictionary, "dictionary CARMEN log (another building), or sim[:SEED]")->required();
+  cmd.add_option("--input", o.input, "input log with good poses (corrected; raw with --scan-match): " + kLogInputs)->required();
+  cmd.add_option("--dict", o.dictionary, "dictionary log with good poses (another building): " + kLogInputs)->required();
   add_log_read_options(cmd, o.read);
   cmd.add_option("--methods", o.methods, "comma-separated: " + method_syntax_list())
       ->capture_default_str();
@@ -103,14 +104,19 @@ void print_table(const EvalRun& run, std::ostream& out) {
       << std::fixed << std::setprecision(0) << r.mean_points << " points), " << r.relevant_pairs
       << " relevant pairs (" << std::setprecision(1) << 100 * r.low_overlap_share
       << " % under 30 % true overlap), " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
-      << run.options.config.tasks.seed << "\n";
-  out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1"
-      << std::setw(8) << "R@1%" << std::setw(8) << "R@5%" << std::setw(8) << "R@10%" << std::setw(12) << "us/pair"
-      << std::setw(12) << "ms/query" << std::setw(10) << "bits/map" << "\n";
+      << run.options.config.tasks.seed << (run.options.config.tasks.db_size < 200 ? " (R@1 % is R@1 below N = 200: not shown)" : "") << "\n";
+  // R@1 % counts a rank <= max(1, 1 % of the task's N): below N = 200 that is rank 1, the R@1 column again, so it is
+  // left out of the table (the JSON keeps recall_at_1pct).
+  const bool r1pct = run.options.config.tasks.db_size >= 200;
+  out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1";
+  if (r1pct) out << std::setw(8) << "R@1%";
+  out << std::setw(8) << "R@5%" << std::setw(8) << "R@10%" << std::setw(12) << "us/pair" << std::setw(12)
+      << "ms/query" << std::setw(10) << "bits/map" << "\n";
   for (const MethodResult& m : r.methods) {
     out << std::left << std::setw(22) << m.method.label() << std::right << std::setprecision(1) << std::setw(8)
-        << m.summary.anr_percent << std::setprecision(3) << std::setw(8) << m.summary.recall_at_1 << std::setw(8)
-        << m.summary.recall_at_1pct << std::setw(8) << m.summary.recall_at_5pct << std::setw(8)
+        << m.summary.anr_percent << std::setprecision(3) << std::setw(8) << m.summary.recall_at_1;
+    if (r1pct) out << std::setw(8) << m.summary.recall_at_1pct;
+    out << std::setw(8) << m.summary.recall_at_5pct << std::setw(8)
         << m.summary.recall_at_10pct << std::setw(12) << m.ms_per_pair * 1e3
         << std::setprecision(2)
         << std::setw(12) << m.ms_per_query << std::setprecision(0) << std::setw(10) << m.bits_per_map << "\n";

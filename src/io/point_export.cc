@@ -12,20 +12,35 @@
 
 namespace partslam::io {
 
+namespace {
+constexpr const char* kPoseKey = "T_world_points";
+}  // namespace
+
 PointFormat parse_point_format(const std::string& name) {
   if (name == "ply") return PointFormat::kPly;
   if (name == "csv") return PointFormat::kCsv;
   throw InputError("--format: expected ply or csv, got '" + name + "'");
 }
 
-void write_points(const std::filesystem::path& path, const Points2& points, PointFormat format) {
+void write_points(const std::filesystem::path& path, const Points2& points, PointFormat format,
+                  const std::optional<Pose2>& T_world_points) {
   write_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(6) << std::fixed;
+    // The pose with every digit a double holds: reading it back must put the points on the same grid cells.
+    const auto pose = [&](const char* prefix) {
+      if (!T_world_points) return;
+      out << std::setprecision(17) << std::defaultfloat << prefix << " " << kPoseKey << " " << T_world_points->x << ' '
+          << T_world_points->y << ' ' << T_world_points->theta << "\n";
+    };
     if (format == PointFormat::kPly) {
-      out << "ply\nformat ascii 1.0\ncomment PartSLAM map points [m]\nelement vertex " << points.size()
-          << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+      out << "ply\nformat ascii 1.0\ncomment PartSLAM map points [m]\n";
+      pose("comment");
+      out << "element vertex " << points.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
+          << "end_header\n";
+      out << std::setprecision(6) << std::fixed;
       for (const Vec2& p : points) out << p.x() << ' ' << p.y() << " 0\n";
     } else {
+      pose("#");
+      out << std::setprecision(6) << std::fixed;
       out << "x,y\n";
       for (const Vec2& p : points) out << p.x() << ',' << p.y() << '\n';
     }
@@ -74,14 +89,29 @@ std::vector<std::string> split(const std::string& text, char separator) {
 }  // namespace
 
 Points2 read_points(const std::filesystem::path& path, std::size_t max_points) {
+  return read_point_file(path, max_points).points;
+}
+
+PointFile read_point_file(const std::filesystem::path& path, std::size_t max_points) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open the point file");
   const std::string ext = path.extension().string();
   if (ext != ".ply" && ext != ".csv")
     throw InputError(path.string() + ": unknown point file type '" + ext + "' (expected .ply or .csv)");
-  Points2 points;
+  PointFile file;
+  Points2& points = file.points;
   std::string text;
   std::size_t line = 0;
+  // "T_world_points x y theta" in a comment (write_points): the pose of the points' frame in the world frame.
+  const auto read_pose = [&](const std::vector<std::string>& f, std::size_t at) {
+    if (f.size() <= at || f[at] != kPoseKey) return;
+    if (f.size() != at + 4) fail(path, line, std::string(kPoseKey) + ": expected x y theta");
+    if (file.T_world_points) fail(path, line, std::string(kPoseKey) + ": given twice");
+    file.T_world_points = Pose2{number(path, line, f[at + 1], "T_world_points x"),
+                                number(path, line, f[at + 2], "T_world_points y"),
+                                number(path, line, f[at + 3], "T_world_points theta")};
+  };
+  bool header_possible = true;  // the first line that is not a comment may be a header
   const auto add = [&](double x, double y) {
     if (points.size() == max_points)
       fail(path, line, "more than " + std::to_string(max_points) + " points");
@@ -91,11 +121,17 @@ Points2 read_points(const std::filesystem::path& path, std::size_t max_points) {
     while (std::getline(in, text)) {
       ++line;
       if (!text.empty() && text.back() == '\r') text.pop_back();
-      if (text.empty() || text[0] == '#') continue;
+      if (!text.empty() && text[0] == '#') {
+        read_pose(split(text.substr(1), ' '), 0);
+        continue;
+      }
+      if (text.empty()) continue;
       const std::vector<std::string> f = split(text, ',');
       if (f.size() < 2) fail(path, line, "expected x,y");
       double v = 0;
-      if (line == 1 && std::from_chars(f[0].data(), f[0].data() + f[0].size(), v).ec != std::errc()) continue;  // header
+      const bool first = header_possible;
+      header_possible = false;
+      if (first && std::from_chars(f[0].data(), f[0].data() + f[0].size(), v).ec != std::errc()) continue;  // header
       add(number(path, line, f[0], "x"), number(path, line, f[1], "y"));
     }
   } else {
@@ -108,6 +144,7 @@ Points2 read_points(const std::filesystem::path& path, std::size_t max_points) {
       if (!std::getline(in, text)) fail(path, line, "truncated PLY header (no end_header)");
       ++line;
       const std::vector<std::string> f = split(text, ' ');
+      if (!f.empty() && f[0] == "comment") read_pose(f, 1);
       if (f.empty() || f[0] == "comment" || f[0] == "obj_info") continue;
       if (f[0] == "end_header") break;
       if (f[0] == "format" && (f.size() < 2 || f[1] != "ascii"))
@@ -134,7 +171,7 @@ Points2 read_points(const std::filesystem::path& path, std::size_t max_points) {
     }
   }
   if (points.empty()) throw InputError(path.string() + ": no points");
-  return points;
+  return file;
 }
 
 }  // namespace partslam::io

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/types.h"
@@ -14,11 +15,25 @@ enum class PointFormat { kPly, kCsv };
 /// Parses "ply" or "csv"; throws InputError otherwise.
 PointFormat parse_point_format(const std::string& name);
 
-void write_points(const std::filesystem::path& path, const Points2& points, PointFormat format);
+/// Writes the points; T_world_points, when given, is written into the header (PLY: "comment T_world_points x y
+/// theta", CSV: "# T_world_points x y theta" [m, m, rad]), naming where the points' frame lies in a world frame (a
+/// stored map exported in its map frame: its T_world_map).
+void write_points(const std::filesystem::path& path, const Points2& points, PointFormat format,
+                  const std::optional<Pose2>& T_world_points = std::nullopt);
+
+/// A point file's points and, when its header names one (write_points), the pose of its frame in the world frame.
+struct PointFile {
+  Points2 points;
+  std::optional<Pose2> T_world_points;
+};
 
 /// Reads a point file by its extension: .ply (ASCII, the x and y vertex properties) or .csv (x,y per line; a
 /// first line that is not numeric is a header; further columns are ignored). Throws InputError naming the file
 /// and line for a malformed, binary, empty or oversized file (more than max_points) and for non-finite values.
 Points2 read_points(const std::filesystem::path& path, std::size_t max_points = 20'000'000);
+
+/// read_points, and the T_world_points line of the header when there is one (a malformed one is an InputError
+/// naming the line).
+PointFile read_point_file(const std::filesystem::path& path, std::size_t max_points = 20'000'000);
 
 }  // namespace partslam::io

@@ -49,6 +49,33 @@ TEST(PointFiles, ReadBackWhatWasWritten) {
   EXPECT_EQ(read_points(dir / "o.csv"), (Points2{{1.0, 2.0}, {3.0, 4.0}}));
 }
 
+// A file written in a map frame names that frame's pose in the world frame, to every digit, in either format;
+// a file without it has none. A CSV header may follow comment lines.
+TEST(PointFiles, TheFramesPoseRoundTrips) {
+  testing::TempDir dir;
+  const Points2 pts{{1.0, 2.0}, {-0.5, 0.25}};
+  const Pose2 T{12.345678901234567, -0.1, 0.7853981633974483};
+  for (const char* name : {"f.csv", "f.ply"}) {
+    write_points(dir / name, pts, std::string(name).ends_with(".ply") ? PointFormat::kPly : PointFormat::kCsv, T);
+    const PointFile file = read_point_file(dir / name);
+    EXPECT_EQ(file.points, pts) << name;
+    ASSERT_TRUE(file.T_world_points) << name;
+    EXPECT_EQ(file.T_world_points->x, T.x) << name;
+    EXPECT_EQ(file.T_world_points->y, T.y) << name;
+    EXPECT_EQ(file.T_world_points->theta, T.theta) << name;
+    EXPECT_EQ(read_points(dir / name), pts) << name;
+  }
+  write_points(dir / "n.csv", pts, PointFormat::kCsv);
+  EXPECT_FALSE(read_point_file(dir / "n.csv").T_world_points);
+  testing::write_bytes(dir / "h.csv", "# a comment\n\nx,y\n1,2\n");
+  EXPECT_EQ(read_points(dir / "h.csv"), (Points2{{1.0, 2.0}}));
+  testing::write_bytes(dir / "bad.csv", "# T_world_points 1 2\nx,y\n1,2\n");
+  EXPECT_THROW(read_point_file(dir / "bad.csv"), InputError);
+  testing::write_bytes(dir / "bad.ply", "ply\nformat ascii 1.0\ncomment T_world_points 1 nan 0\nelement vertex 1\n"
+                                        "property float x\nproperty float y\nend_header\n1 2\n");
+  EXPECT_THROW(read_point_file(dir / "bad.ply"), InputError);
+}
+
 TEST(PointFiles, BadFilesNameTheFileAndLine) {
   testing::TempDir dir;
   const auto error = [&](const std::string& name, const std::string& content) {
