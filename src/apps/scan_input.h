@@ -1,7 +1,7 @@
-// Reading a command's log (CARMEN, ROS 1 bag, sim[:SEED]) the one way every subcommand does: the --skip-damaged flag,
-// and the reader's warnings (a recording cut short and read up to its last whole record, damage skipped) printed to
+// Reading a command's log (CARMEN, ROS 1 or ROS 2 bag, sim[:SEED]) the one way every subcommand does: the
+// --skip-damaged, --scan-topic and --odom-topic options, and the reader's warnings (a recording cut short and read up to its last whole record, damage skipped) printed to
 // stderr as "warning: ..." before the command goes on. The readers decide what is damage (io/carmen_log.h,
-// io/ros_bag.h); this only passes the option and shows what they said.
+// io/ros_bag.h, io/ros2_bag.h); this only passes the options and shows what they said.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -12,7 +12,7 @@
 
 namespace partslam::apps {
 
-/// --skip-damaged on `cmd`: sets options.skip_damaged.
+/// --skip-damaged, --scan-topic, --odom-topic on `cmd`: set options.skip_damaged, scan_topic, odom_topic.
 void add_log_read_options(CLI::App& cmd, io::LogReadOptions& options);
 
 /// io::load_scan_source(spec, options), printing each of its warnings to stderr as "warning: ...".

@@ -109,7 +109,8 @@ RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& 
   if (!std::filesystem::is_regular_file(status)) throw InputError(name + ": not a regular file");
   rosbag_messages::BagMessages messages;
   try {
-    messages = rosbag_messages::read_bag_messages(name, options.max_points, options.skip_damaged);
+    messages = rosbag_messages::read_bag_messages(name, options.max_points, options.skip_damaged, options.scan_topic,
+                                                  options.odom_topic);
   } catch (const rosbag_messages::BagError& e) {
     throw InputError(name + ": " + e.what());
   }

@@ -5,7 +5,8 @@
 // pose slots, times the laser's mount on the robot when the bag's transforms give one (base_link -> the scans'
 // frame, e.g. on /tf_static; the benchmark's .clf files, made from these bags, do not apply it). A bag without
 // nav_msgs/Odometry is posed by its /tf odom -> base_link (or base_footprint) transforms instead. Scans outside the odometry's time span take the nearest odometry; a bag with neither gives
-// every scan the identity pose (the front end then predicts a standing robot).
+// every scan the identity pose (the front end then predicts a standing robot). A bag cut short (its index, written
+// last, gone) is read up to its last whole chunk by walking its records, with a warning (RosBagLog::warnings).
 #pragma once
 
 #include <filesystem>

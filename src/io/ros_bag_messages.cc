@@ -1,4 +1,5 @@
 #include "io/ros_bag_messages.h"
+#include "io/bag_selection.h"
 
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
@@ -79,14 +80,17 @@ bool is_type(const std::string& datatype, const std::string& md5sum) {
          (md5sum == "*" || md5sum == ros::message_traits::MD5Sum<T>::value());
 }
 
-// Turns the bag's messages, one at a time and in bag order, into BagMessages.
+// Turns the bag's messages, one at a time and in bag order, into BagMessages: decoded here, chosen by the rules
+// every bag shares (io/bag_selection.h).
 class Collector {
  public:
-  Collector(std::size_t max_ranges, bool skip_damaged) : max_ranges_(max_ranges), skip_damaged_(skip_damaged) {}
+  Collector(std::size_t max_ranges, bool skip_damaged, const std::string& scan_topic, const std::string& odom_topic)
+      : selection_(max_ranges, scan_topic, odom_topic), skip_damaged_(skip_damaged) {}
 
   /// One message; a damaged one throws BagError, or with skip_damaged is counted.
   void add(const std::string& topic, const std::string& datatype, const std::string& md5sum,
            const std::vector<std::uint8_t>& bytes) {
+    selection_.note_topic(topic, datatype);
     try {
       add_message(topic, datatype, md5sum, bytes);
     } catch (const ros::Exception& e) {
@@ -98,15 +102,11 @@ class Collector {
   }
 
   BagMessages finish() {
-    if (out_.odometry_topic.empty() && !tf_odometry_.empty()) {
-      out_.odometry_topic = tf_topic_ + " (odom -> " + tf_child_ + ")";
-      out_.base_frame = tf_child_;
-      out_.odometry = std::move(tf_odometry_);
-    }
+    BagMessages out = std::move(selection_).finish();
     if (damaged_ > 0)
-      out_.warnings.push_back("skipped " + std::to_string(damaged_) + " damaged message(s) (--skip-damaged); the first: " +
-                              first_damage_);
-    return std::move(out_);
+      out.warnings.push_back("skipped " + std::to_string(damaged_) + " damaged message(s) (--skip-damaged); the first: " +
+                             first_damage_);
+    return out;
   }
 
  private:
@@ -118,51 +118,30 @@ class Collector {
   void add_message(const std::string& topic, const std::string& datatype, const std::string& md5sum,
                    const std::vector<std::uint8_t>& bytes) {
     if (is_type<sensor_msgs::LaserScan>(datatype, md5sum)) {
-      if (out_.scan_topic.empty()) out_.scan_topic = topic;
-      if (topic != out_.scan_topic) return;
+      if (!selection_.wants_scan(topic)) return;
       const auto msg = decode<sensor_msgs::LaserScan>(bytes, datatype, topic, laser_scan_fits);
-      ranges_ += msg.ranges.size();
-      if (ranges_ > max_ranges_)
-        throw BagError("more than " + std::to_string(max_ranges_) + " ranges (LogReadOptions.max_points)");
-      out_.scans.push_back({msg.header.stamp.toSec(), msg.angle_min, msg.angle_increment, msg.range_min, msg.range_max,
-                            msg.ranges, bare_frame(msg.header.frame_id)});
+      selection_.add_scan(topic, {msg.header.stamp.toSec(), msg.angle_min, msg.angle_increment, msg.range_min,
+                                  msg.range_max, msg.ranges, bare_frame(msg.header.frame_id)});
     } else if (is_type<nav_msgs::Odometry>(datatype, md5sum)) {
-      if (out_.odometry_topic.empty()) out_.odometry_topic = topic;
-      if (topic != out_.odometry_topic) return;
+      if (!selection_.wants_odometry(topic)) return;
       const auto msg = decode<nav_msgs::Odometry>(bytes, datatype, topic, nullptr);
-      if (out_.base_frame.empty()) out_.base_frame = bare_frame(msg.child_frame_id);
       const auto& p = msg.pose.pose;
-      out_.odometry.push_back({msg.header.stamp.toSec(), p.position.x, p.position.y, p.orientation.x, p.orientation.y,
-                               p.orientation.z, p.orientation.w});
+      selection_.add_odometry(topic, bare_frame(msg.child_frame_id),
+                              {msg.header.stamp.toSec(), p.position.x, p.position.y, p.orientation.x,
+                               p.orientation.y, p.orientation.z, p.orientation.w});
     } else if (is_type<tf2_msgs::TFMessage>(datatype, md5sum)) {
       const auto msg = decode<tf2_msgs::TFMessage>(bytes, datatype, topic, tf_message_fits);
       for (const geometry_msgs::TransformStamped& t : msg.transforms) {
-        const std::string child = bare_frame(t.child_frame_id), parent = bare_frame(t.header.frame_id);
-        if (parent != "odom" || (child != "base_link" && child != "base_footprint")) {
-          const auto same = [&](const FrameTransform& f) { return f.parent == parent && f.child == child; };
-          if (std::none_of(out_.transforms.begin(), out_.transforms.end(), same)) {
-            const auto& q = t.transform.rotation;
-            out_.transforms.push_back({parent, child, t.transform.translation.x, t.transform.translation.y, q.x, q.y,
-                                       q.z, q.w});
-          }
-          continue;
-        }
-        if (!tf_topic_.empty() && topic != tf_topic_) continue;
-        if (tf_child_.empty()) tf_topic_ = topic, tf_child_ = child;
-        if (child != tf_child_) continue;
         const auto& q = t.transform.rotation;
-        tf_odometry_.push_back({t.header.stamp.toSec(), t.transform.translation.x, t.transform.translation.y, q.x, q.y,
-                                q.z, q.w});
+        selection_.add_transform(topic, t.header.stamp.toSec(),
+                                 {bare_frame(t.header.frame_id), bare_frame(t.child_frame_id),
+                                  t.transform.translation.x, t.transform.translation.y, q.x, q.y, q.z, q.w});
       }
     }
   }
 
-  const std::size_t max_ranges_;
+  BagSelection selection_;
   const bool skip_damaged_;
-  BagMessages out_;
-  std::string tf_topic_, tf_child_;
-  std::vector<OdometryMessage> tf_odometry_;  // used when the bag has no Odometry topic
-  std::size_t ranges_ = 0;
   std::size_t damaged_ = 0;
   std::string first_damage_;
 };
@@ -178,6 +157,7 @@ const std::vector<std::string>& kept_types() {
 // never closed is read up to its last whole record, with a warning; one whose index alone is damaged only with
 // skip_damaged.
 BagMessages read_without_index(const std::string& path, std::size_t max_ranges, bool skip_damaged,
+                               const std::string& scan_topic, const std::string& odom_topic,
                                const std::string& structure_error) {
   // Serialized LaserScans take about 4 bytes a range (8 allows for their headers and intensities); 256 MB more for
   // the odometry and transforms of a long recording (and a bound on a hostile file's millions of tiny messages).
@@ -188,7 +168,7 @@ BagMessages read_without_index(const std::string& path, std::size_t max_ranges, 
   // In the order librosbag's View gives: by time, file order among equal times.
   std::stable_sort(walk.messages.begin(), walk.messages.end(),
                    [](const RawMessage& a, const RawMessage& b) { return a.time < b.time; });
-  Collector collector(max_ranges, skip_damaged);
+  Collector collector(max_ranges, skip_damaged, scan_topic, odom_topic);
   for (const RawMessage& m : walk.messages) {
     const BagConnection& c = walk.connections[m.connection];
     collector.add(c.topic, c.datatype, c.md5sum, m.data);
@@ -218,13 +198,14 @@ BagMessages read_without_index(const std::string& path, std::size_t max_ranges, 
 
 }  // namespace
 
-BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged) {
+BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged,
+                              const std::string& scan_topic, const std::string& odom_topic) {
   try {
     check_bag_structure(path);
   } catch (const BagError& e) {
-    return read_without_index(path, max_ranges, skip_damaged, e.what());
+    return read_without_index(path, max_ranges, skip_damaged, scan_topic, odom_topic, e.what());
   }
-  Collector collector(max_ranges, skip_damaged);
+  Collector collector(max_ranges, skip_damaged, scan_topic, odom_topic);
   try {
     rosbag::Bag bag(path, rosbag::bagmode::Read);
     rosbag::View view(bag);

@@ -95,12 +95,14 @@ struct ChunkWalk {
 ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string>& keep_types, bool skip_damaged,
                           std::size_t max_bytes);
 
-/// Reads the messages in bag order; stops with BagError once more than max_ranges ranges were read. A bag whose
+/// Reads the messages in bag order, chosen as io/bag_selection.h says (scan_topic / odom_topic: the topics asked
+/// for, empty: the first); stops with BagError once more than max_ranges ranges were read. A bag whose
 /// index is missing or cut off (a recording cut short or never closed) is read by walk_bag_chunks up to its last
 /// whole chunk, in the order of the messages' times, with a warning. Damage elsewhere (a corrupt chunk, a message
 /// whose arrays do not fit it, a damaged index) throws BagError naming the place, or with skip_damaged is skipped
 /// and counted in a warning.
-BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged = false);
+BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged = false,
+                              const std::string& scan_topic = "", const std::string& odom_topic = "");
 
 /// Writes the scans on /scan (frame "laser") and the odometry on /odom (nav_msgs/Odometry, frame odom ->
 /// base_link) or, with as_tf, as /tf transforms odom -> base_link, and the other transforms once on /tf_static:

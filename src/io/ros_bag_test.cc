@@ -182,6 +182,38 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
   EXPECT_EQ(tf.scans[0].points_laser.size(), 181u);
 }
 
+// The topics can be named (LogReadOptions::scan_topic, odom_topic; --scan-topic, --odom-topic), the same for ROS 1
+// and ROS 2 bags (io/bag_selection.h): the fr079 bag carries the odometry both on /odom and as /tf odom -> base_link.
+TEST(RosBag, TopicsCanBeChosen) {
+  const std::filesystem::path bag = testing::shared_data() / "bags" / "fr079.clf2bag.bag";
+  const RosBagLog first = read_ros_bag(bag);
+  EXPECT_EQ(first.odometry_topic, "/odom");
+  LogReadOptions o;
+  o.odom_topic = "/tf";
+  const RosBagLog tf = read_ros_bag(bag, o);
+  EXPECT_EQ(tf.odometry_topic, "/tf (odom -> base_link)");
+  ASSERT_EQ(tf.scans.size(), first.scans.size());
+  for (std::size_t i = 0; i < tf.scans.size(); i += 97)
+    EXPECT_LT((tf.scans[i].T_world_laser.translation() - first.scans[i].T_world_laser.translation()).norm(), 1e-3);
+  o = {};
+  o.scan_topic = "/base_scan";
+  try {
+    read_ros_bag(bag, o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("fr079.clf2bag.bag: no LaserScan message on /base_scan (the bag's topics: "));
+    EXPECT_THAT(e.what(), HasSubstr("/scan (sensor_msgs/LaserScan)"));
+  }
+  o = {};
+  o.odom_topic = "/wheel_odom";
+  try {
+    read_ros_bag(bag, o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("no Odometry message or odom -> base_link transform on /wheel_odom"));
+  }
+}
+
 // The laser's mount on the robot, from the bag's transforms (base_link -> laser on /tf_static, here through an
 // intermediate frame and once written child -> parent): every scan is posed at odometry * T_base_laser.
 TEST(RosBag, AppliesTheLaserMountFromTfStatic) {
