@@ -75,6 +75,18 @@ inline bool plausible(const Pose2& p) {
          std::abs(p.theta) <= 3.1415927;
 }
 
+/// What a bag reader (ROS 1 or 2) promises of its scans: some, finite stamps, plausible poses, at most a point per
+/// beam, finite points.
+inline void check_bag_scans(const Scans& scans) {
+  check(!scans.empty(), "scans not empty");
+  for (const Scan& s : scans) {
+    check(std::isfinite(s.timestamp), "scan timestamp finite");
+    check(plausible(s.T_world_laser) && plausible(s.T_world_odom), "scan poses plausible");
+    check(s.points_laser.size() <= static_cast<std::size_t>(s.num_beams), "beam count");
+    for (const Vec2& p : s.points_laser) check(finite(p), "scan point finite");
+  }
+}
+
 /// Runs f; an InputError is the expected answer to bad input and ends the run quietly. Returns whether f completed.
 template <typename F>
 bool expect_input_error(F&& f) {

@@ -14,13 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.max_points = 200000;
   fuzz::expect_input_error([&] {
     const io::RosBagLog log = io::read_ros_bag(path, options);
-    fuzz::check(!log.scans.empty(), "scans not empty");
-    for (const Scan& s : log.scans) {
-      fuzz::check(std::isfinite(s.timestamp), "scan timestamp finite");
-      fuzz::check(fuzz::plausible(s.T_world_laser) && fuzz::plausible(s.T_world_odom), "scan poses plausible");
-      fuzz::check(s.points_laser.size() <= static_cast<std::size_t>(s.num_beams), "beam count");
-      for (const Vec2& p : s.points_laser) fuzz::check(fuzz::finite(p), "scan point finite");
-    }
+    fuzz::check_bag_scans(log.scans);
   });
   return 0;
 }

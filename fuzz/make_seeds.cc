@@ -192,10 +192,11 @@ void bag_seeds(const Scans& scans) {
   if (have("bags/aces.clf2bag.bag")) put("fuzz_ros_bag", "aces-prefix.bag", slurp(shared / "bags/aces.clf2bag.bag", 24000));
 }
 
-// ROS 2: the start of the shared MCAP (its first lz4 chunk, cut), and a small .db3 of its first messages.
+// ROS 2 (fuzz_ros2, byte 0: 0 MCAP, 1 .db3): the start of the shared MCAP (its first lz4 chunk, cut), and a small
+// .db3 of its first messages, whole and cut.
 void ros2_seeds() {
   if (!have("bags/fr079.mcap")) return;
-  put("fuzz_ros2_mcap", "fr079-prefix.mcap", slurp(shared / "bags/fr079.mcap", 40000));
+  put("fuzz_ros2", "fr079-prefix.mcap", std::string(1, '\0') + slurp(shared / "bags/fr079.mcap", 40000));
   struct Raw {
     std::string topic, type;
     std::uint64_t time;
@@ -236,8 +237,8 @@ void ros2_seeds() {
     }
   }
   const std::string db3 = slurp(tmp);
-  put("fuzz_ros2_db3", "fr079-first.db3", db3);
-  put("fuzz_ros2_db3", "fr079-first-cut.db3", db3.substr(0, db3.size() * 2 / 3));
+  put("fuzz_ros2", "fr079-first.db3", std::string(1, '\1') + db3);
+  put("fuzz_ros2", "fr079-first-cut.db3", std::string(1, '\1') + db3.substr(0, db3.size() * 2 / 3));
   fs::remove(tmp);
 }
 

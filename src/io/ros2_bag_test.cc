@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "io/mcap_file.h"
+#include "io/scan_source.h"
 #include "io/sqlite.h"
 #include "io/test_files.h"
 
@@ -241,6 +242,14 @@ TEST(Ros2Bag, ForeignAndBrokenInputsAreRefusedByName) {
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(message));
     }
+  }
+  // A folder without metadata.yaml is not a rosbag2 folder, and no log either.
+  std::filesystem::create_directories(dir / "plain");
+  try {
+    load_scan_source((dir / "plain").string());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plain: a folder without metadata.yaml"));
   }
   // A db3 whose only topic is not a scan.
   write_db3(dir / "odom.db3", {{"/odom", "nav_msgs/msg/Odometry", 1, {0, 1, 0, 0}}});

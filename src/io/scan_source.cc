@@ -28,6 +28,9 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
     return out;
   }
   std::string name = std::filesystem::path(spec).filename().string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(spec, ec) && !is_ros2_bag(spec))
+    throw InputError(spec + ": a folder without metadata.yaml (a rosbag2 folder has one; a log is a file)");
   if (is_ros_bag(spec) || is_ros2_bag(spec)) {
     const std::filesystem::path path = std::filesystem::path(spec).lexically_normal();
     out.name = (path.has_filename() ? path : path.parent_path()).stem().string();
