@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include "core/error.h"
@@ -20,7 +21,8 @@ constexpr char kMagic[8] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
 constexpr std::uint64_t kMaxRecordBytes = 256ull << 20;  // a chunk or message; rosbag2 writes 768 KB chunks
 
 enum Opcode : std::uint8_t {
-  kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05, kChunk = 0x06, kDataEnd = 0x0F,
+  kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05, kChunk = 0x06,
+  kChunkIndex = 0x08, kDataEnd = 0x0F,
 };
 
 std::uint64_t le64(const std::uint8_t* p) {
@@ -103,7 +105,8 @@ class Reader {
     }
   }
 
-  void chunk(std::span<const std::uint8_t> bytes, std::uint64_t offset) {
+  // Hands on the chunk's messages; false when it is damaged (and skipped with skip_damaged).
+  bool chunk(std::span<const std::uint8_t> bytes, std::uint64_t offset) {
     std::vector<std::uint8_t> records;
     try {
       Fields f{bytes};
@@ -127,7 +130,7 @@ class Reader {
       }
     } catch (const Malformed& e) {
       damaged("the chunk at byte " + std::to_string(offset) + ": " + e.what());
-      return;
+      return false;
     }
     for (std::size_t at = 0; at < records.size();) {
       const std::uint64_t len = le64(records.data() + at + 1);
@@ -138,6 +141,7 @@ class Reader {
       }
       at += 9 + static_cast<std::size_t>(len);
     }
+    return true;
   }
 
   ReadReport run(const std::filesystem::path& path) {
@@ -149,17 +153,41 @@ class Reader {
     char magic[8];
     if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0)
       throw InputError(name_ + ": not an MCAP file (it does not start with the MCAP magic bytes)");
+    read_summary(in);
+    in.clear();
     std::uint64_t at = 8;
     std::vector<std::uint8_t> bytes;
+    const auto jump = [&](std::uint64_t to) {
+      at = to;
+      in.clear();
+      in.seekg(static_cast<std::streamoff>(at));
+    };
+    jump(at);
     for (;;) {
       report_.read_bytes = at;
       std::uint8_t head[9];
       if (report_.file_bytes - at < 9 || !in.read(reinterpret_cast<char*>(head), 9)) {
+        if (whole_) {  // past the data section's end without DataEnd: only after resuming at the file's end
+          if (at < report_.file_bytes) damaged("byte " + std::to_string(at) + ": the data section ends without DataEnd");
+          break;
+        }
         report_.truncated = true;  // no DataEnd or Footer: cut short
         break;
       }
       const std::uint64_t len = le64(head + 1);
       const std::uint8_t op = head[0];
+      if (len > report_.file_bytes - at - 9 && whole_) {
+        damaged("byte " + std::to_string(at) + ": a record of " + std::to_string(len) +
+                " bytes runs past the end of the file, which is whole (it ends with the MCAP footer)");
+        jump(resume_after(at));
+        continue;
+      }
+      if (chunks_.count(at) && op != kChunk) {
+        damaged("byte " + std::to_string(at) + ": the summary lists a chunk here, but the record is not one (opcode " +
+                std::to_string(op) + ")");
+        jump(resume_after(at));
+        continue;
+      }
       if (len > report_.file_bytes - at - 9) {
         report_.truncated = true;
         if (op == kChunk) {
@@ -183,7 +211,10 @@ class Reader {
       if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(len)))
         throw InputError(name_ + ": byte " + std::to_string(at) + ": cannot read the record");
       if (op == kChunk) {
-        chunk(bytes, at);
+        if (!chunk(bytes, at) && !chunks_.empty()) {  // skipped: resume at the next chunk the summary knows
+          jump(resume_after(at));
+          continue;
+        }
       } else {
         try {
           record(op, bytes, at);
@@ -198,8 +229,38 @@ class Reader {
 
  private:
   void damaged(const std::string& what) {
-    if (!skip_damaged_) throw InputError(name_ + ": " + what + " (--skip-damaged skips damaged chunks)");
+    if (!skip_damaged_) throw InputError(name_ + ": " + what + " (--skip-damaged skips the damaged part)");
     if (report_.damaged_chunks++ == 0) report_.first_damage = what;
+  }
+
+  // A file that ends with its footer and the magic is whole: a record running past its end, or a chunk the summary
+  // lists that cannot be read, is damage, not a cut. Reads the summary's chunk index (the chunks' offsets), with
+  // which reading resumes after damage.
+  void read_summary(std::ifstream& in) {
+    if (report_.file_bytes < 8 + 9 + 20 + 8) return;
+    std::uint8_t tail[9 + 20 + 8];
+    in.seekg(static_cast<std::streamoff>(report_.file_bytes - sizeof tail));
+    if (!in.read(reinterpret_cast<char*>(tail), sizeof tail) || std::memcmp(tail + 29, kMagic, 8) != 0 ||
+        tail[0] != kFooter || le64(tail + 1) != 20)
+      return;
+    whole_ = true;
+    const std::uint64_t footer = report_.file_bytes - sizeof tail, summary = le64(tail + 9);
+    if (summary < 8 || summary >= footer || footer - summary > kMaxRecordBytes) return;
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(footer - summary));
+    in.seekg(static_cast<std::streamoff>(summary));
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) return;
+    for (std::size_t at = 0; bytes.size() - at >= 9;) {
+      const std::uint64_t len = le64(bytes.data() + at + 1);
+      if (len > bytes.size() - at - 9) break;
+      if (bytes[at] == kChunkIndex && len >= 24) chunks_.insert(le64(bytes.data() + at + 9 + 16));
+      at += 9 + static_cast<std::size_t>(len);
+    }
+  }
+
+  // After damage at `at`: the next chunk the summary lists, or the file's end when there is none.
+  std::uint64_t resume_after(std::uint64_t at) const {
+    const auto next = chunks_.upper_bound(at);
+    return next == chunks_.end() ? report_.file_bytes : *next;
   }
 
   // The records of the chunk the file was cut in: its compressed bytes up to the cut, decompressed as far as they
@@ -305,6 +366,8 @@ class Reader {
   std::map<std::uint16_t, Schema> schemas_;
   std::map<std::uint16_t, Channel> channels_;
   ReadReport report_;
+  bool whole_ = false;                // the file ends with its footer and magic
+  std::set<std::uint64_t> chunks_;    // the chunks' offsets, from the summary's chunk index
 };
 
 }  // namespace

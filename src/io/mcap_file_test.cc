@@ -65,17 +65,21 @@ Bytes compress(const std::string& how, const Bytes& in) {
   return out;
 }
 
-// Header, then `chunks` chunks of `per_chunk` messages each, DataEnd, Footer, magic.
-Bytes file(const std::string& compression, int chunks, int per_chunk) {
+// Header, then `chunks` chunks of `per_chunk` messages each, DataEnd, a summary of one ChunkIndex per chunk (when
+// indexed), Footer, magic. chunk_at gets each chunk record's offset.
+Bytes file(const std::string& compression, int chunks, int per_chunk, bool indexed = false,
+           std::vector<std::uint64_t>* chunk_at = nullptr) {
   Out o;
   o.bytes({0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'});
   o.record(0x01, Out().s("ros2").s("test").b);
   std::uint64_t t = 100;
+  std::vector<std::uint64_t> at;
   for (int c = 0; c < chunks; ++c) {
     Out records;
     if (c == 0) records.bytes(schema_and_channel());
     for (int m = 0; m < per_chunk; ++m, ++t) records.bytes(message(t, static_cast<std::uint8_t>(t)));
     const Bytes stored = compress(compression, records.b);
+    at.push_back(o.b.size());
     o.record(0x06, Out()
                        .n<std::uint64_t>(0)
                        .n<std::uint64_t>(0)
@@ -88,8 +92,13 @@ Bytes file(const std::string& compression, int chunks, int per_chunk) {
                        .b);
   }
   o.record(0x0F, Out().n<std::uint32_t>(0).b);
-  o.record(0x02, Out().n<std::uint64_t>(0).n<std::uint64_t>(0).n<std::uint32_t>(0).b);
+  const std::uint64_t summary = indexed ? o.b.size() : 0;
+  for (std::size_t c = 0; indexed && c < at.size(); ++c)
+    o.record(0x08, Out().n<std::uint64_t>(0).n<std::uint64_t>(0).n(at[c]).n<std::uint64_t>(0).n<std::uint32_t>(0)
+                       .n<std::uint64_t>(0).s(compression).n<std::uint64_t>(0).n<std::uint64_t>(0).b);
+  o.record(0x02, Out().n(summary).n<std::uint64_t>(0).n<std::uint32_t>(0).b);
   o.bytes({0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'});
+  if (chunk_at) *chunk_at = at;
   return o.b;
 }
 
@@ -181,6 +190,40 @@ TEST(McapFile, ADamagedChunkIsAnErrorOrSkippedAndCounted) {
     EXPECT_EQ(g.times.size(), 8u) << c;
     EXPECT_EQ(g.report.damaged_chunks, 1u) << c;
     EXPECT_THAT(g.report.first_damage, HasSubstr("chunk at byte " + std::to_string(second)));
+  }
+}
+
+// A file that ends with its footer is whole: a chunk whose length runs past the end, whose opcode is damaged, or
+// whose length is too short is damage, not a cut; with skip_damaged reading resumes at the next chunk the
+// summary's chunk index lists, so only the damaged chunk's messages are lost.
+TEST(McapFile, DamageInAWholeFileIsNotACutAndReadingResumesAfterIt) {
+  testing::TempDir dir;
+  std::vector<std::uint64_t> at;
+  const Bytes whole = file("zstd", 3, 4, true, &at);
+  const auto set_length = [&](Bytes& b, std::uint64_t len) {
+    for (int i = 0; i < 8; ++i) b[at[1] + 1 + i] = static_cast<std::uint8_t>(len >> (8 * i));
+  };
+  Bytes past = whole, opcode = whole, shortened = whole;
+  set_length(past, 1u << 30);
+  opcode[at[1]] = 0x42;
+  set_length(shortened, 40);
+  const std::vector<std::pair<Bytes, std::string>> cases = {
+      {past, "runs past the end of the file, which is whole"},
+      {opcode, "the summary lists a chunk here, but the record is not one"},
+      {shortened, "the chunk at byte " + std::to_string(at[1])}};
+  for (const auto& [bytes, message] : cases) {
+    write(dir / "d.mcap", bytes);
+    try {
+      read(dir / "d.mcap");
+      ADD_FAILURE() << message << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(message));
+      EXPECT_THAT(e.what(), HasSubstr("--skip-damaged"));
+    }
+    const Got g = read(dir / "d.mcap", true);
+    EXPECT_FALSE(g.report.truncated) << message;
+    EXPECT_EQ(g.report.damaged_chunks, 1u) << message;
+    EXPECT_EQ(g.times, (std::vector<std::uint64_t>{100, 101, 102, 103, 108, 109, 110, 111})) << message;
   }
 }
 
