@@ -66,7 +66,8 @@ struct LogReadOptions {
   /// count (CarmenLog::warnings, RosBagLog::warnings). A recording cut short is read up to its last whole line
   /// (or chunk) either way. Corrupt gzip data stays an error: nothing after it can be read. CLI: --skip-damaged.
   bool skip_damaged = false;
-  /// Largest distance between the laser poses of consecutive scans [m]. The shared logs' largest is 3.3 m
+  /// Largest distance between the laser poses of consecutive scans (in a bag: between consecutive odometry poses)
+  /// [m]. The shared logs' largest is 3.3 m
   /// (orebro-corrected, a subsampled corrected log; 0.86 m in the raw ones); a scan moved kilometres is damage.
   double max_scan_jump = 20.0;
 };

@@ -4,6 +4,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <map>
 #include <variant>
@@ -199,28 +200,28 @@ FileRead read_db3(const std::filesystem::path& path, Decoder& decoder) {
     throw InputError(name + ": not a rosbag2 SQLite file (" + e.what() + ")");
   }
   std::int64_t row = 0;
-  try {
-    sqlite::Statement m(db, "SELECT id, topic_id, timestamp, data FROM messages ORDER BY id");
-    while (m.step()) {
-      row = m.int64(0);
-      const auto topic = topics.find(m.int64(1));
-      if (topic == topics.end())
-        throw InputError(name + ": messages row " + std::to_string(row) + " names topic " +
-                         std::to_string(m.int64(1)) + ", which the topics table does not hold");
-      decoder.add(out, topic->second.name, topic->second.type, topic->second.format,
-                  static_cast<std::uint64_t>(m.int64(2)), m.blob(3), name + ": messages row " + std::to_string(row));
+  sqlite::Statement m(db, "SELECT id, topic_id, timestamp, data FROM messages ORDER BY id");
+  for (;;) {
+    try {
+      if (!m.step()) break;
+    } catch (const InputError& e) {
+      // A damaged page: SQLite stops there. With skip_damaged, every row the pages still hold whole is read instead.
+      const std::string what = std::string(e.what()) + " (after messages row " + std::to_string(row) + ")";
+      if (!decoder.skip_damaged()) throw InputError(what + "; --skip-damaged reads the rows its pages still hold");
+      FileRead salvaged;
+      salvage_db3(path, decoder, salvaged);
+      salvaged.cut.clear();
+      salvaged.damaged += 1;
+      salvaged.first_damage = what;
+      return salvaged;
     }
-  } catch (const InputError& e) {
-    // A damaged page: SQLite stops there. With skip_damaged, every row the pages still hold whole is read instead.
-    if (!decoder.skip_damaged()) throw InputError(std::string(e.what()) + " (after messages row " +
-                                                  std::to_string(row) + "; --skip-damaged reads the rest)");
-    FileRead salvaged;
-    salvage_db3(path, decoder, salvaged);
-    salvaged.cut.clear();
-    salvaged.damaged += 1;
-    salvaged.first_damage = std::string(e.what()) + " after messages row " + std::to_string(row) +
-                            "; the rows the file's pages still hold were read";
-    return salvaged;
+    row = m.int64(0);
+    const auto topic = topics.find(m.int64(1));
+    if (topic == topics.end())
+      throw InputError(name + ": messages row " + std::to_string(row) + " names topic " + std::to_string(m.int64(1)) +
+                       ", which the topics table does not hold");
+    decoder.add(out, topic->second.name, topic->second.type, topic->second.format,
+                static_cast<std::uint64_t>(m.int64(2)), m.blob(3), name + ": messages row " + std::to_string(row));
   }
   return out;
 }
@@ -230,7 +231,8 @@ struct Storage {
   bool zstd_messages = false;
 };
 
-Storage storage_of(const std::filesystem::path& path) {
+Storage storage_of(std::filesystem::path path) {
+  if (path.filename() == "metadata.yaml") path = path.parent_path().empty() ? "." : path.parent_path();
   const std::string name = path.string();
   std::error_code ec;
   if (!std::filesystem::is_directory(path, ec)) {
@@ -243,12 +245,17 @@ Storage storage_of(const std::filesystem::path& path) {
   try {
     const YAML::Node info = YAML::LoadFile(meta.string())["rosbag2_bagfile_information"];
     if (!info) throw InputError(meta.string() + ": no rosbag2_bagfile_information (not a rosbag2 metadata file)");
-    const std::string mode = info["compression_mode"] ? info["compression_mode"].as<std::string>() : "";
-    const std::string format = info["compression_format"] ? info["compression_format"].as<std::string>() : "";
-    if (mode == "MESSAGE" && format == "zstd") s.zstd_messages = true;
+    // rosbag2 reads these case-insensitively ("message", "MESSAGE").
+    const auto upper = [](std::string v) {
+      for (char& c : v) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      return v;
+    };
+    const std::string mode = upper(info["compression_mode"] ? info["compression_mode"].as<std::string>() : "");
+    const std::string format = upper(info["compression_format"] ? info["compression_format"].as<std::string>() : "");
+    if (mode == "MESSAGE" && format == "ZSTD") s.zstd_messages = true;
     else if (!mode.empty() && mode != "NONE")
-      throw InputError(meta.string() + ": compression_mode " + mode + " (" + format +
-                       ") is not read; MESSAGE-mode zstd is (decompress the files first)");
+      throw InputError(meta.string() + ": compression_mode " + mode + " with format " + format +
+                       " is not read (only per-message zstd is; decompress the files first)");
     const YAML::Node files = info["relative_file_paths"];
     if (!files || !files.IsSequence() || files.size() == 0)
       throw InputError(meta.string() + ": relative_file_paths: missing or empty");
@@ -270,7 +277,7 @@ std::string seconds(std::uint64_t ns) {
 bool is_ros2_bag(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return std::filesystem::exists(path / "metadata.yaml", ec);
-  return path.extension() == ".mcap" || path.extension() == ".db3";
+  return path.extension() == ".mcap" || path.extension() == ".db3" || path.filename() == "metadata.yaml";
 }
 
 RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions& options) {
@@ -294,8 +301,8 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
       if (std::holds_alternative<rm::LaserScanMessage>(e.message)) ++scans, last = std::max(last, e.time_ns);
     }
     if (read.damaged > 0)
-      warnings.push_back(file.string() + ": skipped " + std::to_string(read.damaged) +
-                         " damaged chunks or messages (the first: " + read.first_damage + ")");
+      warnings.push_back(file.string() + ": skipped " + std::to_string(read.damaged) + " damaged " +
+                         (mcap ? "chunks or messages" : "pages or messages") + " (the first: " + read.first_damage + ")");
     if (!read.cut.empty()) {
       warnings.push_back(file.string() + ": the recording is cut short; read it up to its last whole message, " +
                          read.cut + ": " + std::to_string(scans) + " scans, up to log time " + seconds(last) + " s" +
@@ -319,6 +326,11 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
     messages = std::move(selection).finish();
   } catch (const rm::BagError& e) {
     throw InputError(name + ": " + e.what());
+  }
+  if (messages.scans.empty() && !warnings.empty()) {
+    std::string why;
+    for (const std::string& w : warnings) why += "; " + w;
+    throw InputError(name + ": the bag holds no sensor_msgs/LaserScan message that could be read" + why);
   }
   RosBagLog log = scans_from_bag_messages(messages, options, name);
   log.warnings.insert(log.warnings.end(), warnings.begin(), warnings.end());

@@ -14,7 +14,7 @@
 
 namespace partslam::io {
 
-/// True for a path ending in ".mcap" or ".db3", or a folder holding metadata.yaml.
+/// True for a path ending in ".mcap" or ".db3", a folder holding metadata.yaml, or that metadata.yaml itself.
 bool is_ros2_bag(const std::filesystem::path& path);
 
 /// Throws InputError naming the file (and byte offset or row) for a missing, foreign or damaged file, a bag

@@ -119,9 +119,10 @@ TEST(Ros2Bag, Db3FilesAndRosbag2FoldersGiveTheSameScans) {
   std::ofstream(dir / "bag" / "metadata.yaml")
       << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
          "  relative_file_paths:\n    - bag_0.db3\n    - bag_1.db3\n"
-         "  compression_format: zstd\n  compression_mode: MESSAGE\n";
+         "  compression_format: zstd\n  compression_mode: message\n";  // rosbag2 takes either case
   ASSERT_TRUE(is_ros2_bag(dir / "bag"));
   expect_same_scans(read_ros2_bag(dir / "bag"), ros1(), ros1().scans.size());
+  expect_same_scans(read_ros2_bag(dir / "bag" / "metadata.yaml"), ros1(), ros1().scans.size());  // the folder's
 }
 
 TEST(Ros2Bag, TopicsCanBeChosen) {
@@ -207,13 +208,13 @@ TEST(Ros2Bag, ADamagedDb3PageIsAnErrorOrSkipped) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("whole.db3"));
-    EXPECT_THAT(e.what(), HasSubstr("--skip-damaged reads the rest"));
+    EXPECT_THAT(e.what(), HasSubstr("--skip-damaged reads the rows its pages still hold"));
   }
   LogReadOptions o;
   o.skip_damaged = true;
   const RosBagLog log = read_ros2_bag(dir / "whole.db3", o);
   ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_THAT(log.warnings[0], HasSubstr("skipped 1 damaged"));
+  EXPECT_THAT(log.warnings[0], HasSubstr("skipped 1 damaged pages or messages"));
   EXPECT_LT(log.scans.size(), ros1().scans.size());
   EXPECT_GT(log.scans.size(), ros1().scans.size() - 10);  // a page holds a scan or two
 }
@@ -232,7 +233,7 @@ TEST(Ros2Bag, ForeignAndBrokenInputsAreRefusedByName) {
       {dir / "a.mcap", "a.mcap: not an MCAP file"},
       {dir / "a.db3", "a.db3: not a rosbag2 SQLite file"},
       {dir / "f", "metadata.yaml: relative_file_paths: missing or empty"},
-      {dir / "g", "metadata.yaml: compression_mode FILE (zstd) is not read"},
+      {dir / "g", "metadata.yaml: compression_mode FILE with format ZSTD is not read"},
       {dir / "absent.mcap", "absent.mcap: no such file"},
   };
   for (const auto& [path, message] : cases) {
@@ -250,6 +251,20 @@ TEST(Ros2Bag, ForeignAndBrokenInputsAreRefusedByName) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("plain: a folder without metadata.yaml"));
+  }
+  // Cut before its first whole message: the error says so.
+  {
+    std::ifstream in(shared_mcap(), std::ios::binary);
+    std::string head(1000, '\0');
+    in.read(head.data(), 1000);
+    std::ofstream(dir / "head.mcap", std::ios::binary) << head;
+  }
+  try {
+    read_ros2_bag(dir / "head.mcap");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("head.mcap: the bag holds no sensor_msgs/LaserScan message that could be read; "));
+    EXPECT_THAT(e.what(), HasSubstr("the recording is cut short"));
   }
   // A db3 whose only topic is not a scan.
   write_db3(dir / "odom.db3", {{"/odom", "nav_msgs/msg/Odometry", 1, {0, 1, 0, 0}}});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <vector>
 
@@ -133,6 +134,27 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
   for (std::size_t i = 0; i < messages.odometry.size(); ++i)
     odom.push_back(to_pose(messages.odometry[i], name + ": " + log.odometry_topic + " message " + std::to_string(i)));
   std::stable_sort(odom.begin(), odom.end(), [](const Stamped& a, const Stamped& b) { return a.t < b.t; });
+  // An odometry pose that jumps more than max_scan_jump from the one before is damage (a scan moved kilometres):
+  // an error naming it, or with skip_damaged left out and counted.
+  std::vector<Stamped> kept;
+  std::size_t jumps = 0;
+  for (const Stamped& o : odom) {
+    if (!kept.empty()) {
+      const double d = (o.pose.translation() - kept.back().pose.translation()).norm();
+      if (d > options.max_scan_jump) {
+        char what[200];
+        std::snprintf(what, sizeof what, "%s pose at stamp %.3f s jumps %.1f m from the one before (more than "
+                      "LogReadOptions.max_scan_jump, %.0f m)", log.odometry_topic.c_str(), o.t, d,
+                      options.max_scan_jump);
+        if (!options.skip_damaged) throw InputError(name + ": " + what + "; --skip-damaged leaves it out");
+        if (jumps++ == 0) log.warnings.push_back(name + ": left out an odometry " + what);
+        continue;
+      }
+    }
+    kept.push_back(o);
+  }
+  if (jumps > 1) log.warnings.back() += " (" + std::to_string(jumps) + " such poses in all)";
+  odom = std::move(kept);
   const std::optional<Pose2> mount = laser_mount(messages, name);
   if (mount) {
     log.T_base_laser = *mount;

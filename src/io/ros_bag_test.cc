@@ -122,7 +122,7 @@ TEST(RosBag, BadFilesAreNamedInTheError) {
   EXPECT_THAT(message(dir / "missing.bag"), HasSubstr("missing.bag: no such file"));
   EXPECT_THAT(message(dir / (std::string(5000, 'a') + ".bag")), HasSubstr("File name too long"));
   std::filesystem::create_directories(dir / "folder.bag");
-  EXPECT_THAT(message(dir / "folder.bag"), HasSubstr("folder.bag: not a regular file"));
+  EXPECT_THAT(message(dir / "folder.bag"), HasSubstr("folder.bag: a folder without metadata.yaml"));
   {
     std::ofstream(dir / "text.bag") << "FLASER 4 1 2 3 4 0 0 0 0 0 0 1 h 1\n";
   }
@@ -182,6 +182,36 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
   EXPECT_EQ(tf.scans[0].points_laser.size(), 181u);
 }
 
+// An odometry pose moved kilometres (a damaged message) is refused naming it, or left out with skip_damaged: the
+// scans around it keep the poses of their neighbours.
+TEST(RosBag, AnOdometryPoseThatJumpsIsDamage) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 30; ++k) {
+    const double t = 100.0 + 0.1 * k;
+    m.odometry.push_back({t - 0.05, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
+    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
+    scan.ranges.assign(181, 2.0f);
+    m.scans.push_back(scan);
+  }
+  m.odometry[12].x = 3000.0;
+  rosbag_messages::write_bag_messages((dir / "jump.bag").string(), m, false);
+  try {
+    read_ros_bag(dir / "jump.bag");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("jump.bag: /odom pose at stamp 101.150 s jumps 2998.9 m from the one before"));
+    EXPECT_THAT(e.what(), HasSubstr("--skip-damaged"));
+  }
+  LogReadOptions o;
+  o.skip_damaged = true;
+  const RosBagLog log = read_ros_bag(dir / "jump.bag", o);
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("left out an odometry /odom pose at stamp 101.150 s"));
+  ASSERT_EQ(log.scans.size(), 30u);
+  for (const Scan& s : log.scans) EXPECT_LT(s.T_world_laser.x, 3.0);
+}
+
 // The topics can be named (LogReadOptions::scan_topic, odom_topic; --scan-topic, --odom-topic), the same for ROS 1
 // and ROS 2 bags (io/bag_selection.h): the fr079 bag carries the odometry both on /odom and as /tf odom -> base_link.
 TEST(RosBag, TopicsCanBeChosen) {
@@ -203,6 +233,12 @@ TEST(RosBag, TopicsCanBeChosen) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("fr079.clf2bag.bag: no LaserScan message on /base_scan (the bag's topics: "));
     EXPECT_THAT(e.what(), HasSubstr("/scan (sensor_msgs/LaserScan)"));
+  }
+  try {
+    load_scan_source("sim", o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("sim: --scan-topic and --odom-topic name a bag's topics; this is not a bag"));
   }
   o = {};
   o.odom_topic = "/wheel_odom";

@@ -15,6 +15,9 @@ bool is_simulator_spec(const std::string& spec) { return spec == "sim" || spec.r
 ScanSource load_scan_source(const std::string& spec, const LogReadOptions& options) {
   ScanSource out;
   out.source = spec;
+  const bool bag = !is_simulator_spec(spec) && (is_ros_bag(spec) || is_ros2_bag(spec));
+  if (!bag && (!options.scan_topic.empty() || !options.odom_topic.empty()))
+    throw InputError(spec + ": --scan-topic and --odom-topic name a bag's topics; this is not a bag");
   if (is_simulator_spec(spec)) {
     SimulatorConfig config;
     if (spec.size() > 4) {
@@ -31,9 +34,10 @@ ScanSource load_scan_source(const std::string& spec, const LogReadOptions& optio
   std::error_code ec;
   if (std::filesystem::is_directory(spec, ec) && !is_ros2_bag(spec))
     throw InputError(spec + ": a folder without metadata.yaml (a rosbag2 folder has one; a log is a file)");
-  if (is_ros_bag(spec) || is_ros2_bag(spec)) {
-    const std::filesystem::path path = std::filesystem::path(spec).lexically_normal();
-    out.name = (path.has_filename() ? path : path.parent_path()).stem().string();
+  if (bag) {
+    std::filesystem::path path = std::filesystem::path(spec).lexically_normal();
+    if (!path.has_filename() || path.filename() == "metadata.yaml") path = path.parent_path();  // a rosbag2 folder
+    out.name = path.stem().string();
     RosBagLog log = is_ros_bag(spec) ? read_ros_bag(spec, options) : read_ros2_bag(spec, options);
     out.scans = std::move(log.scans);
     out.warnings = std::move(log.warnings);
