@@ -85,6 +85,27 @@ TEST_F(CliLocateTest, PicturesOfEveryAnswer) {
   EXPECT_THAT(run.output, HasSubstr("dir.png"));
 }
 
+// Options a new user got wrong are refused naming the option, before any long work.
+TEST_F(CliLocateTest, AbsurdStretchesAndOptionsAreRefused) {
+  const fs::path yaml = dir_ / "building.yaml", db = dir_ / "maps.db";
+  ASSERT_EQ(run_partslam("export-map sim:1 --out " + quoted(yaml)).exit_code, 0);
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db) + " --quiet").exit_code, 0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"export-map sim:1 --out " + quoted(dir_ / "u.yaml") + " --until nan", "--until must be a finite travel >= 0"},
+      {"export-map sim:1 --out " + quoted(dir_ / "u.yaml") + " --until -5", "--until must be a finite travel >= 0"},
+      {"locate --map " + quoted(yaml) + " --query-log sim:1 --at -5", "lies before the log's first scan"},
+      {"locate --map " + quoted(yaml) + " --query-log sim:1 --every 1e-9", "local maps along"},
+      {"match " + quoted(db) + " --query 3 --from-m 1 --to-m 3", "go with --query-log, not --query ID"},
+      {"locate --map " + quoted(dir_) + " --query-log sim:1 --at-m 3", "a folder, not a map YAML file"},
+      {"submaps sim:1 --db " + quoted(dir_ / "t.db") + " --scan-topic /scan", "this is not a bag"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CliRun run = run_partslam(args);
+    EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
+    EXPECT_THAT(run.output, HasSubstr(message)) << args;
+  }
+}
+
 // The round trip a user makes: the simulated building's map exported as map_server files, then a stretch of the
 // same log located in it: the robot's pose is the log's own (the map frame is the log's world frame).
 TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {

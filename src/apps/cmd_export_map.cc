@@ -4,9 +4,11 @@
 // travel (a map of the first visit, to localise the rest of the log in). A PNG preview (map.png) goes beside them.
 // All files are written atomically.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "apps/commands.h"
 #include "apps/log_inputs.h"
@@ -29,12 +31,14 @@ struct ExportMapOptions {
   io::LogReadOptions read;
   std::string out;
   GridMapConfig grid;
-  double until = -1;
+  std::optional<double> until;  ///< --until M: given or not
   bool scan_match = false;
 };
 
 void run_export_map(const ExportMapOptions& o) {
   validate(o.grid);
+  if (o.until && !(std::isfinite(*o.until) && *o.until >= 0))
+    throw InputError("--until must be a finite travel >= 0 [m], got " + std::to_string(*o.until));
   if (o.out.empty() || std::filesystem::path(o.out).extension() != ".yaml")
     throw InputError("--out must name the map's YAML file (e.g. map.yaml; the image goes beside it as .pgm)");
   std::filesystem::path image(o.out);
@@ -47,11 +51,11 @@ void run_export_map(const ExportMapOptions& o) {
   const auto t0 = Clock::now();
   Scans scans = load_scans(o.log, o.read).scans;
   if (o.scan_match) scans = scan_match_log(scans).scans;
-  if (o.until >= 0) {
+  if (o.until) {
     const std::vector<double> s = travel_distances(scans);
     std::size_t end = 0;
-    while (end < scans.size() && s[end] < o.until) ++end;
-    if (end == 0) throw InputError("--until " + std::to_string(o.until) + ": no scan before that travel");
+    while (end < scans.size() && s[end] < *o.until) ++end;
+    if (end == 0) throw InputError("--until " + std::to_string(*o.until) + ": no scan before that travel");
     scans.resize(end);
   }
   const GridMap map = build_grid_map(scans, o.grid);

@@ -144,6 +144,12 @@ void run_locate(const LocateOptions& o) {
   if (o.every) {
     const double every = *o.every;
     const std::vector<double> s = travel_distances(scans);
+    if (!s.empty() && s.back() / every > 100000) {
+      char why[200];
+      std::snprintf(why, sizeof why, "--every %g m: %.3g local maps along %.1f m of travel (at most 100000; take a "
+                    "larger --every)", every, s.back() / every, s.back());
+      throw InputError(why);
+    }
     ProgressBar bar(!o.quiet);
     const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / every)) + 1;
     std::size_t skipped = 0, done = 0;

@@ -355,6 +355,9 @@ void run_match(const MatchOptions& o) {
   if ((o.query >= 0) == new_map)
     throw InputError("give either --query ID (a stored map) or --query-log LOG / --query-points FILE (a new local map)");
   check_query_options(o.new_query);
+  if (!new_map && (o.new_query.stretch_given() || o.new_query.scan_match))
+    throw InputError("--from-m, --to-m, --at-m, --from-time, --to-time, --at and --scan-match go with --query-log, "
+                     "not --query ID");
   if (new_map && method.needs_parts)
     throw InputError("a new local map: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
                      "(dmm, succinct, grid, sc, rerank:R)");

@@ -131,6 +131,9 @@ QueryLog load_query_log(const QueryOptions& q, const FrontEndConfig& front_end, 
       throw InputError(q.log + ": no scan between " + number(from) + " and " + number(to) + " m of travel (" +
                        (q.from_m ? "--from-m/--to-m" : "--at-m") + "; " + travel_span(s) + ")");
   } else if (q.from_time) {
+    if (!t.empty() && *q.from_time < t.front() - 1.0)
+      throw InputError(q.log + ": --from-time " + number(*q.from_time) + " s lies before the log's first scan (the "
+                       "log's clock; " + time_span(scans) + ")");
     first = first_at_or_after(t, *q.from_time);
     end = first;
     while (end < scans.size() && t[end] < *q.to_time) ++end;
@@ -140,6 +143,9 @@ QueryLog load_query_log(const QueryOptions& q, const FrontEndConfig& front_end, 
                        ") s (--from-time/--to-time, the log's clock; " + time_span(scans) + ")");
   } else {
     first = first_at_or_after(t, *q.at_time);
+    if (!t.empty() && *q.at_time < t.front() - 1.0)  // not "seconds since the first scan": the log's own clock
+      throw InputError(q.log + ": --at " + number(*q.at_time) + " s lies before the log's first scan (--at, the log's "
+                       "clock; " + time_span(scans) + ")");
     if (first == scans.size())
       throw InputError(q.log + ": no scan stamped at or after " + number(*q.at_time) + " s (--at, the log's clock; " +
                        time_span(scans) + ")");

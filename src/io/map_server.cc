@@ -120,6 +120,8 @@ T field(const YAML::Node& root, const std::filesystem::path& path, const char* n
 }  // namespace
 
 GridMap read_map_yaml(const std::filesystem::path& yaml_path) {
+  std::error_code folder_ec;
+  if (std::filesystem::is_directory(yaml_path, folder_ec)) fail(yaml_path, "a folder, not a map YAML file");
   YAML::Node root;
   try {
     root = YAML::LoadFile(yaml_path.string());
