@@ -6,7 +6,9 @@
 // frame, e.g. on /tf_static; the benchmark's .clf files, made from these bags, do not apply it). A bag without
 // nav_msgs/Odometry is posed by its /tf odom -> base_link (or base_footprint) transforms instead. Scans outside the odometry's time span take the nearest odometry; a bag with neither gives
 // every scan the identity pose (the front end then predicts a standing robot). A bag cut short (its index, written
-// last, gone) is read up to its last whole chunk by walking its records, with a warning (RosBagLog::warnings).
+// last, gone) is read up to its last whole chunk by walking its records, with a warning (RosBagLog::warnings). A
+// complete bag (its index within the file) damaged in the middle is an error naming the byte, or with
+// LogReadOptions::skip_damaged is read around the damage, every other whole chunk found from its index.
 #pragma once
 
 #include <filesystem>
@@ -47,8 +49,9 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
                                   const std::string& name);
 
 /// Throws InputError naming the file for a missing or foreign file, damage before the end of the file (a corrupt
-/// chunk or message, a damaged index; unless options.skip_damaged), a bag without LaserScan messages, a scan with
-/// non-finite fields, or more than options.max_points valid beams. A bag cut short is read up to its last whole
+/// chunk, chunk length or message, a damaged index; unless options.skip_damaged: then skipped and counted), a bag without LaserScan messages, a scan with
+/// non-finite fields, or more than options.max_points valid beams. A bag cut short (its file ending before its index)
+/// is read up to its last whole
 /// chunk, with a warning.
 RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& options = {});
 

@@ -3,18 +3,21 @@
 // record header of 2^32 - 1 bytes made it allocate 4 GB, and an index entry pointing past its chunk made it read
 // beyond its buffer (fuzz_ros_bag). This walk checks each of them against the file and the chunks' contents. It
 // needs no ROS headers (C++20); it reads the file piecewise and decompresses each chunk (bz2, lz4) once more to check
-// the message offsets, so a bag costs about twice its reading time. walk_bag_chunks reads the records without the
-// index, for bags cut short (whose index, written last, is gone).
+// the message offsets, so a bag costs about twice its reading time. walk_bag_chunks reads the records one after the
+// other, for bags cut short (whose index, written last, is gone) or damaged (resuming after a damaged record at the
+// next chunk the index lists, when it reads whole).
 #include <bzlib.h>
 #include <roslz4/lz4s.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -362,6 +365,110 @@ class Walker {
 
 }  // namespace
 
+namespace {
+
+// The bag's index (connection records, then a chunk info record per chunk, at the header's index_pos), when it
+// reads whole: its connection records and the positions of its chunks, sorted. nullopt when the bag was never
+// closed (index_pos 0), the file ends before index_pos, or any index record is malformed. Bounded by the file:
+// every record read lies within it.
+struct BagIndex {
+  std::vector<Record> connections;
+  std::vector<std::uint64_t> chunk_positions;
+};
+
+std::optional<BagIndex> read_index(Source& file, const Record& header, std::uint64_t index_pos) {
+  if (index_pos == 0 || index_pos < header.end || index_pos >= file.size()) return std::nullopt;
+  try {
+    const std::uint32_t connections = field_u32(header, "conn_count", "bag header");
+    const std::uint32_t chunks = field_u32(header, "chunk_count", "bag header");
+    BagIndex index;
+    std::uint64_t pos = index_pos;
+    for (std::uint32_t i = 0; i < connections; ++i) {
+      Record r = read_record(file, pos, "connection record");
+      require_op(r, kOpConnection, "connection record");
+      pos = r.end;
+      index.connections.push_back(std::move(r));
+    }
+    for (std::uint32_t i = 0; i < chunks; ++i) {
+      const Record r = read_record(file, pos, "chunk info record");
+      require_op(r, kOpChunkInfo, "chunk info record");
+      const std::uint64_t chunk_pos = field_u64(r, "chunk_pos", "chunk info record");
+      if (chunk_pos < header.end || chunk_pos >= index_pos) fail("chunk info record: a chunk outside the chunks");
+      index.chunk_positions.push_back(chunk_pos);
+      pos = r.end;
+    }
+    std::sort(index.chunk_positions.begin(), index.chunk_positions.end());
+    index.chunk_positions.erase(std::unique(index.chunk_positions.begin(), index.chunk_positions.end()),
+                                index.chunk_positions.end());
+    return index;
+  } catch (const BagError&) {
+    return std::nullopt;
+  }
+}
+
+// Without a readable index, the next chunk after a damaged record whose lengths cannot be trusted: the first
+// record after `after` that reads as a chunk record as rosbag writes them (header fields compression, op = 0x05,
+// size, in that order), found by its op field. Reads the file in blocks (the last one kept for the next call);
+// examines at most 4096 op fields over all calls.
+class ChunkFinder {
+ public:
+  explicit ChunkFinder(Source& file) : file_(file) {}
+
+  /// The position of the next chunk record after `after`; 0 when there is none.
+  std::uint64_t next_after(std::uint64_t after) {
+    static constexpr std::array<std::uint8_t, 8> kOpField{4, 0, 0, 0, 'o', 'p', '=', kOpChunk};
+    for (std::uint64_t from = after + 1; from < file_.size();) {
+      if (from < block_at_ || from >= block_at_ + block_.size()) {
+        block_at_ = from;
+        block_ = file_.read(from, static_cast<std::size_t>(std::min<std::uint64_t>(kBlock, file_.size() - from)));
+      }
+      const auto begin = block_.begin() + static_cast<std::ptrdiff_t>(from - block_at_);
+      const auto hit = std::search(begin, block_.end(), kOpField.begin(), kOpField.end());
+      if (hit == block_.end()) {
+        const std::uint64_t end = block_at_ + block_.size();
+        if (end >= file_.size()) return 0;
+        from = std::max(from + 1, end - (kOpField.size() - 1));  // a match across two blocks is found in the next
+        continue;
+      }
+      if (matches_left_ == 0) return 0;  // a hostile file full of op fields: give up
+      --matches_left_;
+      const std::uint64_t op = block_at_ + static_cast<std::uint64_t>(hit - block_.begin());
+      for (const std::uint64_t before : {std::uint64_t{0}, std::uint64_t{19}, std::uint64_t{20}}) {
+        // the fields before op: none, "compression=bz2" / "=lz4", "compression=none" (each with its length)
+        if (op < after + 1 + 4 + before) continue;
+        if (is_chunk_record(op - 4 - before)) return op - 4 - before;
+      }
+      from = op + 1;
+    }
+    return 0;
+  }
+
+ private:
+  static constexpr std::size_t kBlock = 1u << 20;
+
+  bool is_chunk_record(std::uint64_t pos) {
+    if (file_.size() - pos < 8 || u32(file_.read(pos, 4).data()) > 4096) return false;
+    try {
+      const Record r = read_record(file_, pos, "chunk");
+      require_op(r, kOpChunk, "chunk");
+      return r.fields.contains("compression") && r.fields.contains("size");
+    } catch (const BagError&) {
+      return false;
+    }
+  }
+
+  Source& file_;
+  std::size_t matches_left_ = 4096;  ///< op fields examined, over all calls (a real bag's are its chunks')
+  std::vector<std::uint8_t> block_;
+  std::uint64_t block_at_ = 0;
+};
+
+// Most resynchronisations by ChunkFinder in one walk: each may decompress a (hostile) chunk of up to
+// kMaxChunkBytes that overlaps the one before, so their number is bounded; past it the rest is given up.
+constexpr std::size_t kMaxScans = 64;
+
+}  // namespace
+
 ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string>& keep_types, bool skip_damaged,
                           std::size_t max_bytes) {
   FileSource file(path);
@@ -370,15 +477,45 @@ ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string
   const Record header = read_bag_header(file);
   out.index_pos = field_u64(header, "index_pos", "bag header");
   Walker walker(keep_types, max_bytes, out);
-  for (std::uint64_t pos = header.end; pos < file.size();) {
-    if (runs_past_end(file, pos)) {
-      out.cut_at = pos;
-      break;
+  // A bag closed with its index (index_pos within the file) ends after its chunks: a record before index_pos that
+  // runs past the end of the file is damage, not a cut.
+  const bool closed = out.index_pos != 0 && out.index_pos >= header.end && out.index_pos < file.size();
+  const std::optional<BagIndex> index = read_index(file, header, out.index_pos);
+  if (index) {
+    out.indexed_chunks = index->chunk_positions.size();
+    for (const Record& r : index->connections) {
+      try {
+        walker.connection(file, r);  // so that the chunks after a damaged one holding them can be read
+      } catch (const BagError&) {
+        // a connection header that does not parse: its chunk's connection record may still define it
+      }
     }
+  }
+  // With the index: the next chunk it knows after pos, or the index itself.
+  const auto next_known = [&](std::uint64_t pos) {
+    const auto it = std::upper_bound(index->chunk_positions.begin(), index->chunk_positions.end(), pos);
+    return it == index->chunk_positions.end() ? out.index_pos : *it;
+  };
+  ChunkFinder finder(file);
+  std::size_t scans = 0;
+  const std::uint64_t end = index ? out.index_pos : file.size();  // a readable index was read above
+  for (std::uint64_t pos = header.end; pos < end;) {
     std::uint64_t next = 0;
     try {
+      if (runs_past_end(file, pos)) {
+        if (!closed || pos >= out.index_pos) {
+          out.cut_at = pos;
+          break;
+        }
+        fail("its length runs past the end of the file at byte " + std::to_string(file.size()) +
+             ", before the bag's index at byte " + std::to_string(out.index_pos));
+      }
       const Record r = read_record(file, pos, "record");
       next = r.end;  // the lengths are within the file: the next record is found even when this one is damaged
+      if (index && r.end > next_known(pos)) {
+        next = 0;
+        fail("its length runs over the chunk at byte " + std::to_string(next_known(pos)) + " (from the index)");
+      }
       const std::uint8_t op = static_cast<std::uint8_t>(field(r, "op", 1, "record")[0]);
       if (op == kOpChunk) walker.chunk(file, r, pos);
       else if (op == kOpConnection) walker.connection(file, r);
@@ -387,9 +524,17 @@ ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string
     } catch (const BagError& e) {
       if (std::string_view(e.what()).starts_with("more than ")) throw;  // the size limit, not damage
       const std::string what = "the record at byte " + std::to_string(pos) + " is damaged: " + problem_of(e);
-      if (!skip_damaged) throw BagError("not a readable ROS 1 bag (" + what + ")");
+      if (!skip_damaged) throw BagError("not a readable ROS 1 bag (" + what + "); --skip-damaged skips it and reads the rest");
       if (out.damaged++ == 0) out.first_damage = what;
-      if (next == 0) break;  // its lengths cannot be trusted: the rest of the file is lost
+      if (index) {
+        next = next_known(pos);  // resynchronised at the next chunk the index gives
+      } else if (next == 0) {    // its lengths cannot be trusted: look for the next chunk record
+        next = ++scans <= kMaxScans ? finder.next_after(pos) : 0;
+        if (next == 0) {
+          out.lost_at = pos;
+          break;
+        }
+      }
     }
     pos = next;
   }

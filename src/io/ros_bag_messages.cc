@@ -153,9 +153,9 @@ const std::vector<std::string>& kept_types() {
   return types;
 }
 
-// A bag whose structure check failed (structure_error): its chunks walked without the index. A bag cut short or
-// never closed is read up to its last whole record, with a warning; one whose index alone is damaged only with
-// skip_damaged.
+// A bag whose structure check failed (structure_error): its chunks walked record by record (walk_bag_chunks). A
+// bag cut short before its index or never closed is read up to its last whole record, with a warning; one whose
+// index alone is damaged, or damaged before its index, only with skip_damaged (the other whole chunks read).
 BagMessages read_without_index(const std::string& path, std::size_t max_ranges, bool skip_damaged,
                                const std::string& scan_topic, const std::string& odom_topic,
                                const std::string& structure_error) {
@@ -189,9 +189,18 @@ BagMessages read_without_index(const std::string& path, std::size_t max_ranges, 
   } else if (walk.damaged == 0) {
     warnings.push_back("the bag's index is damaged (" + structure_error + "); " + read + " without it (--skip-damaged)");
   }
-  if (walk.damaged > 0)
-    warnings.push_back("skipped " + std::to_string(walk.damaged) + " damaged record(s) (--skip-damaged); the first: " +
-                       walk.first_damage);
+  if (walk.damaged > 0) {
+    std::string w = "skipped " + std::to_string(walk.damaged) + " damaged record(s) (--skip-damaged); the first: " +
+                    walk.first_damage;
+    if (warnings.empty()) {  // a bag closed with its index: say what was read around the damage
+      w += "; " + read;
+      if (walk.indexed_chunks > 0) w += " (of the " + std::to_string(walk.indexed_chunks) + " its index lists)";
+    }
+    warnings.push_back(w);
+  }
+  if (walk.lost_at != 0)
+    warnings.push_back("no chunk record was found after the damaged record at byte " + std::to_string(walk.lost_at) +
+                       ": the rest of the file, to byte " + std::to_string(walk.file_size) + ", could not be read");
   out.warnings.insert(out.warnings.begin(), warnings.begin(), warnings.end());
   return out;
 }

@@ -81,26 +81,35 @@ struct ChunkWalk {
   std::uint64_t file_size = 0;
   std::uint64_t index_pos = 0;       ///< the bag header's index_pos (0: the recording was never closed)
   std::uint64_t cut_at = 0;          ///< start of the record the file ends in the middle of; 0: none
+  std::size_t indexed_chunks = 0;    ///< chunks the bag's index lists when it was readable; 0: not read
   std::size_t damaged = 0;           ///< damaged chunks or records skipped (skip_damaged)
-  std::string first_damage;          ///< "chunk at byte P: problem" of the first
+  std::string first_damage;          ///< "the record at byte P is damaged: problem" of the first
+  std::uint64_t lost_at = 0;         ///< with skip_damaged and no readable index: the damaged record after which
+                                     ///< no further chunk record was found (the rest unread); 0: none
 };
 
-/// Walks a ROS bag 2.0 file record by record from its bag header on, as `rosbag reindex` does, without its index:
-/// the connection records and the messages in the chunks (bz2, lz4 or none), keeping only the messages whose type
-/// is one of keep_types. A record running past the end of the file ends the walk (cut_at). A damaged record or
-/// chunk before it throws BagError naming its position, or with skip_damaged is skipped and counted (a chunk
-/// whose record lengths cannot be trusted ends the walk: the next record cannot be found). Throws BagError when
-/// the kept messages pass max_bytes (their data and 64 bytes each), and for a file that is not a bag. Reads one chunk at a time (at most
-/// kMaxChunkBytes). (io/ros_bag_check.cc; no ROS headers)
+/// Walks a ROS bag 2.0 file record by record from its bag header on, as `rosbag reindex` does: the connection
+/// records and the messages in the chunks (bz2, lz4 or none), keeping only the messages whose type is one of
+/// keep_types. When the bag's index (at the header's index_pos) reads whole, its connections are known from the
+/// start and its chunk positions bound the walk, which stops at the index. A record running past the end of the
+/// file ends the walk (cut_at) only when the file ends before index_pos (or index_pos is 0: never closed); before
+/// an index that lies within the file it is damage. A damaged record or chunk throws BagError naming its
+/// position (and --skip-damaged), or with skip_damaged is skipped and counted: the walk resumes at the next chunk
+/// the index gives (a record whose lengths run over that chunk is damaged too), or without a readable index at
+/// the record's end when its lengths lie within the file, else at the next record found that reads as a chunk
+/// record (at most 64 such searches; when none is found the rest is given up: lost_at). Throws BagError when the
+/// kept messages pass max_bytes (their data and 64 bytes each), and for a file that is not a bag. Reads one chunk
+/// at a time (at most kMaxChunkBytes). (io/ros_bag_check.cc; no ROS headers)
 ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string>& keep_types, bool skip_damaged,
                           std::size_t max_bytes);
 
 /// Reads the messages in bag order, chosen as io/bag_selection.h says (scan_topic / odom_topic: the topics asked
-/// for, empty: the first); stops with BagError once more than max_ranges ranges were read. A bag whose
-/// index is missing or cut off (a recording cut short or never closed) is read by walk_bag_chunks up to its last
-/// whole chunk, in the order of the messages' times, with a warning. Damage elsewhere (a corrupt chunk, a message
-/// whose arrays do not fit it, a damaged index) throws BagError naming the place, or with skip_damaged is skipped
-/// and counted in a warning.
+/// for, empty: the first); stops with BagError once more than max_ranges ranges were read. A bag that fails
+/// check_bag_structure is read by walk_bag_chunks, in the order of the messages' times: one whose index is
+/// missing or cut off (a recording cut short before its index, or never closed) up to its last whole chunk, with
+/// a warning. Damage elsewhere (a corrupt chunk or chunk length in a bag whose file goes on to its index, a
+/// message whose arrays do not fit it, a damaged index) throws BagError naming the place, or with skip_damaged is
+/// skipped and counted in a warning, every other whole chunk read (found from the index when it is readable).
 BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, bool skip_damaged = false,
                               const std::string& scan_topic = "", const std::string& odom_topic = "");
 

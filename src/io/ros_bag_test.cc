@@ -525,5 +525,120 @@ TEST(RosBag, ACorruptChunkInTheMiddleIsAnErrorOrWithSkipDamagedSkippedAndCounted
   EXPECT_THAT(log.warnings[0], HasSubstr("corrupt.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " + place));
 }
 
+
+// The scans of `whole` without those of chunk `skipped` (chunks: from chunks_of), which must be `part`.
+void expect_all_but_chunk(const Scans& part, const Scans& whole,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& chunks, std::size_t skipped) {
+  std::size_t first = 0;
+  for (std::size_t c = 0; c < skipped; ++c) first += chunks[c].second;
+  Scans expected(whole.begin(), whole.begin() + static_cast<long>(first));
+  expected.insert(expected.end(), whole.begin() + static_cast<long>(first + chunks[skipped].second), whole.end());
+  ASSERT_EQ(part.size(), expected.size());
+  expect_same_scans(part, expected);
+}
+
+// QA, issue 24: a complete bag (its index, at the header's index_pos, within the file and intact) whose 7th chunk
+// record has a length running past the end of the file used to be read as a bag cut short there (the scans of its
+// first 6 chunks, exit 0). It is damage: an error naming the byte; with skip_damaged every other chunk is read,
+// found from the index (the chunks after the damaged one used to be dropped too).
+TEST(RosBag, ADamagedChunkLengthInACompleteBagIsDamageNotACut) {
+  const std::filesystem::path source = testing::shared_data() / "bags" / "fr079.clf2bag.bag";
+  if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
+  const RosBagLog whole = read_ros_bag(source);
+  const std::string good = testing::read_bytes(source);
+  std::vector<std::size_t> starts;
+  const auto chunks = chunks_of(good, "/scan", &starts);
+  ASSERT_GT(chunks.size(), 7u);
+  const std::size_t at = starts[6];
+  std::uint32_t header_len = 0, data_len = 0;
+  std::memcpy(&header_len, good.data() + at, 4);
+  std::memcpy(&data_len, good.data() + at + 4 + header_len, 4);
+  testing::TempDir dir;
+  LogReadOptions skip;
+  skip.skip_damaged = true;
+  const std::string place = "the record at byte " + std::to_string(at) + " is damaged: ";
+  struct Patch {
+    const char* what;
+    std::size_t offset;  ///< from the record's start
+    std::uint32_t value;
+    std::string problem;
+  };
+  const std::vector<Patch> patches{
+      {"data_len past the end", 4 + header_len, 0xfffffff0u, "its length runs past the end of the file at byte "},
+      {"header_len past the end", 0, static_cast<std::uint32_t>(good.size()), "its length runs past the end"},
+      {"data_len shortened", 4 + header_len, data_len - 1000, "a bz2 chunk that does not decompress to its size"},
+      {"data_len lengthened over the next chunk", 4 + header_len,
+       static_cast<std::uint32_t>(starts[7] + 100 - (at + 8 + header_len)),
+       "its length runs over the chunk at byte " + std::to_string(starts[7])}};
+  for (const Patch& p : patches) {
+    SCOPED_TRACE(p.what);
+    std::string bytes = good;
+    std::memcpy(bytes.data() + at + p.offset, &p.value, 4);
+    testing::write_bytes(dir / "damaged.bag", bytes);
+    EXPECT_THAT([&] { read_ros_bag(dir / "damaged.bag"); },
+                ::testing::ThrowsMessage<InputError>(::testing::AllOf(
+                    HasSubstr("damaged.bag: not a readable ROS 1 bag (" + place + p.problem), HasSubstr("--skip-damaged"))));
+    const RosBagLog log = read_ros_bag(dir / "damaged.bag", skip);
+    expect_all_but_chunk(log.scans, whole.scans, chunks, 6);
+    ASSERT_EQ(log.warnings.size(), 1u);
+    EXPECT_THAT(log.warnings[0], HasSubstr("damaged.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " +
+                                           place + p.problem));
+    EXPECT_THAT(log.warnings[0], HasSubstr("; read the " + std::to_string(log.scans.size()) + " scans of its " +
+                                           std::to_string(chunks.size() - 1) + " whole chunks (of the " +
+                                           std::to_string(chunks.size()) + " its index lists)"));
+  }
+  // Two damaged chunks, one of them the last: both skipped and counted, the others read.
+  std::string bytes = good;
+  const std::uint32_t past = 0xfffffff0u;
+  std::memcpy(bytes.data() + starts[2], &past, 4);
+  std::memcpy(bytes.data() + starts.back(), &past, 4);
+  testing::write_bytes(dir / "damaged.bag", bytes);
+  const RosBagLog log = read_ros_bag(dir / "damaged.bag", skip);
+  EXPECT_EQ(log.scans.size(), whole.scans.size() - chunks[2].second - chunks.back().second);
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("skipped 2 damaged record(s) (--skip-damaged); the first: the record at byte " +
+                                         std::to_string(starts[2]) + " is damaged"));
+}
+
+// Without a readable index (here a recording never closed: index_pos 0), a chunk whose header cannot be read
+// (so neither where it ends) used to end the walk with skip_damaged: the walker now finds the next chunk record by its header and
+// reads on; after the last chunk there is none to find, which a warning says.
+TEST(RosBag, WithoutAnIndexSkipDamagedFindsTheNextChunkAfterOneWithBadLengths) {
+  const std::filesystem::path source = testing::shared_data() / "bags" / "aces.clf2bag.bag";
+  if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
+  const RosBagLog whole = read_ros_bag(source);
+  std::string good = testing::read_bytes(source);
+  std::vector<std::size_t> starts;
+  const auto chunks = chunks_of(good, "/scan", &starts);
+  ASSERT_GT(chunks.size(), 5u);
+  const std::size_t index_pos_at = good.find("index_pos=") + 10;
+  std::memset(good.data() + index_pos_at, 0, 8);  // never closed
+  testing::TempDir dir;
+  LogReadOptions skip;
+  skip.skip_damaged = true;
+  std::string bytes = good;
+  // The length of its header's first field too long: the header cannot be read, nor so where the chunk ends.
+  const std::uint32_t field_len = 0x7fffffff;
+  std::memcpy(bytes.data() + starts[2] + 4, &field_len, 4);
+  testing::write_bytes(dir / "damaged.bag", bytes);
+  const std::string place = "the record at byte " + std::to_string(starts[2]) + " is damaged: ";
+  EXPECT_THAT([&] { read_ros_bag(dir / "damaged.bag"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("damaged.bag: not a readable ROS 1 bag (" + place)));
+  RosBagLog log = read_ros_bag(dir / "damaged.bag", skip);
+  expect_all_but_chunk(log.scans, whole.scans, chunks, 2);
+  ASSERT_EQ(log.warnings.size(), 2u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("damaged.bag: the bag has no index (the recording was not closed)"));
+  EXPECT_THAT(log.warnings[1], HasSubstr("damaged.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " + place));
+  // The last chunk damaged so: nothing after it is found (its index data records and the index are read past).
+  bytes = good;
+  std::memcpy(bytes.data() + starts.back() + 4, &field_len, 4);
+  testing::write_bytes(dir / "damaged.bag", bytes);
+  log = read_ros_bag(dir / "damaged.bag", skip);
+  EXPECT_EQ(log.scans.size(), whole.scans.size() - chunks.back().second);
+  ASSERT_EQ(log.warnings.size(), 3u);
+  EXPECT_THAT(log.warnings[2], HasSubstr("damaged.bag: no chunk record was found after the damaged record at byte " +
+                                         std::to_string(starts.back()) + ": the rest of the file"));
+}
+
 }  // namespace
 }  // namespace partslam::io
