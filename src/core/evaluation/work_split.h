@@ -14,10 +14,6 @@
 
 namespace partslam {
 
-class WorkSplit;
-template <typename T>
-std::vector<T> all_gather(const WorkSplit& split, std::span<const T> mine);
-
 class WorkSplit {
  public:
   virtual ~WorkSplit() = default;
@@ -29,8 +25,6 @@ class WorkSplit {
     static_cast<void>(record_size);
     return {mine.begin(), mine.end()};
   }
-  /// Every process's values (all_gather of doubles), while callers move to typed records.
-  std::vector<double> all_gather(std::span<const double> mine) const { return partslam::all_gather<double>(*this, mine); }
 
   /// This process's [begin, end) of n items: contiguous slices, the first n % size one item longer.
   std::pair<std::size_t, std::size_t> slice(std::size_t n) const {
