@@ -239,7 +239,7 @@ std::optional<double> match_confidence(const std::vector<Row>& rows, const std::
       if (r.dmm && is_far(candidates[r.candidate], best)) mine = std::max(mine, r.dmm->inlier_fraction);
   }
   double elsewhere = 0.0;
-  for (double e : split.all_gather(std::span<const double>(&mine, 1))) elsewhere = std::max(elsewhere, e);
+  for (double e : all_gather<double>(split, {&mine, 1})) elsewhere = std::max(elsewhere, e);
   return rows.front().dmm->inlier_fraction - elsewhere;
 }
 
@@ -251,35 +251,53 @@ bool shardable(const MethodSpec& method) {
   return method.name != "grid" || method.spec.find(":hub=") == std::string::npos;
 }
 
+// A Row as it travels between ranks (merge_shards): a plain record, its optionals as a flag and a value. Of a
+// dMM result, the inliers, their fraction and the pose travel.
+struct ShardRow {
+  std::size_t candidate = 0;
+  double score = 0;
+  bool has_descriptor_score = false;
+  double descriptor_score = 0;
+  bool has_dmm = false;
+  int inliers = 0;
+  double inlier_fraction = 0;
+  Pose2 T_map_query;
+};
+
+ShardRow to_shard_row(const Row& row) {
+  const DmmResult d = row.dmm.value_or(DmmResult{});
+  return {row.candidate,
+          row.score,
+          row.descriptor_score.has_value(),
+          row.descriptor_score.value_or(0.0),
+          row.dmm.has_value(),
+          d.inliers,
+          d.inlier_fraction,
+          d.T_map_query};
+}
+
+Row from_shard_row(const ShardRow& s) {
+  Row row;
+  row.candidate = s.candidate;
+  row.score = s.score;
+  if (s.has_descriptor_score) row.descriptor_score = s.descriptor_score;
+  if (s.has_dmm) {
+    DmmResult d;
+    d.inliers = s.inliers;
+    d.inlier_fraction = s.inlier_fraction;
+    d.T_map_query = s.T_map_query;
+    row.dmm = d;
+  }
+  return row;
+}
+
 // The rows every rank found best in its slice (at most `top` each), merged in the serial order: score
-// descending, then candidate (a serial run sorts the candidates stably by score). Rows travel as doubles.
+// descending, then candidate (a serial run sorts the candidates stably by score). Rows travel as ShardRows.
 std::vector<Row> merge_shards(const std::vector<Row>& mine, std::size_t top, const WorkSplit& split) {
-  constexpr std::size_t kFields = 10;
-  std::vector<double> packed;
-  for (std::size_t r = 0; r < std::min(top, mine.size()); ++r) {
-    const Row& row = mine[r];
-    const DmmResult d = row.dmm.value_or(DmmResult{});
-    packed.insert(packed.end(), {static_cast<double>(row.candidate), row.score, row.descriptor_score ? 1.0 : 0.0,
-                                 row.descriptor_score.value_or(0.0), row.dmm ? 1.0 : 0.0,
-                                 static_cast<double>(d.inliers), d.inlier_fraction, d.T_map_query.x,
-                                 d.T_map_query.y, d.T_map_query.theta});
-  }
-  const std::vector<double> all = split.all_gather(packed);
+  std::vector<ShardRow> sent;
+  for (std::size_t r = 0; r < std::min(top, mine.size()); ++r) sent.push_back(to_shard_row(mine[r]));
   std::vector<Row> rows;
-  for (std::size_t i = 0; i + kFields <= all.size(); i += kFields) {
-    Row row;
-    row.candidate = static_cast<std::size_t>(all[i]);
-    row.score = all[i + 1];
-    if (all[i + 2] != 0) row.descriptor_score = all[i + 3];
-    if (all[i + 4] != 0) {
-      DmmResult d;
-      d.inliers = static_cast<int>(all[i + 5]);
-      d.inlier_fraction = all[i + 6];
-      d.T_map_query = Pose2{all[i + 7], all[i + 8], all[i + 9]};
-      row.dmm = d;
-    }
-    rows.push_back(row);
-  }
+  for (const ShardRow& s : all_gather<ShardRow>(split, sent)) rows.push_back(from_shard_row(s));
   std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
     return a.score != b.score ? a.score > b.score : a.candidate < b.candidate;
   });

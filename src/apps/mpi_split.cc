@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <cstddef>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -23,8 +24,9 @@ class MpiSplit : public WorkSplit {
   }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
-  std::vector<double> all_gather(std::span<const double> mine) const override {
-    const int count = static_cast<int>(mine.size());
+  // The records travel as an MPI type of record_size bytes, so counts and offsets are in records.
+  std::vector<std::byte> all_gather_bytes(std::span<const std::byte> mine, std::size_t record_size) const override {
+    const int count = static_cast<int>(mine.size() / record_size);
     std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_), 0);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
     long total = 0;
@@ -32,10 +34,13 @@ class MpiSplit : public WorkSplit {
       offsets[static_cast<std::size_t>(r)] = static_cast<int>(total);
       total += counts[static_cast<std::size_t>(r)];
     }
-    if (total > 1'000'000'000L) throw std::runtime_error("mpi: more than 1e9 values to gather");
-    std::vector<double> all(static_cast<std::size_t>(total));
-    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
-                   MPI_COMM_WORLD);
+    if (total > 1'000'000'000L) throw std::runtime_error("mpi: more than 1e9 records to gather");
+    std::vector<std::byte> all(static_cast<std::size_t>(total) * record_size);
+    MPI_Datatype record;
+    MPI_Type_contiguous(static_cast<int>(record_size), MPI_BYTE, &record);
+    MPI_Type_commit(&record);
+    MPI_Allgatherv(mine.data(), count, record, all.data(), counts.data(), offsets.data(), record, MPI_COMM_WORLD);
+    MPI_Type_free(&record);
     return all;
   }
 

@@ -101,24 +101,12 @@ MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> ou
 
 namespace {
 
-// Parts and outcomes as doubles, to gather them over a WorkSplit.
-constexpr std::size_t kPartValues = 10;
-
-void append(std::vector<double>& out, const Part& p) {
-  const Box2& k = p.keypoint_box;
-  const Box2& d = p.descriptor_box;
-  out.insert(out.end(), {k.x_min, k.x_max, k.y_min, k.y_max, d.x_min, d.x_max, d.y_min, d.y_max,
-                         p.appearance_score, static_cast<double>(p.rotation)});
-}
-
-Part part_at(const double* v) {
-  Part p;
-  p.keypoint_box = {v[0], v[1], v[2], v[3]};
-  p.descriptor_box = {v[4], v[5], v[6], v[7]};
-  p.appearance_score = v[8];
-  p.rotation = static_cast<int>(v[9]);
-  return p;
-}
+// A map's CPD as it travels over a WorkSplit (discover_parts_split): its time and how many parts it has; the
+// parts themselves (plain records) travel in a gather of their own, in the same order.
+struct CpdRecord {
+  double ms = 0;
+  std::size_t parts = 0;
+};
 
 // The outcomes of every task, each process running its slice.
 std::vector<TaskOutcome> run_split(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
@@ -128,13 +116,7 @@ std::vector<TaskOutcome> run_split(const Ranker& ranker, const MethodSpec& metho
   const auto [begin, end] = split.slice(tasks.size());
   const std::vector<TaskOutcome> local =
       run_tasks(ranker, method, maps, described, tasks.subspan(begin, end - begin), config, progress);
-  std::vector<double> values;
-  for (const TaskOutcome& o : local)
-    values.insert(values.end(), {o.rank, static_cast<double>(o.db_size), static_cast<double>(o.pose), o.match_ms, o.prep_ms});
-  const std::vector<double> all = split.all_gather(values);
-  std::vector<TaskOutcome> out;
-  for (std::size_t at = 0; at + 5 <= all.size(); at += 5)
-    out.push_back({all[at], static_cast<std::size_t>(all[at + 1]), static_cast<int>(all[at + 2]), all[at + 3], all[at + 4]});
+  std::vector<TaskOutcome> out = all_gather<TaskOutcome>(split, local);
   if (out.size() != tasks.size()) throw InputError("eval: the processes ran different tasks");
   return out;
 }
@@ -152,21 +134,23 @@ std::vector<CpdResult> discover_parts_split(const std::vector<const Points2*>& m
   const std::vector<CpdResult> local =
       discover_parts_many({maps.begin() + b, maps.begin() + e}, {map_keys.begin() + b, map_keys.begin() + e},
                           dictionary, cpd, num_threads, progress);
-  // Per map: [ms, parts, 10 values per part].
-  std::vector<double> values;
+  std::vector<CpdRecord> records;
+  std::vector<Part> parts;
   for (const CpdResult& r : local) {
-    values.push_back(r.ms);
-    values.push_back(static_cast<double>(r.parts.size()));
-    for (const Part& p : r.parts) append(values, p);
+    records.push_back({r.ms, r.parts.size()});
+    parts.insert(parts.end(), r.parts.begin(), r.parts.end());
   }
-  const std::vector<double> all = split.all_gather(values);
+  const std::vector<CpdRecord> all = all_gather<CpdRecord>(split, records);
+  const std::vector<Part> all_parts = all_gather<Part>(split, parts);
   std::vector<CpdResult> out;
-  for (std::size_t at = 0; at + 2 <= all.size();) {
+  std::size_t at = 0;
+  for (const CpdRecord& record : all) {
+    if (record.parts > all_parts.size() - at) throw InputError("cpd: the processes sent too few parts");
     CpdResult r;
-    r.ms = all[at];
-    const auto n = static_cast<std::size_t>(all[at + 1]);
-    at += 2;
-    for (std::size_t k = 0; k < n; ++k, at += kPartValues) r.parts.push_back(part_at(&all[at]));
+    r.ms = record.ms;
+    const auto b = all_parts.begin() + static_cast<std::ptrdiff_t>(at);
+    r.parts.assign(b, b + static_cast<std::ptrdiff_t>(record.parts));
+    at += record.parts;
     out.push_back(std::move(r));
   }
   if (out.size() != maps.size()) throw InputError("cpd: the processes described different maps");

@@ -117,19 +117,9 @@ void validate(const LoopClosureConfig& c) {
 
 namespace {
 
-// Every process's hypotheses, in query order (each query's as found): 8 values per hypothesis.
+// Every process's hypotheses, in query order (each query's as found); a LoopClosure is a plain record.
 std::vector<LoopClosure> gather_hypotheses(const std::vector<LoopClosure>& mine, const WorkSplit& split) {
-  std::vector<double> values;
-  for (const LoopClosure& h : mine) {
-    values.insert(values.end(), {static_cast<double>(h.query), static_cast<double>(h.match), h.T_match_query.x,
-                                 h.T_match_query.y, h.T_match_query.theta, h.score, h.context_score, h.confidence});
-  }
-  const std::vector<double> all = split.all_gather(values);
-  std::vector<LoopClosure> out;
-  for (std::size_t at = 0; at + 8 <= all.size(); at += 8) {
-    out.push_back({static_cast<std::size_t>(all[at]), static_cast<std::size_t>(all[at + 1]),
-                   {all[at + 2], all[at + 3], all[at + 4]}, all[at + 5], all[at + 6], all[at + 7]});
-  }
+  std::vector<LoopClosure> out = all_gather<LoopClosure>(split, mine);
   std::stable_sort(out.begin(), out.end(), [](const LoopClosure& a, const LoopClosure& b) { return a.query < b.query; });
   return out;
 }
