@@ -97,11 +97,24 @@ void define_logs(py::module_& m) {
       .def_readonly("scans", &io::ScanSource::scans)
       .def_readonly("warnings", &io::ScanSource::warnings, "the reader's warnings: a cut-off end, damage skipped");
   m.def("is_simulator_spec", &io::is_simulator_spec, "spec"_a, "True for 'sim' and 'sim:SEED'.");
-  m.def("load_scan_source", &io::load_scan_source, "spec"_a, "options"_a = io::LogReadOptions{},
-        release_gil(),
-        "Loads a CARMEN log (.clf/.log, plain or .gz), a ROS 1 bag (.bag), a ROS 2 bag (.mcap, .db3, or a rosbag2 "
-        "folder with metadata.yaml), or 'sim[:SEED]' (the built-in simulator); InputError carries the reader's "
-        "message (file, line, field).");
+  m.def(
+      "load_scan_source",
+      [](const std::string& spec, const io::LogReadOptions& options) {
+        io::ScanSource source;
+        {
+          py::gil_scoped_release unlocked;
+          source = io::load_scan_source(spec, options);
+        }
+        // As the CLI prints them: a recording cut short or damage skipped is said, not only stored.
+        for (const std::string& w : source.warnings)
+          if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) < 0) throw py::error_already_set();  // -W error
+        return source;
+      },
+      "spec"_a, "options"_a = io::LogReadOptions{},
+      "Loads a CARMEN log (.clf/.log, plain or .gz), a ROS 1 bag (.bag), a ROS 2 bag (.mcap, .db3, or a rosbag2 "
+      "folder with metadata.yaml), or 'sim[:SEED]' (the built-in simulator); InputError carries the reader's "
+      "message (file, line, field). The reader's warnings (a recording cut short, damage skipped) are issued as "
+      "UserWarning and kept in .warnings.");
 }
 
 void define_database_records(py::module_& m) {

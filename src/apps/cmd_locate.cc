@@ -117,6 +117,7 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
                   located.size(), o.every.value_or(0.0), confident, located.size() - confident);
   }
   panel.title = title;
+  panel.legend = located.size() == 1 ? "the local map's points; the dot: the robot" : "green: confident; orange: low";
   plot::write_panels_png(o.plot, {panel});
   std::printf("wrote %s\n", o.plot.c_str());
 }

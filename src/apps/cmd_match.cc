@@ -354,6 +354,7 @@ void write_match_plot(const std::string& path, const Submap& query, const std::v
     panel.title = title;
     panels.push_back(std::move(panel));
   }
+  for (plot::Panel& p : panels) p.legend = "grey: stored map; green / orange: the query (confident / not)";
   plot::write_panels_png(path, panels, 500);
   std::cout << "wrote " << path << "\n";
 }

@@ -143,11 +143,21 @@ void draw_panel(cairo_t* cr, const Panel& p, double left, int width, int height)
   cairo_set_font_size(cr, 12);
   cairo_move_to(cr, left + kMargin, kTitleHeight + height - kMargin - 6);
   cairo_show_text(cr, (std::to_string(static_cast<int>(metres)) + " m").c_str());
+  if (!p.legend.empty()) {
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, p.legend.c_str(), &extents);
+    cairo_move_to(cr, left + width - kMargin - extents.x_advance, kTitleHeight + height - kMargin);
+    cairo_show_text(cr, p.legend.c_str());
+  }
   cairo_restore(cr);
+  cairo_save(cr);
+  cairo_rectangle(cr, left, 0, width, kTitleHeight);
+  cairo_clip(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_font_size(cr, 14);
   cairo_move_to(cr, left + 4, 18);
   cairo_show_text(cr, p.title.c_str());
+  cairo_restore(cr);
 }
 
 }  // namespace

@@ -34,6 +34,7 @@ struct Panel {
   std::vector<PointLayer> layers;
   std::vector<Vec2> path;         ///< a trajectory in the panel's frame, drawn as a line through dots
   std::vector<Rgb> path_colours;  ///< one per path point (the dot's colour); empty: kGood
+  std::string legend;             ///< a line of small text at the panel's bottom right (what the colours mean)
 };
 
 /// Writes the panels side by side as a PNG, atomically, each panel_side pixels on its longer side and as its

@@ -37,12 +37,13 @@ GridMap grid() {
 TEST(AnswerImage, PointsAndPathLandWhereTheMapSaysInEachPanel) {
   const fs::path png = fs::temp_directory_path() / ("partslam_answer_" + std::to_string(::getpid()) + ".png");
   const GridMap m = grid();
-  Panel located{"located", &m, {{{Vec2(1.0, 1.0)}, kGood, 2.0}}, {}, {}};
+  Panel located{"located", &m, {{{Vec2(1.0, 1.0)}, kGood, 2.0}}, {}, {}, ""};
   // The second panel: points only, moved by a quarter turn about the origin, and a two-point path.
   Panel matched{"matched", nullptr,
                 {{transformed({Vec2(0.0, -2.0), Vec2(2.0, 0.0)}, Pose2{0, 0, std::numbers::pi / 2}), kDoubtful, 2.0}},
                 {Vec2(1.0, 0.5), Vec2(2.0, 2.0)},
-                {kGood, kDoubtful}};
+                {kGood, kDoubtful},
+                "a legend"};
   write_panels_png(png, {located, matched}, 200);
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
@@ -65,11 +66,11 @@ TEST(AnswerImage, PointsAndPathLandWhereTheMapSaysInEachPanel) {
 TEST(AnswerImage, RefusesWhatItCannotDraw) {
   const fs::path png = fs::temp_directory_path() / ("partslam_answer_bad_" + std::to_string(::getpid()) + ".png");
   EXPECT_THROW(write_panels_png(png, {}), InputError);
-  EXPECT_THROW(write_panels_png(png, {Panel{"empty", nullptr, {}, {}, {}}}), InputError);
-  EXPECT_THROW(write_panels_png(png, {Panel{"colours", nullptr, {}, {Vec2(0, 0)}, {kGood, kGood}}}), InputError);
+  EXPECT_THROW(write_panels_png(png, {Panel{"empty", nullptr, {}, {}, {}, ""}}), InputError);
+  EXPECT_THROW(write_panels_png(png, {Panel{"colours", nullptr, {}, {Vec2(0, 0)}, {kGood, kGood}, ""}}), InputError);
   GridMap broken = grid();
   broken.cells.pop_back();
-  EXPECT_THROW(write_panels_png(png, {Panel{"broken", &broken, {}, {}, {}}}), InputError);
+  EXPECT_THROW(write_panels_png(png, {Panel{"broken", &broken, {}, {}, {}, ""}}), InputError);
   EXPECT_FALSE(fs::exists(png));
 }
 
