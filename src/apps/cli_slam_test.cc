@@ -67,13 +67,24 @@ TEST(CliSlam, Ros2BagsAreLogsLikeAnyOther) {
   EXPECT_THAT(run.output, HasSubstr("warning: "));
   EXPECT_THAT(run.output, HasSubstr("fr079-cut.mcap: the recording is cut short"));
   EXPECT_TRUE(fs::exists(dir / "out" / "map.yaml"));
+  {  // the JSON says so too, so a batch run can tell
+    std::ifstream in(dir / "out" / "slam.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["warnings"].size(), 1u);
+    EXPECT_THAT(j["warnings"][0].get<std::string>(), HasSubstr("the recording is cut short"));
+  }
   run = run_partslam("export-map " + quoted(mcap) + " --until 60 --out " + quoted(dir / "first.yaml"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   run = run_partslam("locate --map " + quoted(dir / "first.yaml") + " --query-log " + quoted(mcap) +
                      " --from 20 --to 22");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("robot in the map"));
-  ASSERT_EQ(run_partslam("submaps " + quoted(cut) + " --db " + quoted(dir / "m.db") + " --quiet").exit_code, 0);
+  ASSERT_EQ(run_partslam("submaps " + quoted(cut) + " --db " + quoted(dir / "m.db") + " --quiet --json " +
+                         quoted(dir / "submaps.json")).exit_code, 0);
+  {
+    std::ifstream in(dir / "submaps.json");
+    EXPECT_EQ(nlohmann::json::parse(in)["warnings"].size(), 1u);
+  }
   run = run_partslam("match " + quoted(dir / "m.db") + " --query-log " + quoted(mcap) + " --from 20 --to 22");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("fr079-cut"));  // the dataset, named after the file

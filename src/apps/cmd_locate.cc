@@ -188,7 +188,8 @@ void run_locate(const LocateOptions& o) {
   }
   if (!o.plot.empty() && !located.empty()) write_plot(o, map, located);
   if (!o.json.empty()) {
-    nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident}};
+    nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident},
+                          {"warnings", log.warnings}};
     out["located"] = nlohmann::json::array();
     for (const Located& l : located) out["located"].push_back(located_json(l));
     io::write_atomically(o.json, [&](std::ostream& f) { f << json_text(out); });

@@ -160,6 +160,7 @@ void run_slam_command(const SlamOptions& o) {
     out << json_text({{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}});
   });
   nlohmann::json summary = slam_json(o, r);
+  summary["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
   std::cout << "wrote " << (dir / "corrected.log").string() << ", map.yaml, map.pgm, map.png, loops.json, slam.json";
   if (!o.relations.empty()) {
     const RelationsError before = relations_error(source.scans, relations);

@@ -125,6 +125,7 @@ void run_submaps(SubmapsOptions o) {
   if (!o.json.empty()) {
     report["dataset"] = spec.name;
     report["source"] = o.log;
+    report["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
     report["submaps"] = submaps.size();
     report["mean_points"] = points / static_cast<double>(submaps.size());
     report["scans"] = source.scans.size();

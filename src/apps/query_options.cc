@@ -104,7 +104,9 @@ void check_query_options(const QueryOptions& q, bool every_given) {
 
 QueryLog load_query_log(const QueryOptions& q, const FrontEndConfig& front_end, double window) {
   QueryLog out;
-  Scans scans = load_scans(q.log, q.read).scans;
+  io::ScanSource source = load_scans(q.log, q.read);
+  out.warnings = source.warnings;
+  Scans scans = std::move(source.scans);
   out.log_scans = scans.size();
   if (!q.stretch_given()) {  // --every: the whole log
     if (q.scan_match) {

@@ -55,6 +55,7 @@ struct QueryLog {
   std::size_t log_scans = 0;       ///< scans in the whole log
   std::size_t matched_scans = 0;   ///< scans the front end ran over (--scan-match)
   double match_ms = 0;             ///< its time [ms]
+  std::vector<std::string> warnings;  ///< the reader's (a recording cut short, damage skipped), also printed
 };
 
 /// Loads the log named by --query-log and finds the stretch given (none for --every: the whole log). With
