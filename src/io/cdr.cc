@@ -6,9 +6,9 @@
 namespace partslam::io::cdr {
 namespace {
 
+using rosbag_messages::bare_frame;
 using rosbag_messages::BagError;
 
-std::string bare_frame(std::string frame) { return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame; }
 
 // std_msgs/msg/Header: builtin_interfaces/Time stamp (int32 sec, uint32 nanosec), string frame_id.
 double header(Reader& r, std::string& frame_id) {

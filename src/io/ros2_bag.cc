@@ -7,6 +7,7 @@
 #include <cctype>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <variant>
 #include <vector>
 
@@ -122,26 +123,15 @@ FileRead read_mcap(const std::filesystem::path& path, Decoder& decoder, const Lo
   return out;
 }
 
-// SQLite's header: the page size (bytes 16-17, big endian, 1 for 65536) times the page count (bytes 28-31) is the
-// file's size; a smaller file was cut short.
-bool sqlite_cut_short(const std::filesystem::path& path, std::uint64_t file_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[100];
-  if (!in.read(reinterpret_cast<char*>(h), sizeof h) || std::string(reinterpret_cast<char*>(h), 16) !=
-                                                             std::string("SQLite format 3\0", 16))
-    throw InputError(path.string() + ": not a rosbag2 SQLite file (it does not start with the SQLite header)");
-  const std::uint64_t page = h[16] == 0 && h[17] == 1 ? 65536 : (h[16] << 8 | h[17]);
-  const std::uint64_t pages = std::uint64_t{h[28]} << 24 | std::uint64_t{h[29]} << 16 | h[30] << 8 | h[31];
-  return file_bytes < page * pages;
-}
+// A row of a .db3's topics table.
+struct Topic {
+  std::string name, type, format;
+};
 
 // The rows of a .db3 cut short, from its pages (io/sqlite_salvage.h): topics rows (id, name, type, format, qos,
 // ...) and messages rows (id, topic_id, timestamp, data), each whole before the cut.
 void salvage_db3(const std::filesystem::path& path, Decoder& decoder, FileRead& out) {
   using Text = std::span<const std::uint8_t>;
-  struct Topic {
-    std::string name, type, format;
-  };
   struct Row {
     std::int64_t topic;
     std::uint64_t time;
@@ -184,14 +174,14 @@ FileRead read_db3(const std::filesystem::path& path, Decoder& decoder) {
   std::error_code ec;
   const std::uint64_t bytes = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(name + ": " + ec.message());
-  if (sqlite_cut_short(path, bytes)) {
+  const std::optional<sqlite::FileHeader> header = sqlite::read_file_header(path);
+  if (!header)
+    throw InputError(name + ": not a rosbag2 SQLite file (it does not start with the SQLite header)");
+  if (bytes < header->page_size * header->page_count) {  // cut short: SQLite cannot open it
     salvage_db3(path, decoder, out);
     return out;
   }
   const sqlite::Connection db = sqlite::Connection::open(path, sqlite::Connection::Access::kReadOnly);
-  struct Topic {
-    std::string name, type, format;
-  };
   std::map<std::int64_t, Topic> topics;
   try {
     sqlite::Statement t(db, "SELECT id, name, type, serialization_format FROM topics");

@@ -16,7 +16,6 @@ namespace partslam::io::rosbag_messages {
 
 namespace {
 
-std::string bare_frame(const std::string& frame) { return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame; }
 
 // Walks a message's serialized bytes. ROS's deserializer sizes a vector from its length field before checking that
 // the message holds that much (a 20-byte LaserScan claiming 2^29 ranges allocated 2 GB: fuzz_ros_bag), so the

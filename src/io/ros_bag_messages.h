@@ -11,6 +11,11 @@
 
 namespace partslam::io::rosbag_messages {
 
+/// A frame id as tf2 spells it: without the leading '/' that ROS 1 allowed.
+inline std::string bare_frame(const std::string& frame) {
+  return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
+}
+
 struct LaserScanMessage {
   double stamp = 0.0;  ///< header.stamp [s]
   double angle_min = 0.0, angle_increment = 0.0, range_min = 0.0, range_max = 0.0;

@@ -129,16 +129,32 @@ class Salvage {
   std::vector<Value> values_;
 };
 
+// The header fields of a file's first 100 bytes; nullopt when they are not a SQLite header.
+std::optional<FileHeader> parse_header(const std::uint8_t* h, std::size_t size) {
+  if (size < 100 || std::memcmp(h, "SQLite format 3", 16) != 0) return std::nullopt;
+  FileHeader out;
+  out.page_size = h[16] == 0 && h[17] == 1 ? 65536 : static_cast<std::size_t>(be(h + 16, 2));
+  out.reserved = h[20];
+  out.page_count = be(h + 28, 4);
+  return out;
+}
+
 }  // namespace
+
+std::optional<FileHeader> read_file_header(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint8_t h[100];
+  if (!in.read(reinterpret_cast<char*>(h), sizeof h)) return std::nullopt;
+  return parse_header(h, sizeof h);
+}
 
 void salvage_rows(const std::filesystem::path& path,
                   const std::function<void(std::int64_t rowid, const std::vector<Value>& values)>& on_row) {
   std::ifstream in(path, std::ios::binary);
   std::vector<std::uint8_t> file((std::istreambuf_iterator<char>(in)), {});
-  if (file.size() < 100 || std::memcmp(file.data(), "SQLite format 3", 16) != 0)
-    throw InputError(path.string() + ": not a SQLite file (it does not start with the SQLite header)");
-  const std::size_t page = file[16] == 0 && file[17] == 1 ? 65536 : static_cast<std::size_t>(be(&file[16], 2));
-  const std::size_t reserved = file[20];
+  const std::optional<FileHeader> header = parse_header(file.data(), file.size());
+  if (!header) throw InputError(path.string() + ": not a SQLite file (it does not start with the SQLite header)");
+  const std::size_t page = header->page_size, reserved = header->reserved;
   if (page < 512 || (page & (page - 1)) != 0 || reserved > page - 480)
     throw InputError(path.string() + ": a SQLite header with page size " + std::to_string(page));
   Salvage(std::move(file), page, page - reserved).run(on_row);
