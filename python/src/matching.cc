@@ -13,8 +13,8 @@
 #include "core/error.h"
 #include "core/matching/dmm.h"
 #include "core/matching/dmm_ransac.h"
-#include "core/matching/method_spec.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/method_spec.h"
+#include "core/ranking/ranking.h"
 
 namespace partslam::python {
 
@@ -175,17 +175,22 @@ void define_dmm(py::module_& m) {
 }
 
 void define_method_specs(py::module_& m) {
-  py::class_<MethodSpec>(m, "MethodSpec", "A parsed method spec (core/matching/method_spec.h)")
+  py::class_<MethodSpec>(m, "MethodSpec", "A parsed method spec (core/ranking/method_spec.h)")
       .def_readonly("name", &MethodSpec::name)
       .def_readonly("spec", &MethodSpec::spec, "the normalised text")
-      .def_readonly("parts", &MethodSpec::parts, "K: parts per stored map (iMM, hMM)")
-      .def_readonly("rerank", &MethodSpec::rerank, "R: maps reordered by dMM (rerank)")
-      .def_readonly("size", &MethodSpec::size)
-      .def_readonly("args", &MethodSpec::args)
-      .def_readonly("stages", &MethodSpec::stages, "rerank: its first-stage method")
-      .def_readonly("needs_points", &MethodSpec::needs_points, "the stored form includes the points")
-      .def_readonly("needs_parts", &MethodSpec::needs_parts, "needs every map's CPD parts")
-      .def_property_readonly("label", &MethodSpec::label, "the paper's name")
+      .def_readonly("label", &MethodSpec::label, "the paper's name")
+      .def_property_readonly(
+          "parts", [](const MethodSpec& s) { return s.traits.parts; }, "K: parts per stored map it reads")
+      .def_property_readonly(
+          "needs_points", [](const MethodSpec& s) { return s.traits.needs_points; },
+          "the stored form is built from the points")
+      .def_property_readonly(
+          "needs_parts", [](const MethodSpec& s) { return s.traits.needs_parts; }, "needs every map's CPD parts")
+      .def_property_readonly(
+          "gives_pose", [](const MethodSpec& s) { return s.traits.gives_pose; }, "returns T_map_query")
+      .def_property_readonly(
+          "shardable", [](const MethodSpec& s) { return s.traits.shardable; },
+          "a stored map's score depends on it and the query alone")
       .def("__repr__", [](const MethodSpec& s) { return "<partslam.MethodSpec " + s.spec + ">"; });
   m.def("parse_method_spec", &parse_method_spec, "text"_a,
         "Parses a spec such as 'dmm', 'rerank:20', 'hmm:3'.");
@@ -213,16 +218,23 @@ void define_ranking(py::module_& m) {
       .def_readwrite("seed", &DmmRansacConfig::seed);
   def_keyword_init(ransac);
 
+  py::class_<PartsConfig> parts_config(m, "PartsConfig",
+                                       "How the part methods read parts (core/parts/descriptor_database.h)");
+  parts_config
+      .def_readwrite(
+          "codec", &PartsConfig::codec,
+          "CodecConfig or None: stored parts go through it (what a database holds); assign a new one")
+      .def_readwrite("hmm_query_parts", &PartsConfig::hmm_query_parts)
+      .def_readwrite("origin_gate", &PartsConfig::origin_gate, "descriptor matcher's origin gate [m]; 0 = the paper")
+      .def("validate", py::overload_cast<const PartsConfig&>(&validate),
+           "Raises InputError naming the field that is out of range.");
+  def_keyword_init(parts_config);
+
   py::class_<RankingConfig> config(m, "RankingConfig",
-                                   "Settings every ranker reads (core/matching/ranking.h)");
+                                   "Settings every ranker reads (core/ranking/ranking.h)");
   config.def_readwrite("dmm", &RankingConfig::dmm)
       .def_readwrite("ransac", &RankingConfig::ransac)
-      .def_readwrite(
-          "codec", &RankingConfig::codec,
-          "CodecConfig or None: stored parts go through it (what a database holds); assign a new one")
-      .def_readwrite("hmm_query_parts", &RankingConfig::hmm_query_parts)
-      .def_readwrite("origin_gate", &RankingConfig::origin_gate,
-                     "descriptor matcher's origin gate [m]; 0 = the paper")
+      .def_readwrite("parts", &RankingConfig::parts, "PartsConfig: iMM, hMM and their rerank")
       .def_readwrite("bits_per_point", &RankingConfig::bits_per_point)
       .def("validate", py::overload_cast<const RankingConfig&>(&validate),
            "Raises InputError naming the field that is out of range.");
@@ -232,8 +244,9 @@ void define_ranking(py::module_& m) {
                       "Scores of the candidates (higher = more likely the same place), in their order")
       .def_property_readonly("scores", [](const Ranking& r) { return to_array(r.scores); })
       .def_property_readonly(
-          "order", [](const Ranking& r) { return ranking_order(r.scores); },
-          "candidate positions by score, best first")
+          "order", [](const Ranking& r) { return ranking_order(r); },
+          "candidate positions best first (rerank: its reordered top R first)")
+      .def_readonly("tiers", &Ranking::tiers, "rerank: 1 for its top R (scored by dMM), 0 below; else empty")
       .def_readonly("direct", &Ranking::direct,
                     "per candidate, the DmmResult where a direct match ran, else None")
       .def_property_readonly(
@@ -272,7 +285,7 @@ void define_ranking(py::module_& m) {
       "query_parts"_a = py::none(), "map_parts"_a = py::none(), "top_k"_a = 0, release_gil(),
       "Ranks the maps for the query with any registered method (make_ranker, prepare, rank); raises InputError "
       "when map_points is empty.");
-  m.def("ranking_order", &ranking_order, "scores"_a,
+  m.def("ranking_order", py::overload_cast<const std::vector<double>&>(&ranking_order), "scores"_a,
         "Positions sorted by score, best first; ties keep their order.");
 }
 

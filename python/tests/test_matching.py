@@ -227,7 +227,8 @@ def test_method_specs_and_their_errors():
     names = [name for name, _ in partslam.methods()]
     assert {"dmm", "succinct", "rerank", "imm", "hmm", "grid", "sc"} <= set(names)
     spec = partslam.parse_method_spec("rerank:20")
-    assert spec.name == "rerank" and spec.rerank == 20 and spec.needs_points
+    assert spec.name == "rerank" and spec.spec == "rerank:20:succinct" and spec.needs_points and spec.gives_pose
+    assert not spec.shardable
     assert partslam.parse_method_spec("hmm:3").needs_parts
     with pytest.raises(ValueError, match="nope"):
         partslam.Ranker("nope")

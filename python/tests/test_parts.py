@@ -235,6 +235,6 @@ def test_dictionary_cpd_codec_and_part_ranking_on_the_simulator(sim_submaps):
     q = next(i for i, p in enumerate(parts) if len(p) >= 3)
     for method in ("hmm:3", "imm:3"):
         ranking = partslam.rank(method, points[q], points, query_parts=parts[q], map_parts=parts,
-                                config=partslam.RankingConfig(codec=codec))
+                                config=partslam.RankingConfig(parts=partslam.PartsConfig(codec=codec)))
         assert ranking.scores.shape == (len(maps),)
         assert ranking.scores[q] > 0 and ranking.scores[q] == ranking.scores.max()

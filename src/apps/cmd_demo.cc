@@ -61,7 +61,7 @@ void run_demo(const DemoOptions& d) {
   const std::filesystem::path plot = std::filesystem::path(d.out) / "demo_fig_d.png";
   io::write_atomically(json, [&](std::ostream& out) { out << json_text(to_json(run)); });
   std::vector<plot::RankCurve> curves;
-  for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label(), m.normalized_ranks});
+  for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label, m.normalized_ranks});
   plot::write_rank_plot(plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
   std::cout << "wrote " << json.string() << " and " << plot.string() << "\n";
 }

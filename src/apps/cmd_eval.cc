@@ -37,7 +37,7 @@ void run_eval(const EvalOptions& o) {
   }
   if (!o.plot.empty()) {
     std::vector<plot::RankCurve> curves;
-    for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label(), m.normalized_ranks});
+    for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label, m.normalized_ranks});
     plot::write_rank_plot(o.plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
     std::cout << "wrote " << o.plot << "\n";
   }

@@ -1,8 +1,8 @@
 // partslam match DB --query ID --method SPEC: the online half of PartSLAM (docs/DESIGN.md, "Schemes"). Ranks every
 // other stored map of the query's dataset (or, with --all, of every submaps dataset) for the query map — or, with
 // --query-log LOG and a stretch (apps/query_options.h) or --query-points FILE, for a new local map built as the stored ones were, against every
-// submaps dataset — through the library's one ranking entry point (core/matching/ranking.h), for any registered
-// method (a new local map: the point-based ones):
+// submaps dataset — through the library's query entry point (core/ranking/query.h), for any registered method
+// (a new local map: the point-based ones):
 //   dmm, dmm-ransac, dmm-exhaustive  Eq. 1 on the stored points; prints inliers, their share and T_map_query
 //   succinct, grid, sc               built from the stored points at run time
 //   imm:K, hmm:K                     the stored K-part descriptors (the query's stored P-part list for hMM)
@@ -28,11 +28,10 @@
 #include "apps/query_options.h"
 #include "io/descriptor_store.h"
 #include "core/matching/localizer.h"  // kConfidentLocalization: the confidence called confident
-#include "core/matching/ranking.h"
+#include "core/ranking/query.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"
 #include "core/timing.h"
-#include "core/matching/method_spec.h"
 #include "io/atomic_file.h"
 #include "io/map_database.h"
 #include "plot/answer_image.h"
@@ -78,88 +77,7 @@ struct Candidate {
   std::string dataset;
 };
 
-struct Row {
-  std::size_t candidate = 0;
-  double score = 0;  // ranking key
-  std::optional<double> descriptor_score;
-  std::optional<DmmResult> dmm;
-};
-
-// The dictionary whose descriptors to read: the one named (which must have descriptors or be stored), else
-// the only one with descriptors.
-std::string resolve_descriptor_dictionary(const io::MapDatabase& db, const std::string& name) {
-  std::set<std::string> names;
-  for (const io::DescriptorSetInfo& s : db.descriptor_sets()) names.insert(s.dictionary);
-  if (!name.empty()) {
-    if (!names.count(name)) db.load_dictionary(name);  // throws "no dictionary named ..." when it is unknown
-    return name;
-  }
-  if (names.empty()) {
-    throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " +
-                     db.path().string() + " --dict NAME' first");
-  }
-  if (names.size() > 1)
-    throw InputError(db.path().string() + ": descriptors of several dictionaries: choose --dict");
-  return *names.begin();
-}
-
-// The stored parts the method reads: every candidate's K-part descriptor, and the query's (its K-part
-// descriptor for iMM, its stored P-part list for hMM). `query_parts` gets the query's parts.
-std::vector<std::vector<Part>> stored_parts(const io::MapDatabase& db, const Submap& query,
-                                            const std::vector<Candidate>& candidates, const MethodSpec& method,
-                                            const MatchOptions& o, std::vector<Part>& query_parts,
-                                            std::string& timing) {
-  const std::string dictionary = resolve_descriptor_dictionary(db, o.dictionary);
-  const int k = method.parts;
-  const auto t0 = Clock::now();
-  std::map<std::int64_t, MapDescriptor> stored = io::load_descriptor_set(db, dictionary, k);
-  std::vector<std::vector<Part>> parts;
-  std::size_t missing = 0;
-  for (const Candidate& c : candidates) {
-    auto it = stored.find(c.map->id);
-    if (it == stored.end()) {
-      ++missing;
-    } else {
-      parts.push_back(std::move(it->second.parts));
-    }
-  }
-  if (missing > 0) {
-    throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) +
-                     " maps have no K=" + std::to_string(k) + " descriptor for dictionary '" +
-                     dictionary + "': " + io::describe_hint(db, dictionary, k));
-  }
-  const MethodSpec& parts_method = method.stages.empty() ? method : method.stages.front();
-  const bool imm = parts_method.name == "imm";
-  const int query_k = imm                 ? k
-                      : o.query_parts > 0 ? o.query_parts
-                                          : io::query_list_parts(db, dictionary, query.id);
-  if (query_k == 0) {
-    throw InputError("map " + std::to_string(query.id) +
-                     " has no hMM query list (a descriptor of more than " +
-                     std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary +
-                     "': run 'partslam describe " + db.path().string() + " --dict " + dictionary +
-                     "' first (it stores the P-part list as K = P when P > " +
-                     std::to_string(kMaxUnscoredParts) + "), or name a stored list with --query-parts");
-  }
-  std::optional<MapDescriptor> query_descriptor = io::load_descriptor(db, dictionary, query_k, query.id);
-  if (!query_descriptor) {
-    throw InputError("the query map " + std::to_string(query.id) + " has no K=" + std::to_string(query_k) +
-                     " descriptor for dictionary '" + dictionary +
-                     "': " + io::describe_hint(db, dictionary, query_k));
-  }
-  query_parts = std::move(query_descriptor->parts);
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "dictionary '%s', query %zu parts (K=%d), descriptors %.1f ms; ",
-                dictionary.c_str(), query_parts.size(), query_k, ms_since(t0));
-  timing += buf;
-  if (query_parts.empty()) {
-    timing += "note: CPD found no part of the query map, so every descriptor score is 0 (try 'describe --mc "
-              "inlier'); ";
-  }
-  return parts;
-}
-
-void print_row(std::size_t rank, const Row& row, const Candidate& c, const Submap& query,
+void print_row(std::size_t rank, const QueryRow& row, const Candidate& c, const Submap& query,
                const std::string& dataset, bool all, bool pose) {
   char buf[400];
   int len = std::snprintf(buf, sizeof buf, "%5zu %7lld", rank, static_cast<long long>(c.map->id));
@@ -167,10 +85,10 @@ void print_row(std::size_t rank, const Row& row, const Candidate& c, const Subma
     len += std::snprintf(buf + len, sizeof buf - static_cast<std::size_t>(len), fmt, v...);
   };
   if (all) add(" %12.12s", c.dataset.c_str());
-  if (row.descriptor_score) add(" %10.4f", *row.descriptor_score);
+  if (row.stage_score) add(" %10.4f", *row.stage_score);
   const bool same_world = c.dataset == dataset;
-  if (row.dmm) {
-    const DmmResult& r = *row.dmm;
+  if (row.pose) {
+    const DmmResult& r = *row.pose;
     const Pose2& T = r.T_map_query;
     add(" %7d %5.1f  %7.2f %7.2f %8.1f", r.inliers, 100 * r.inlier_fraction, T.x, T.y,
         T.theta * 180 / std::numbers::pi);
@@ -207,160 +125,7 @@ Submap local_map(const io::MapDatabase& db, const MatchOptions& o, std::string& 
   return m;
 }
 
-// A candidate more than 4 m from `best`'s frame, or in another dataset.
-bool is_far(const Candidate& c, const Candidate& best) {
-  return c.dataset != best.dataset ||
-         (c.map->T_world_map.translation() - best.map->T_world_map.translation()).norm() > 4.0;
-}
-
-// How far the best dMM match beats the best one elsewhere: its inlier share minus the best inlier share among
-// the candidates more than 4 m from it (is_far); nullopt without dMM. `scored` are the rows this process ranked
-// (candidates [first, first + scored.size())); under mpirun every rank's share is gathered. Plain dMM ranked
-// for its top k leaves the maps that could not enter it unscored, so their best is found exactly by a top-1
-// search over them (the same for any threads and ranks); other methods' dMM rows are all exact.
-std::optional<double> match_confidence(const std::vector<Row>& rows, const std::vector<Row>& scored,
-                                       const std::vector<Candidate>& candidates, std::size_t first,
-                                       const MethodSpec& method, const Ranker& ranker, const MapView& query,
-                                       int threads, const WorkSplit& split) {
-  if (rows.empty() || !rows.front().dmm) return std::nullopt;
-  const Candidate& best = candidates[rows.front().candidate];
-  double mine = 0.0;
-  if (method.name == "dmm") {
-    std::vector<std::size_t> far;
-    for (std::size_t j = 0; j < scored.size(); ++j)
-      if (is_far(candidates[first + j], best)) far.push_back(j);
-    if (!far.empty()) {
-      const Ranking r = ranker.rank(query, far, {threads, 1});
-      for (const auto& d : r.direct)
-        if (d && d->exact) mine = std::max(mine, d->inlier_fraction);
-    }
-  } else {
-    for (const Row& r : scored)
-      if (r.dmm && is_far(candidates[r.candidate], best)) mine = std::max(mine, r.dmm->inlier_fraction);
-  }
-  double elsewhere = 0.0;
-  for (double e : all_gather<double>(split, {&mine, 1})) elsewhere = std::max(elsewhere, e);
-  return rows.front().dmm->inlier_fraction - elsewhere;
-}
-
-// mpirun -n P: methods whose score of a stored map depends on that map and the query alone can be sharded;
-// `succinct` (and `grid` with hub=) learns a hubness term from all stored maps, and a two-stage method would
-// shortlist per rank, so neither would give the serial ranking.
-bool shardable(const MethodSpec& method) {
-  if (!method.stages.empty() || method.name == "succinct") return false;
-  return method.name != "grid" || method.spec.find(":hub=") == std::string::npos;
-}
-
-// A Row as it travels between ranks (merge_shards): a plain record, its optionals as a flag and a value. Of a
-// dMM result, the inliers, their fraction and the pose travel.
-struct ShardRow {
-  std::size_t candidate = 0;
-  double score = 0;
-  bool has_descriptor_score = false;
-  double descriptor_score = 0;
-  bool has_dmm = false;
-  int inliers = 0;
-  double inlier_fraction = 0;
-  Pose2 T_map_query;
-};
-
-ShardRow to_shard_row(const Row& row) {
-  const DmmResult d = row.dmm.value_or(DmmResult{});
-  return {row.candidate,
-          row.score,
-          row.descriptor_score.has_value(),
-          row.descriptor_score.value_or(0.0),
-          row.dmm.has_value(),
-          d.inliers,
-          d.inlier_fraction,
-          d.T_map_query};
-}
-
-Row from_shard_row(const ShardRow& s) {
-  Row row;
-  row.candidate = s.candidate;
-  row.score = s.score;
-  if (s.has_descriptor_score) row.descriptor_score = s.descriptor_score;
-  if (s.has_dmm) {
-    DmmResult d;
-    d.inliers = s.inliers;
-    d.inlier_fraction = s.inlier_fraction;
-    d.T_map_query = s.T_map_query;
-    row.dmm = d;
-  }
-  return row;
-}
-
-// The rows every rank found best in its slice (at most `top` each), merged in the serial order: score
-// descending, then candidate (a serial run sorts the candidates stably by score). Rows travel as ShardRows.
-std::vector<Row> merge_shards(const std::vector<Row>& mine, std::size_t top, const WorkSplit& split) {
-  std::vector<ShardRow> sent;
-  for (std::size_t r = 0; r < std::min(top, mine.size()); ++r) sent.push_back(to_shard_row(mine[r]));
-  std::vector<Row> rows;
-  for (const ShardRow& s : all_gather<ShardRow>(split, sent)) rows.push_back(from_shard_row(s));
-  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
-    return a.score != b.score ? a.score > b.score : a.candidate < b.candidate;
-  });
-  return rows;
-}
-
-nlohmann::json ranking_json(const std::string& query, const MethodSpec& method, const std::vector<Row>& rows,
-                            const std::vector<Candidate>& candidates, std::size_t shown,
-                            const std::optional<double>& confidence) {
-  nlohmann::json out = {{"query", query}, {"method", method.spec}, {"candidates", candidates.size()}};
-  if (confidence) out["confidence"] = *confidence;
-  out["ranking"] = nlohmann::json::array();
-  for (std::size_t r = 0; r < shown; ++r) {
-    const Row& row = rows[r];
-    const Candidate& c = candidates[row.candidate];
-    nlohmann::json j = {{"rank", r + 1}, {"map", c.map->id}, {"dataset", c.dataset}};
-    if (row.descriptor_score) j["descriptor_score"] = *row.descriptor_score;
-    if (row.dmm) {
-      const Pose2& T = row.dmm->T_map_query;
-      j["inliers"] = row.dmm->inliers;
-      j["inlier_fraction"] = row.dmm->inlier_fraction;
-      j["T_map_query"] = {{"x", T.x}, {"y", T.y}, {"theta", T.theta}};
-    }
-    out["ranking"].push_back(j);
-  }
-  return out;
-}
-
-// --plot: the best stored maps (up to three), each with the query's points where the match puts them (green on
-// the first when the match is confident, else orange); a method without poses draws the stored maps alone.
-void write_match_plot(const std::string& path, const Submap& query, const std::vector<Row>& rows,
-                      const std::vector<Candidate>& candidates, std::size_t shown,
-                      const std::optional<double>& confidence) {
-  std::vector<plot::Panel> panels;
-  for (std::size_t r = 0; r < std::min<std::size_t>(shown, 3); ++r) {
-    const Row& row = rows[r];
-    const Candidate& c = candidates[row.candidate];
-    plot::Panel panel;
-    panel.layers.push_back({c.map->points, plot::kMapGrey, 1.2});
-    char title[200];
-    int len = std::snprintf(title, sizeof title, "#%zu: map %lld (%s)", r + 1, static_cast<long long>(c.map->id),
-                            c.dataset.c_str());
-    if (row.dmm) {
-      const bool sure = r == 0 && confidence && *confidence >= kConfidentLocalization;
-      panel.layers.push_back({plot::transformed(query.points, row.dmm->T_map_query),
-                              sure ? plot::kGood : plot::kDoubtful, 1.5});
-      len += std::snprintf(title + len, sizeof title - static_cast<std::size_t>(len), ", %.0f %% inliers",
-                           100 * row.dmm->inlier_fraction);
-      if (r == 0 && confidence)
-        std::snprintf(title + len, sizeof title - static_cast<std::size_t>(len), ", confidence %.2f", *confidence);
-    } else {
-      std::snprintf(title + len, sizeof title - static_cast<std::size_t>(len), ", score %.3g (no pose)", row.score);
-    }
-    panel.title = title;
-    panels.push_back(std::move(panel));
-  }
-  for (plot::Panel& p : panels) p.legend = "grey: stored map; green / orange: the query (confident / not)";
-  plot::write_panels_png(path, panels, 500);
-  std::cout << "wrote " << path << "\n";
-}
-
-void run_match(const MatchOptions& o) {
-  const MethodSpec method = parse_method_spec(o.method);
+void check_options(const MatchOptions& o, const MethodSpec& method) {
   if (o.top < 1) throw InputError("--top must be >= 1, got " + std::to_string(o.top));
   if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
   if (!(o.min_gap >= 0) || !std::isfinite(o.min_gap))
@@ -377,138 +142,200 @@ void run_match(const MatchOptions& o) {
   if (!new_map && (o.new_query.stretch_given() || o.new_query.scan_match))
     throw InputError("--from-m, --to-m, --at-m, --from-time, --to-time, --at and --scan-match go with --query-log, "
                      "not --query ID");
-  if (new_map && method.needs_parts)
+  if (new_map && method.traits.needs_parts)
     throw InputError("a new local map: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
                      "(dmm, succinct, grid, sc, rerank:R)");
   if (!o.json.empty()) io::check_writable(o.json);
   if (!o.plot.empty()) io::check_writable(o.plot);
-  const WorkSplit& split = world_split();
-  if (split.size() > 1 && !shardable(method))
+  if (world_split().size() > 1 && !method.traits.shardable)
     throw InputError("mpirun: method '" + o.method + "' cannot be sharded (it learns from all stored maps or "
                      "shortlists per rank); use dmm, dmm-ransac, imm, hmm, sc or grid without hub=, or one process");
-  const auto t_start = Clock::now();
-  const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
-  io::MapLocation where;
-  std::string query_label;
-  const Submap query = new_map ? local_map(db, o, query_label) : db.load_submap(o.query);
-  if (!new_map) {
-    where = db.locate(o.query);
-    query_label = "query map " + std::to_string(query.id) + " (dataset '" + where.dataset_name + "', submap " +
-                  std::to_string(where.index) + ", " + std::to_string(query.points.size()) + " points)";
-  }
+}
 
-  // The candidates: the query's dataset, or every submaps dataset.
+// The query and what to rank it against: the other maps of its dataset (--all, or a new local map: of every
+// submaps dataset), leaving out those within --min-gap of travel.
+struct Query {
+  Submap map;
+  io::MapLocation where;
+  std::string label;
+  bool new_map = false;
   std::vector<std::pair<std::string, Submaps>> loaded;
-  for (const io::DatasetInfo& d : db.datasets()) {
-    const bool every = o.all || new_map;  // a new local map is ranked against every dataset
-    if (d.id == where.dataset_id || (every && d.spec.kind == io::DatasetKind::kSubmaps))
-      loaded.emplace_back(d.spec.name, db.load_submaps(d.id));
-  }
   std::vector<Candidate> candidates;
   std::size_t too_recent = 0;
-  for (const auto& [name, maps] : loaded) {
+};
+
+void load_query(const io::MapDatabase& db, const MatchOptions& o, Query& q) {
+  q.new_map = o.new_query.given();
+  if (q.new_map) {
+    q.map = local_map(db, o, q.label);
+  } else {
+    q.map = db.load_submap(o.query);
+    q.where = db.locate(o.query);
+    q.label = "query map " + std::to_string(q.map.id) + " (dataset '" + q.where.dataset_name + "', submap " +
+              std::to_string(q.where.index) + ", " + std::to_string(q.map.points.size()) + " points)";
+  }
+  for (const io::DatasetInfo& d : db.datasets()) {
+    const bool every = o.all || q.new_map;
+    if (d.id == q.where.dataset_id || (every && d.spec.kind == io::DatasetKind::kSubmaps))
+      q.loaded.emplace_back(d.spec.name, db.load_submaps(d.id));
+  }
+  for (const auto& [name, maps] : q.loaded) {
     for (const Submap& m : maps) {
-      if (m.id == query.id) continue;
-      if (name == where.dataset_name && std::abs(m.travel - query.travel) < o.min_gap) {
-        ++too_recent;
+      if (m.id == q.map.id) continue;
+      if (name == q.where.dataset_name && std::abs(m.travel - q.map.travel) < o.min_gap) {
+        ++q.too_recent;
         continue;
       }
-      candidates.push_back({&m, name});
+      q.candidates.push_back({&m, name});
     }
   }
-  const double load_ms = ms_since(t_start);
-  if (candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
+  if (q.candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
+}
 
+// The candidates as the query entry point sees them (points, parts where the method reads them, place).
+std::vector<QueryCandidate> query_candidates(const Query& q, const io::RankingParts& parts) {
+  std::vector<QueryCandidate> out;
+  std::vector<std::string> datasets;
+  for (std::size_t i = 0; i < q.candidates.size(); ++i) {
+    const Candidate& c = q.candidates[i];
+    const auto at = std::find(datasets.begin(), datasets.end(), c.dataset);
+    if (at == datasets.end()) datasets.push_back(c.dataset);
+    out.push_back({{&c.map->points, parts.stored.empty() ? nullptr : &parts.stored[i]},
+                   static_cast<int>(std::find(datasets.begin(), datasets.end(), c.dataset) - datasets.begin()),
+                   c.map->T_world_map});
+  }
+  return out;
+}
+
+nlohmann::json ranking_json(const Query& q, const MethodSpec& method, const QueryAnswer& answer) {
+  nlohmann::json out = {{"query", q.label}, {"method", method.spec}, {"candidates", q.candidates.size()}};
+  if (answer.confidence) out["confidence"] = *answer.confidence;
+  out["ranking"] = nlohmann::json::array();
+  for (std::size_t r = 0; r < answer.rows.size(); ++r) {
+    const QueryRow& row = answer.rows[r];
+    const Candidate& c = q.candidates[row.candidate];
+    nlohmann::json j = {{"rank", r + 1}, {"map", c.map->id}, {"dataset", c.dataset}};
+    if (row.stage_score) j["descriptor_score"] = *row.stage_score;
+    if (row.pose) {
+      const Pose2& T = row.pose->T_map_query;
+      j["inliers"] = row.pose->inliers;
+      j["inlier_fraction"] = row.pose->inlier_fraction;
+      j["T_map_query"] = {{"x", T.x}, {"y", T.y}, {"theta", T.theta}};
+    }
+    out["ranking"].push_back(j);
+  }
+  return out;
+}
+
+// --plot: the best stored maps (up to three), each with the query's points where the match puts them (green on
+// the first when the match is confident, else orange); a method without poses draws the stored maps alone.
+void write_match_plot(const std::string& path, const Query& q, const QueryAnswer& answer) {
+  std::vector<plot::Panel> panels;
+  for (std::size_t r = 0; r < std::min<std::size_t>(answer.rows.size(), 3); ++r) {
+    const QueryRow& row = answer.rows[r];
+    const Candidate& c = q.candidates[row.candidate];
+    plot::Panel panel;
+    panel.layers.push_back({c.map->points, plot::kMapGrey, 1.2});
+    panel.title = "#" + std::to_string(r + 1) + ": map " + std::to_string(c.map->id) + " (" + c.dataset + ")";
+    char text[120];
+    if (row.pose) {
+      const bool sure = r == 0 && answer.confidence && *answer.confidence >= kConfidentLocalization;
+      panel.layers.push_back({plot::transformed(q.map.points, row.pose->T_map_query),
+                              sure ? plot::kGood : plot::kDoubtful, 1.5});
+      std::snprintf(text, sizeof text, ", %.0f %% inliers", 100 * row.pose->inlier_fraction);
+      panel.title += text;
+      if (r == 0 && answer.confidence) {
+        std::snprintf(text, sizeof text, ", confidence %.2f", *answer.confidence);
+        panel.title += text;
+      }
+    } else {
+      std::snprintf(text, sizeof text, ", score %.3g (no pose)", row.score);
+      panel.title += text;
+    }
+    panel.legend = "grey: stored map; green / orange: the query (confident / not)";
+    panels.push_back(std::move(panel));
+  }
+  plot::write_panels_png(path, panels, 500);
+  std::cout << "wrote " << path << "\n";
+}
+
+void print_table(const Query& q, const MethodSpec& method, const QueryAnswer& answer, bool all) {
+  const bool pose = method.traits.gives_pose;
+  std::string header = " rank     map";
+  if (all) header += "      dataset";
+  char text[160];
+  if (!method.traits.stage_score.empty()) {
+    std::snprintf(text, sizeof text, " %10s", method.traits.stage_score.c_str());
+    header += text;
+  }
+  std::snprintf(text, sizeof text, " %7s %5s  %7s %7s %8s  %7s %7s %8s", "inliers", "inl%", "x [m]", "y [m]",
+                "th [deg]", "dx [m]", "dy [m]", "dth[deg]");
+  if (pose) header += text;
+  std::cout << header << " dist [m]\n";
+  bool other_world = false, below_rerank = false;
+  for (std::size_t r = 0; r < answer.rows.size(); ++r) {
+    const Candidate& c = q.candidates[answer.rows[r].candidate];
+    print_row(r + 1, answer.rows[r], c, q.map, q.where.dataset_name, all, pose);
+    other_world |= q.new_map || c.dataset != q.where.dataset_name;
+    below_rerank |= pose && !answer.rows[r].pose;
+  }
+  if (pose) std::cout << kPoseColumns << "\n";
+  std::cout << kDistColumn << "\n";
+  if (other_world) std::cout << (q.new_map ? kNewMapDash : kOtherDatasetDash) << "\n";
+  if (below_rerank) std::cout << kRerankDash << "\n";
+  if (answer.confidence)
+    std::printf("confidence %.3f (the best dMM inlier share minus the best one more than %.0f m away)\n",
+                *answer.confidence, OtherPlace{}.distance);
+}
+
+void run_match(const MatchOptions& o) {
+  const MethodSpec method = parse_method_spec(o.method);
+  check_options(o, method);
+  const auto t_start = Clock::now();
+  const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
+  Query q;
+  load_query(db, o, q);
+  const double load_ms = ms_since(t_start);
   std::string timing;
-  std::vector<Part> query_parts;
-  std::vector<std::vector<Part>> parts;
-  if (method.needs_parts) parts = stored_parts(db, query, candidates, method, o, query_parts, timing);
-  std::vector<MapView> views(candidates.size());
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    views[i].points = &candidates[i].map->points;
-    if (method.needs_parts) views[i].parts = &parts[i];
+  io::RankingParts parts;
+  if (method.traits.needs_parts) {
+    const std::string dictionary = io::resolve_descriptor_dictionary(db, o.dictionary);
+    std::vector<std::int64_t> ids;
+    for (const Candidate& c : q.candidates) ids.push_back(c.map->id);
+    parts = io::load_ranking_parts(db, dictionary, method.traits, ids, q.map.id, o.query_parts);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "dictionary '%s', query %zu parts (K=%d), descriptors %.1f ms; ",
+                  dictionary.c_str(), parts.query.size(), parts.query_k, parts.ms);
+    timing += buf;
+    if (parts.query.empty())
+      timing += "note: CPD found no part of the query map, so every descriptor score is 0 (try 'describe --mc "
+                "inlier'); ";
   }
   RankingConfig config;
   config.dmm = o.dmm;
   config.ransac = o.ransac;
-  config.origin_gate = o.gate;
-  config.hmm_query_parts = std::max<int>(1, static_cast<int>(query_parts.size()));
-  // This process's slice of the candidates (all of them outside mpirun): prepared and ranked here.
-  const auto [first, last] = split.slice(candidates.size());
-  const std::span<const MapView> mine(views.data() + first, last - first);
-  auto t0 = Clock::now();
-  const std::unique_ptr<Ranker> ranker = make_ranker(method, config);
-  ranker->prepare(mine, o.threads);
-  const double prepare_ms = ms_since(t0);
-  std::vector<std::size_t> everyone(mine.size());
-  for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
-  const Ranking ranking = ranker->rank({&query.points, &query_parts}, everyone, {o.threads, o.top});
+  config.parts.origin_gate = o.gate;
+  config.parts.hmm_query_parts = std::max<int>(1, static_cast<int>(parts.query.size()));
+  const std::vector<QueryCandidate> candidates = query_candidates(q, parts);
+  const QueryAnswer answer = rank_query(method, config, candidates, {&q.map.points, &parts.query},
+                                        {static_cast<std::size_t>(o.top), o.threads, OtherPlace{}}, world_split());
+  if (!is_reporting_process()) return;  // rank 0 prints and writes
   char buf[240];
   std::snprintf(buf, sizeof buf, "prepare %.1f ms (offline), query %.2f ms, ranking %.2f ms (%.3f ms per map)%s",
-                prepare_ms, ranking.prep_ms, ranking.match_ms,
-                ranking.match_ms / static_cast<double>(std::max<std::size_t>(1, mine.size())),
-                split.size() > 1 ? " on rank 0's slice" : "");
+                answer.prepare_ms, answer.prep_ms, answer.match_ms,
+                answer.match_ms / static_cast<double>(std::max<std::size_t>(1, answer.ranked_here)),
+                world_split().size() > 1 ? " on rank 0's slice" : "");
   timing += buf;
-  std::vector<Row> rows(mine.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    rows[i].candidate = first + i;
-    rows[i].score = ranking.scores[i];
-    if (!ranking.direct.empty()) rows[i].dmm = ranking.direct[i];
-    if (!ranking.shortlist_scores.empty()) {
-      rows[i].descriptor_score = ranking.shortlist_scores[i];
-    } else if (ranking.direct.empty()) {
-      rows[i].descriptor_score = ranking.scores[i];
-    }
-  }
-  std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.score > b.score; });
-  const std::vector<Row> scored = rows;
-  if (split.size() > 1) rows = merge_shards(rows, static_cast<std::size_t>(o.top), split);
-  const std::optional<double> confidence = match_confidence(rows, scored, candidates, first, method, *ranker,
-                                                            {&query.points, &query_parts}, o.threads, split);
-  if (!is_reporting_process()) return;  // rank 0 prints and writes
-
-  const bool all = o.all || new_map;
-  std::cout << query_label << "; " << method.label() << " over " << candidates.size() << " maps"
+  const bool all = o.all || q.new_map;
+  std::cout << q.label << "; " << method.label << " over " << q.candidates.size() << " maps"
             << (all ? " of every dataset" : " of its dataset");
-  if (too_recent > 0) std::cout << " (" << too_recent << " within " << o.min_gap << " m of travel left out)";
+  if (q.too_recent > 0) std::cout << " (" << q.too_recent << " within " << o.min_gap << " m of travel left out)";
   std::cout << "\n";
-  const bool pose = method.needs_points;
-  std::string header = " rank     map";
-  if (all) header += "      dataset";
-  if (!method.needs_points || !method.stages.empty()) {
-    const MethodSpec& first = method.stages.empty() ? method : method.stages.front();
-    char score[32];
-    std::snprintf(score, sizeof score, " %10s", (first.name == "imm"   ? std::string("iMM score")
-                                                 : first.name == "hmm" ? std::string("hMM score")
-                                                                       : first.name + " score")
-                                                    .c_str());
-    header += score;
-  }
-  char columns[160];
-  std::snprintf(columns, sizeof columns, " %7s %5s  %7s %7s %8s  %7s %7s %8s", "inliers", "inl%", "x [m]",
-                "y [m]", "th [deg]", "dx [m]", "dy [m]", "dth[deg]");
-  if (pose) header += columns;
-  header += " dist [m]";
-  std::cout << header << "\n";
-  const std::size_t shown = std::min<std::size_t>(rows.size(), static_cast<std::size_t>(o.top));
-  bool other_world = false, below_rerank = false;
-  for (std::size_t r = 0; r < shown; ++r) {
-    const Candidate& c = candidates[rows[r].candidate];
-    print_row(r + 1, rows[r], c, query, where.dataset_name, all, pose);
-    other_world |= new_map || c.dataset != where.dataset_name;
-    below_rerank |= pose && !rows[r].dmm;
-  }
-  if (pose) std::cout << kPoseColumns << "\n";
-  std::cout << kDistColumn << "\n";
-  if (other_world) std::cout << (new_map ? kNewMapDash : kOtherDatasetDash) << "\n";
-  if (below_rerank) std::cout << kRerankDash << "\n";
-  if (confidence) std::printf("confidence %.3f (the best dMM inlier share minus the best one more than 4 m away)\n", *confidence);
+  print_table(q, method, answer, all);
   std::cout << "time: load " << static_cast<long>(load_ms) << " ms; " << timing << "\n";
-  if (!o.plot.empty()) write_match_plot(o.plot, query, rows, candidates, shown, confidence);
+  if (!o.plot.empty()) write_match_plot(o.plot, q, answer);
   if (!o.json.empty())
-    io::write_atomically(o.json, [&](std::ostream& out) {
-      out << json_text(ranking_json(query_label, method, rows, candidates, shown, confidence));
-    });
+    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(ranking_json(q, method, answer)); });
 }
 
 }  // namespace

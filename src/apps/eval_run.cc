@@ -11,7 +11,7 @@
 #include <iostream>
 
 #include "core/maps/dictionary.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 #include "core/maps/submap.h"
 #include "io/ground_truth.h"
 #include "io/scan_source.h"
@@ -42,11 +42,11 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--gap", o.config.tasks.min_travel_gap, "G: min travel gap of a relevant pair [m]")
       ->capture_default_str();
   cmd.add_option("--threads", o.config.num_threads, "threads (results do not depend on it)")->capture_default_str();
-  cmd.add_option("--gate", o.config.ranking.origin_gate,
+  cmd.add_option("--gate", o.config.ranking.parts.origin_gate,
                  "descriptor matcher: origin gate [m], part pairs must put the map frames this close; 0 = off "
                  "(the paper)")
       ->capture_default_str();
-  cmd.add_option("--hmm-query-parts", o.config.ranking.hmm_query_parts, "parts of an hMM query")->capture_default_str();
+  cmd.add_option("--hmm-query-parts", o.config.ranking.parts.hmm_query_parts, "parts of an hMM query")->capture_default_str();
   add_cpd_options(cmd, o.config.cpd, "cpd-");
   cmd.add_option("--dmm-dilation", o.config.ranking.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
@@ -113,7 +113,7 @@ void print_table(const EvalRun& run, std::ostream& out) {
   out << std::setw(8) << "R@5%" << std::setw(8) << "R@10%" << std::setw(12) << "us/pair" << std::setw(12)
       << "ms/query" << std::setw(10) << "bits/map" << "\n";
   for (const MethodResult& m : r.methods) {
-    out << std::left << std::setw(22) << m.method.label() << std::right << std::setprecision(1) << std::setw(8)
+    out << std::left << std::setw(22) << m.method.label << std::right << std::setprecision(1) << std::setw(8)
         << m.summary.anr_percent << std::setprecision(3) << std::setw(8) << m.summary.recall_at_1;
     if (r1pct) out << std::setw(8) << m.summary.recall_at_1pct;
     out << std::setw(8) << m.summary.recall_at_5pct << std::setw(8)
@@ -123,7 +123,7 @@ void print_table(const EvalRun& run, std::ostream& out) {
   }
   for (const MethodResult& m : r.methods) {
     if (m.poses_checked == 0) continue;
-    out << std::setprecision(3) << m.method.label() << ": relative pose of the relevant map within "
+    out << std::setprecision(3) << m.method.label << ": relative pose of the relevant map within "
         << run.options.config.pose_tolerance_m << " m / " << run.options.config.pose_tolerance_rad << " rad in "
         << m.pose_within_tolerance << " of " << m.poses_checked << " pairs\n";
   }
@@ -149,8 +149,8 @@ nlohmann::json to_json(const EvalRun& run) {
       {"radius", c.tasks.radius},
       {"max_range", run.options.max_range},
       {"min_travel_gap", c.tasks.min_travel_gap},
-      {"origin_gate", c.ranking.origin_gate},
-      {"hmm_query_parts", c.ranking.hmm_query_parts},
+      {"origin_gate", c.ranking.parts.origin_gate},
+      {"hmm_query_parts", c.ranking.parts.hmm_query_parts},
       {"cpd",
        {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
         {"box_sizes", c.cpd.box_sizes},
@@ -165,7 +165,7 @@ nlohmann::json to_json(const EvalRun& run) {
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {
     j["methods"].push_back({{"spec", m.method.spec},
-                            {"label", m.method.label()},
+                            {"label", m.method.label},
                             {"anr", m.summary.anr_percent},
                             {"recall_at_1", m.summary.recall_at_1},
                             {"recall_at_1pct", m.summary.recall_at_1pct},

@@ -1,6 +1,9 @@
 #include "io/descriptor_store.h"
 
+#include <set>
+
 #include "core/error.h"
+#include "core/timing.h"
 #include "core/parts/descriptor_layout.h"
 #include "io/map_database_internal.h"
 
@@ -100,6 +103,61 @@ int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::
       best = s.k;
   }
   return best;
+}
+
+std::string resolve_descriptor_dictionary(const MapDatabase& db, const std::string& name) {
+  std::set<std::string> names;
+  for (const DescriptorSetInfo& s : db.descriptor_sets()) names.insert(s.dictionary);
+  if (!name.empty()) {
+    if (!names.count(name)) db.load_dictionary(name);  // throws "no dictionary named ..." when it is unknown
+    return name;
+  }
+  if (names.empty()) {
+    throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " + db.path().string() +
+                     " --dict NAME' first");
+  }
+  if (names.size() > 1) throw InputError(db.path().string() + ": descriptors of several dictionaries: choose one");
+  return *names.begin();
+}
+
+RankingParts load_ranking_parts(const MapDatabase& db, const std::string& dictionary, const MethodTraits& traits,
+                                std::span<const std::int64_t> candidates, std::int64_t query, int query_parts) {
+  const int k = traits.parts;
+  const auto t0 = Clock::now();
+  std::map<std::int64_t, MapDescriptor> stored = load_descriptor_set(db, dictionary, k);
+  RankingParts out;
+  std::size_t missing = 0;
+  for (std::int64_t id : candidates) {
+    auto it = stored.find(id);
+    if (it == stored.end()) {
+      ++missing;
+    } else {
+      out.stored.push_back(std::move(it->second.parts));
+    }
+  }
+  if (missing > 0) {
+    throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) + " maps have no K=" +
+                     std::to_string(k) + " descriptor for dictionary '" + dictionary +
+                     "': " + describe_hint(db, dictionary, k));
+  }
+  out.query_k = traits.query_parts == QueryParts::kDescriptor ? k
+                : query_parts > 0                              ? query_parts
+                                                               : query_list_parts(db, dictionary, query);
+  if (out.query_k == 0) {
+    throw InputError("map " + std::to_string(query) + " has no hMM query list (a descriptor of more than " +
+                     std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary +
+                     "': run 'partslam describe " + db.path().string() + " --dict " + dictionary +
+                     "' first (it stores the P-part list as K = P when P > " + std::to_string(kMaxUnscoredParts) +
+                     "), or name a stored list (query_parts)");
+  }
+  std::optional<MapDescriptor> descriptor = load_descriptor(db, dictionary, out.query_k, query);
+  if (!descriptor) {
+    throw InputError("the query map " + std::to_string(query) + " has no K=" + std::to_string(out.query_k) +
+                     " descriptor for dictionary '" + dictionary + "': " + describe_hint(db, dictionary, out.query_k));
+  }
+  out.query = std::move(descriptor->parts);
+  out.ms = ms_since(t0);
+  return out;
 }
 
 }  // namespace partslam::io

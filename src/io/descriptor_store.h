@@ -5,10 +5,13 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "core/parts/descriptor_database.h"
 #include "core/parts/part.h"
+#include "core/ranking/method_spec.h"
 #include "io/map_database.h"
 
 namespace partslam::io {
@@ -44,5 +47,23 @@ std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const std::s
 /// K of the longest hMM query list (K > kMaxUnscoredParts, appearance scores stored) kept for the dictionary
 /// that holds map_id; 0 when there is none.
 int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::int64_t map_id);
+
+/// The dictionary whose descriptors to read: the one named (which must have descriptors or be stored), else
+/// the only one with descriptors; throws InputError saying what to run or choose.
+std::string resolve_descriptor_dictionary(const MapDatabase& db, const std::string& name);
+
+/// What a part method (MethodTraits::needs_parts) reads of a database for one query.
+struct RankingParts {
+  std::vector<std::vector<Part>> stored;  ///< each candidate's K-part descriptor, in the candidates' order
+  std::vector<Part> query;                ///< the query's parts (MethodTraits::query_parts)
+  int query_k = 0;                        ///< K of the query's stored descriptor
+  double ms = 0;                          ///< reading them [ms]
+};
+
+/// Every candidate's K-part descriptor (K = traits.parts) and the query's: its K-part descriptor (iMM) or its
+/// stored part list (hMM: K = query_parts when > 0, else the longest list kept). Throws InputError naming what
+/// is missing and how to produce it.
+RankingParts load_ranking_parts(const MapDatabase& db, const std::string& dictionary, const MethodTraits& traits,
+                                std::span<const std::int64_t> candidates, std::int64_t query, int query_parts);
 
 }  // namespace partslam::io

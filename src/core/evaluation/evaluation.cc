@@ -62,13 +62,13 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
             std::find(task.database.begin(), task.database.end(), task.relevant) - task.database.begin());
         const Ranking r = ranker.rank(views.at(task.query), task.database);
         TaskOutcome& out = outcomes[t];
-        out.rank = tied_rank(r.scores, relevant);
+        out.rank = tied_rank(r, relevant);
         out.db_size = task.database.size();
         out.match_ms = r.match_ms;
-        out.prep_ms = r.prep_ms + (method.needs_parts ? described.cpd_ms.at(task.query) : 0.0);
+        out.prep_ms = r.prep_ms + (method.traits.needs_parts ? described.cpd_ms.at(task.query) : 0.0);
         if (!r.direct.empty() && r.direct[relevant]) out.pose = pose_ok(task, r.direct[relevant]->T_map_query);
       },
-      method.label(), progress);
+      method.label, progress);
   return outcomes;
 }
 
@@ -179,17 +179,17 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
 
   bool need_parts = false, need_hmm_query = false;
   for (const MethodSpec& m : methods) {
-    need_parts |= m.needs_parts;
-    need_hmm_query |= m.needs_parts && (m.name == "hmm" || m.name == "rerank");
+    need_parts |= m.traits.needs_parts;
+    need_hmm_query |= m.traits.query_parts == QueryParts::kList;
   }
   DescribedMaps described;
   RankingConfig ranking = config.ranking;
   if (need_parts) {
     CpdConfig cpd = config.cpd;
-    cpd.max_parts = std::max(max_parts(methods), need_hmm_query ? config.ranking.hmm_query_parts : 0);
+    cpd.max_parts = std::max(max_parts(methods), need_hmm_query ? config.ranking.parts.hmm_query_parts : 0);
     described = describe_maps(maps, dictionary_points, cpd, config.codec, config.num_threads, progress, split);
     report.cpd_ms_per_map = described.cpd_ms_per_map;
-    ranking.codec = described.codec;
+    ranking.parts.codec = described.codec;
   }
   const std::vector<MapView> views = map_views(maps, described);
   for (const MethodSpec& method : methods) {

@@ -2,7 +2,7 @@
 // every task; the rank of the relevant map gives ANR and recall within the top 1 / 1 % / 5 % / 10 % of N; time
 // per map pair, time per query and bits per stored map are measured on the same tasks. In stages:
 //   1. describe_maps   offline: CPD parts of every map against the dictionary (when a method needs parts)
-//   2. run_tasks       one method (a Ranker from core/matching/ranking.h, prepared on every map) over a range of tasks
+//   2. run_tasks       one method (a Ranker from core/ranking/ranking.h, prepared on every map) over a range of tasks
 //   3. summarize       the method's figures from the task outcomes
 // evaluate() runs the three for every method on the same tasks.
 #pragma once
@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "core/parts/cpd.h"
-#include "core/matching/method_spec.h"
+#include "core/ranking/method_spec.h"
 #include "core/evaluation/metrics.h"
 #include "core/parts/part_codec.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 #include "core/evaluation/tasks.h"
 #include "core/evaluation/work_split.h"
 

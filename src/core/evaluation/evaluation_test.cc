@@ -35,7 +35,7 @@ EvalConfig small_config(int threads) {
   c.tasks.num_tasks = 24;
   c.tasks.db_size = 20;
   c.num_threads = threads;
-  c.ranking.hmm_query_parts = 20;
+  c.ranking.parts.hmm_query_parts = 20;
   return c;
 }
 
@@ -64,7 +64,7 @@ TEST(Evaluation, EveryMethodRunsAndThreadsDoNotChangeRanks) {
   const EvalReport parallel = evaluate(d.maps, d.dictionary.points, methods, small_config(2));
   ASSERT_EQ(serial.methods.size(), 4u);
   for (std::size_t i = 0; i < methods.size(); ++i) {
-    EXPECT_EQ(serial.methods[i].normalized_ranks, parallel.methods[i].normalized_ranks) << methods[i].label();
+    EXPECT_EQ(serial.methods[i].normalized_ranks, parallel.methods[i].normalized_ranks) << methods[i].label;
     for (double r : serial.methods[i].normalized_ranks) {
       EXPECT_GT(r, 0.0);
       EXPECT_LE(r, 1.0);
@@ -82,10 +82,10 @@ TEST(Evaluation, StagesRunASliceOfTasksWithTheSameOutcomes) {
   const MethodSpec method = parse_method_spec("hmm:3");
   const EvalReport whole = evaluate(d.maps, d.dictionary.points, {method}, config);
   CpdConfig cpd = config.cpd;
-  cpd.max_parts = config.ranking.hmm_query_parts;
+  cpd.max_parts = config.ranking.parts.hmm_query_parts;
   const DescribedMaps described = describe_maps(d.maps, d.dictionary.points, cpd, config.codec, 2);
   RankingConfig ranking = config.ranking;
-  ranking.codec = described.codec;
+  ranking.parts.codec = described.codec;
   const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
   ranker->prepare(map_views(d.maps, described), 1);
   const std::vector<Task> tasks = make_tasks(d.maps, config.tasks);
@@ -122,7 +122,7 @@ TEST(Evaluation, SplitOverTwoProcessesGivesTheSameReport) {
   for (const EvalReport& split : reports) {
     ASSERT_EQ(split.methods.size(), whole.methods.size());
     for (std::size_t i = 0; i < methods.size(); ++i) {
-      EXPECT_EQ(split.methods[i].normalized_ranks, whole.methods[i].normalized_ranks) << methods[i].label();
+      EXPECT_EQ(split.methods[i].normalized_ranks, whole.methods[i].normalized_ranks) << methods[i].label;
       EXPECT_EQ(split.methods[i].poses_checked, whole.methods[i].poses_checked);
       EXPECT_EQ(split.methods[i].pose_within_tolerance, whole.methods[i].pose_within_tolerance);
       EXPECT_EQ(split.methods[i].bits_per_map, whole.methods[i].bits_per_map);

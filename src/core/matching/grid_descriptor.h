@@ -79,11 +79,6 @@ double grid_similarity(const std::vector<GridBits>& query, const std::vector<int
 /// The cell count of each grid.
 std::vector<int> grid_counts(const std::vector<GridBits>& grids);
 
-class Ranker;
-/// The ranker of a configuration (what `grid` and `succinct` make through make_ranker; here every field, e.g.
-/// index_min_maps, can be set).
-std::unique_ptr<Ranker> make_grid_ranker(const GridConfig& config);
-
 /// mu_m of each stored grid (the hubness correction above; points[m] are map m's points, for its query grids):
 /// the mean best-pose similarity to m of the queries of up to hub_sample maps spread over the list (never m
 /// itself), quantised to hub_bits; all 0 when hub_weight is 0 or there is one map. Same for any num_threads.

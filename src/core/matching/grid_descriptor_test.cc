@@ -6,7 +6,6 @@
 #include <random>
 
 #include "core/error.h"
-#include "core/matching/ranking.h"
 #include "core/sim/simulator.h"
 #include "core/testing/simulated_maps.h"
 #include "core/maps/submap.h"
@@ -78,67 +77,9 @@ TEST(GridDescriptor, JaccardOfEmptyAndDisjointGrids) {
   EXPECT_DOUBLE_EQ(jaccard(a, b), 1.0 / 4.0);
 }
 
-TEST(GridDescriptor, SpecsAndBits) {
-  EXPECT_EQ(parse_method_spec("grid").spec, "grid:11");
-  EXPECT_EQ(parse_method_spec("grid:11").label(), "grid 11x11");
-  EXPECT_EQ(parse_method_spec("grid:11:hub=100:box=80:shift=3:sub=2").spec, "grid:11:box=80:shift=3:sub=2:hub=100");
-  EXPECT_FALSE(parse_method_spec("succinct").needs_points);
-  EXPECT_FALSE(parse_method_spec("succinct").needs_parts);
+TEST(GridDescriptor, Bits) {
   EXPECT_EQ(grid_bits_per_map(GridConfig{}), 121);
   EXPECT_EQ(grid_bits_per_map(succinct_grid_config()), 128);
-  for (const char* bad : {"grid:12", "grid:0", "grid:11:shift", "grid:11:foo=1", "grid:11:sub=0", "succinct:3"}) {
-    try {
-      parse_method_spec(bad);
-      ADD_FAILURE() << "accepted " << bad;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
-    }
-  }
-}
-
-TEST(GridDescriptor, SuccinctRanksTheQueryItselfFirstAndThreadsDoNotChangeScores) {
-  const Submaps& maps = testing::simulated_maps();
-  std::vector<MapView> views;
-  for (const Submap& m : maps) views.push_back({&m.points, nullptr});
-  const std::unique_ptr<Ranker> one = make_ranker(parse_method_spec("succinct"), {});
-  const std::unique_ptr<Ranker> two = make_ranker(parse_method_spec("succinct"), {});
-  one->prepare(views, 1);
-  two->prepare(views, 2);
-  EXPECT_EQ(one->bits_per_map(), 128.0);
-  const std::vector<std::size_t> candidates = {30, 5, 12, 0, 44, 61};
-  const Ranking r1 = one->rank(views[12], candidates, {1, 0});
-  const Ranking r2 = two->rank(views[12], candidates, {2, 0});
-  EXPECT_EQ(r1.scores, r2.scores);
-  EXPECT_EQ(ranking_order(r1.scores).front(), 2u);
-  EXPECT_TRUE(r1.direct.empty());
-}
-
-TEST(GridDescriptor, HubnessSubtractsTheOtherMapsMeanSimilarityToEachStoredMap) {
-  const Submaps& maps = testing::simulated_maps();
-  std::vector<MapView> views;
-  for (std::size_t i = 0; i < 12; ++i) views.push_back({&maps[i * 5].points, nullptr});
-  const std::unique_ptr<Ranker> plain = make_ranker(parse_method_spec("grid:11:box=80"), {});
-  const std::unique_ptr<Ranker> hub = make_ranker(parse_method_spec("grid:11:box=80:hub=50"), {});
-  plain->prepare(views, 1);
-  hub->prepare(views, 2);
-  const std::vector<std::size_t> candidates = {0, 3, 7, 11};
-  const Ranking p = plain->rank(views[5], candidates);
-  const Ranking h = hub->rank(views[5], candidates);
-  GridConfig c;
-  c.box_size = 8.0;
-  for (std::size_t j = 0; j < candidates.size(); ++j) {
-    const std::size_t m = candidates[j];
-    // mu_m: the mean similarity of the 11 other maps' queries to map m's grid, on 7 bits.
-    const GridBits stored = make_grid(*views[m].points, c);
-    double sum = 0;
-    for (std::size_t o = 0; o < views.size(); ++o)
-      if (o != m) sum += grid_similarity(make_query_grids(*views[o].points, c), stored);
-    const double mu = std::round(sum / 11.0 * 127) / 127;
-    EXPECT_GT(mu, 0.0);
-    EXPECT_NEAR(p.scores[j] - h.scores[j], 0.5 * mu, 1e-12) << "map " << m;
-  }
-  EXPECT_EQ(hub->bits_per_map(), 128.0);
-  EXPECT_EQ(plain->bits_per_map(), 121.0);
 }
 
 }  // namespace

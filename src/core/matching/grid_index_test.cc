@@ -6,7 +6,6 @@
 #include <random>
 
 #include "core/error.h"
-#include "core/matching/ranking.h"
 #include "core/testing/simulated_maps.h"
 
 namespace partslam {
@@ -95,48 +94,6 @@ TEST(GridIndex, TopKEqualsTheScanOnSyntheticDatabases) {
         }
       }
     }
-  }
-}
-
-// Real query grids (the simulator's submaps, the succinct configuration and its hubness values as the ranker
-// computes them) against the other submaps: the ranker's scores, their top k, and the index's top k agree.
-TEST(GridIndex, TopKEqualsTheRankerOnSimulatedSubmaps) {
-  const Submaps& maps = testing::simulated_maps();
-  const std::vector<MapView> views = testing::point_views(maps);
-  const GridConfig config = succinct_grid_config();
-  std::vector<GridBits> grids;
-  for (const Submap& m : maps) grids.push_back(make_grid(m.points, config));
-  const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("succinct"), RankingConfig{});
-  ranker->prepare(views, 1);
-  GridConfig indexed = config;
-  indexed.index_min_maps = 0;  // the index even for this small database
-  const std::unique_ptr<Ranker> indexed_ranker = make_grid_ranker(indexed);
-  indexed_ranker->prepare(views, 1);
-  std::vector<std::size_t> everyone(maps.size());
-  for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
-  std::vector<const Points2*> points;
-  for (const Submap& m : maps) points.push_back(&m.points);
-  const std::vector<double> mu = grid_hubness(points, grids, config);
-  const GridIndex index(grids, mu, 1.0);
-  for (std::size_t qi = 0; qi < maps.size(); qi += 9) {
-    const GridQuery q(make_query_grids(maps[qi].points, config), config);
-    const std::vector<GridMatch> top = index.top_k(q, 10);
-    expect_equal(top, scan_top_k(q, grids, mu, 1.0, 10), "query " + std::to_string(qi));
-    const Ranking r = ranker->rank(views[qi], everyone);
-    const std::vector<std::size_t> order = ranking_order(r.scores);
-    for (std::size_t j = 0; j < top.size(); ++j) {
-      EXPECT_EQ(top[j].index, order[j]) << "query " << qi << " rank " << j;
-      EXPECT_EQ(top[j].score, r.scores[order[j]]) << "query " << qi << " rank " << j;
-    }
-    // The ranker asked for its top k (as `partslam match --top` does) answers through the index: the same k
-    // first, everything else below them.
-    const Ranking fast = indexed_ranker->rank(views[qi], everyone, {.num_threads = 1, .top_k = 10});
-    const std::vector<std::size_t> fast_order = ranking_order(fast.scores);
-    for (std::size_t j = 0; j < top.size(); ++j) {
-      EXPECT_EQ(fast_order[j], order[j]) << "query " << qi << " rank " << j;
-      EXPECT_EQ(fast.scores[fast_order[j]], r.scores[order[j]]) << "query " << qi << " rank " << j;
-    }
-    EXPECT_EQ(fast.scores[fast_order[top.size()]], -std::numeric_limits<double>::infinity());
   }
 }
 

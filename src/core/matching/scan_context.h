@@ -19,7 +19,6 @@
 
 namespace partslam {
 
-class Ranker;
 
 struct ScanContextConfig {
   int rings = 20;    ///< Nr, radial bins (the paper's 20)
@@ -76,11 +75,6 @@ ScanContextMatch match_scan_contexts(const ScanContext& a, const ScanContext& b)
 
 /// L2 distance of the ring keys.
 double ring_key_distance(const ScanContext& a, const ScanContext& b);
-
-/// The ranker of a configuration (what `sc` and `sc:128` make): score = -(column-shift distance) over the
-/// ring-key shortlist, and kScanContextShortlistOut minus the ring-key distance for every candidate outside it
-/// (below the shortlist, in ring-key order: a ranking orders every map, as rerank does below its top R).
-std::unique_ptr<Ranker> make_scan_context_ranker(const ScanContextConfig& config);
 
 /// The highest score of a candidate left out by the ring-key shortlist: below every distance score (those are
 /// in [-1, 0]).

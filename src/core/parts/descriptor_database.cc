@@ -233,6 +233,13 @@ void score_range(const Layout& layout, std::size_t begin, std::size_t end, const
 
 }  // namespace
 
+void validate(const PartsConfig& c) {
+  if (c.codec) validate(*c.codec);
+  if (c.hmm_query_parts < 1) throw InputError("parts config: hmm_query_parts must be >= 1");
+  if (!(c.origin_gate >= 0) || !std::isfinite(c.origin_gate))
+    throw InputError("parts config: origin_gate must be a finite number >= 0 [m]");
+}
+
 void validate(const DescriptorDatabaseConfig& c) {
   if (c.parts_per_map < 1 || c.parts_per_map > kMaxPartsPerMap) {
     throw InputError("descriptor database config: parts_per_map must be in [1, 64], got " +

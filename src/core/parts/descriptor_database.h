@@ -21,9 +21,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "core/parts/descriptor_matcher.h"
+#include "core/parts/part_codec.h"
 
 namespace partslam {
 
@@ -41,6 +43,18 @@ struct ScoreOptions {
   double origin_gate = 0.0;  ///< descriptor_matcher.h's origin gate [m]; 0 = off (the paper). Origins are
                              ///< compared on the half-cell grid.
 };
+
+/// How the part methods (iMM, hMM and a rerank over them) read parts when they rank.
+struct PartsConfig {
+  /// Storage of part descriptors: when set, stored maps' (and iMM queries') top-K parts are encoded and decoded
+  /// through it, so ranking sees what a database would hold; unset: the parts given are already the stored ones.
+  std::optional<CodecConfig> codec;
+  int hmm_query_parts = 100;                ///< parts of an hMM query (its best ones)
+  double origin_gate = kDefaultOriginGate;  ///< the descriptor matcher's origin gate [m]; 0 = the paper
+};
+
+/// Throws InputError naming the offending field.
+void validate(const PartsConfig& config);
 
 class DescriptorDatabase {
  public:

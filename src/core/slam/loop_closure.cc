@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 #include "core/slam/scan_matcher.h"
 
 namespace partslam {
@@ -130,9 +130,9 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
                                             const Progress& progress, const WorkSplit& split) {
   validate(config);
   const MethodSpec method = parse_method_spec(config.method);
-  if (method.name != "dmm" && method.name != "rerank")
+  if (!method.traits.gives_pose)
     throw InputError("loop closures: method '" + config.method + "' gives no dMM pose: use rerank:R[:SPEC] or dmm");
-  if (method.needs_parts)
+  if (method.traits.needs_parts)
     throw InputError("loop closures: method '" + config.method + "' needs CPD parts; use a point-based shortlist");
   const std::unique_ptr<Ranker> ranker = make_ranker(method, RankingConfig{});
   std::vector<MapView> views;

@@ -1,5 +1,5 @@
 // Loop closures (issue "raw logs", item 3): for every submap, the earlier submaps (beyond a travel gap) of the
-// same place, found by a ranking method that verifies its shortlist by dMM (core/matching/ranking.h:
+// same place, found by a ranking method that verifies its shortlist by dMM (core/ranking/ranking.h:
 // rerank:R[:SPEC], the succinct shortlist reordered by dMM, or dmm itself). Every verified candidate is a
 // hypothesis (unless the drift gate rules it out) with the dMM relative pose, its score (inlier fraction), a
 // context score (the submaps a few metres

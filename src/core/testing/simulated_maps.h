@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 #include "core/sim/simulator.h"
 #include "core/maps/submap.h"
 

@@ -1,4 +1,4 @@
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 
 #include <gtest/gtest.h>
 
@@ -23,11 +23,24 @@ TEST(Ranking, RegistryNamesAreUniqueAndEveryMethodParsesItsSyntax) {
   EXPECT_NE(method_syntax_list().find("rerank:R"), std::string::npos);
   MethodSpec unknown;
   unknown.name = "nope";
+  unknown.spec = "nope";
   EXPECT_THROW(make_ranker(unknown, {}), InputError);
 }
 
 TEST(Ranking, OrderIsStableBestFirst) {
-  EXPECT_EQ(ranking_order({1.0, 3.0, 1.0, 2.0}), (std::vector<std::size_t>{1, 3, 0, 2}));
+  EXPECT_EQ(ranking_order(std::vector<double>{1.0, 3.0, 1.0, 2.0}), (std::vector<std::size_t>{1, 3, 0, 2}));
+}
+
+TEST(Ranking, TiersThenScoresThenFirstStageScores) {
+  Ranking r;
+  r.scores = {5, 9, 5, 5};
+  r.tiers = {1, 0, 1, 1};
+  r.shortlist_scores = {0.1, 0.9, 0.3, 0.1};
+  EXPECT_EQ(ranking_order(r), (std::vector<std::size_t>{2, 0, 3, 1}));
+  EXPECT_TRUE(ranks_above(r, 0, 1));   // a higher tier beats a higher score
+  EXPECT_FALSE(ranks_above(r, 0, 3));  // level
+  EXPECT_EQ(tied_rank(r, 0), 2.5);
+  EXPECT_EQ(tied_rank(r, 1), 4.0);
 }
 
 TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
@@ -70,12 +83,17 @@ TEST(Ranking, RerankPutsTheShortlistFirstOrderedByDmm) {
   ASSERT_EQ(r.shortlist_scores.size(), candidates.size());
   for (std::size_t j = 0; j < candidates.size(); ++j) {
     EXPECT_EQ(r.direct[j].has_value(), j < 3) << j;
+    EXPECT_EQ(r.tiers[j], j < 3 ? 1 : 0) << j;
     if (j < 3) {
-      EXPECT_GT(r.scores[j], r.scores[3]);
+      EXPECT_TRUE(ranks_above(r, j, 3)) << j;
       EXPECT_EQ(r.direct[j]->inliers, static_cast<int>(d.scores[j]));
+      EXPECT_EQ(r.scores[j], d.scores[j]);
     }
   }
-  EXPECT_GT(r.scores[1], r.scores[0]);  // the query itself beats every other shortlisted map
+  EXPECT_TRUE(ranks_above(r, 1, 0));  // the query itself beats every other shortlisted map
+  EXPECT_EQ(ranking_order(r).front(), 1u);
+  EXPECT_EQ(tied_rank(r, 1), 1.0);
+  EXPECT_EQ(tied_rank(r, 3), 4.5);  // the two below the shortlist tie (their first-stage scores are all 0)
 }
 
 }  // namespace

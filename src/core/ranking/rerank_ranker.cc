@@ -5,16 +5,22 @@
 #include <cctype>
 
 #include "core/error.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 
 namespace partslam {
 namespace {
 
+// R and the first stage.
+struct RerankOptions final : MethodOptions {
+  int rerank = 0;
+  MethodSpec first;
+};
+
 class RerankRanker final : public Ranker {
  public:
   RerankRanker(const MethodSpec& method, const RankingConfig& config)
-      : rerank_(method.rerank),
-        first_(make_ranker(method.stages.at(0), config)),
+      : rerank_(method.options_as<RerankOptions>().rerank),
+        first_(make_ranker(method.options_as<RerankOptions>().first, config)),
         direct_(make_ranker(parse_method_spec("dmm"), config)) {}
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
@@ -34,9 +40,11 @@ class RerankRanker final : public Ranker {
     for (std::size_t j : order) shortlist.push_back(candidates[j]);
     const Ranking d = direct_->rank(query, shortlist, {options.num_threads, 0});
     r.direct.assign(candidates.size(), std::nullopt);
-    // The top R move above every other map, ordered by dMM; the first stage breaks dMM ties.
+    r.tiers.assign(candidates.size(), 0);
+    // The top R move above every other map (tier 1), ordered by dMM; the first stage breaks dMM ties.
     for (std::size_t j = 0; j < order.size(); ++j) {
-      r.scores[order[j]] = 1e9 + d.scores[j] * 1e3 + r.shortlist_scores[order[j]];
+      r.tiers[order[j]] = 1;
+      r.scores[order[j]] = d.scores[j];
       r.direct[order[j]] = d.direct[j];
     }
     r.prep_ms += d.prep_ms;
@@ -51,30 +59,31 @@ class RerankRanker final : public Ranker {
 
 void parse_rerank(const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
   if (args.empty()) throw InputError("method '" + text + "': expected rerank:R[:K|:SPEC]");
-  m.rerank = parse_spec_int(text, args[0], "R (maps to rerank)", 1, 1000000);
+  auto o = std::make_shared<RerankOptions>();
+  o->rerank = parse_spec_int(text, args[0], "R (maps to rerank)", 1, 1000000);
   std::string stage = "succinct";
   const auto digits = [](const std::string& s) {
     return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
   };
-  if (args.size() == 2 && digits(args[1])) {
+  if (args.size() == 2 && digits(args[1])) {  // rerank:R:K, the paper's spelling of rerank:R:hmm:K
     stage = "hmm:" + args[1];
   } else if (args.size() >= 2) {
     stage.clear();
     for (std::size_t i = 1; i < args.size(); ++i) stage += (i > 1 ? ":" : "") + args[i];
   }
-  MethodSpec first = parse_method_spec(stage);
-  if (first.name == "rerank" || first.needs_points)
+  o->first = parse_method_spec(stage);
+  const MethodSpec& first = o->first;
+  if (first.traits.needs_points)
     throw InputError("method '" + text + "': the first stage of a rerank must be a succinct method, got '" + stage + "'");
-  m.parts = first.parts;
-  m.matcher = first.matcher;
-  m.needs_points = true;
-  m.needs_parts = first.needs_parts;
-  m.spec = "rerank:" + std::to_string(m.rerank) + ":" + first.spec;
-  if (first.name == "hmm" && first.matcher == Matcher::kSumMaxWeighted) {
-    m.spec = "rerank:" + std::to_string(m.rerank) + ":" + std::to_string(first.parts);
-  }
-  m.name_label = "rerank" + std::to_string(m.rerank) + " " + first.label();
-  m.stages = {std::move(first)};
+  const std::string r = std::to_string(o->rerank);
+  const std::string k = std::to_string(first.traits.parts);
+  m.spec = "rerank:" + r + ":" + (first.spec == "hmm:" + k + ":smw" ? k : first.spec);  // the paper's spelling
+  m.label = "rerank" + r + " " + first.label;
+  m.traits = first.traits;
+  m.traits.needs_points = true;
+  m.traits.gives_pose = true;
+  m.traits.shardable = false;  // each process would shortlist its own slice
+  m.options = std::move(o);
 }
 
 }  // namespace

@@ -3,11 +3,8 @@
 //   offline  prepare(maps)             whatever the method stores per map (grids, packed descriptors, ...)
 //   online   rank(query, candidates)   one score per candidate (higher = more likely the same place), the
 //                                      relative pose where the method computes one, and timings.
-// `partslam eval`, `partslam match`, the benchmarks and the bindings all rank through make_ranker().
-//
-// Adding a method: write its ranker in one file (a class deriving from Ranker and a MethodEntry function that
-// parses its spec and makes it), then add that function to the table in ranking.cc. Nothing else dispatches
-// on the method.
+// `partslam eval`, `partslam match`, loop closures, the benchmarks and the bindings all rank through
+// make_ranker(); the methods are the registry's (core/ranking/registry.h).
 #pragma once
 
 #include <cstddef>
@@ -21,29 +18,26 @@
 #include "core/error.h"
 #include "core/matching/dmm.h"
 #include "core/matching/dmm_ransac.h"
-#include "core/matching/method_spec.h"
+#include "core/ranking/method_spec.h"
+#include "core/ranking/registry.h"
 #include "core/parallel.h"
+#include "core/parts/descriptor_database.h"
 #include "core/parts/part.h"
-#include "core/parts/part_codec.h"
 
 namespace partslam {
 
 /// What the library holds of one map: its points in the canonical frame and, for methods that need them
-/// (MethodSpec::needs_parts), its parts from CPD, best first. A stored map's parts are either the full list
-/// (evaluation: they then go through RankingConfig::codec) or what a database holds (already decoded).
+/// (MethodTraits::needs_parts), its parts from CPD, best first. A stored map's parts are either the full list
+/// (evaluation: they then go through PartsConfig::codec) or what a database holds (already decoded).
 struct MapView {
   const Points2* points = nullptr;
   const std::vector<Part>* parts = nullptr;
 };
 
 struct RankingConfig {
-  DmmConfig dmm;             ///< dMM and the dMM stage of rerank
-  DmmRansacConfig ransac;    ///< dMM-RANSAC
-  /// Storage of part descriptors: when set, stored maps' (and iMM queries') top-K parts are encoded and decoded
-  /// through it, so ranking sees what a database would hold; unset: the parts given are already the stored ones.
-  std::optional<CodecConfig> codec;
-  int hmm_query_parts = 100;   ///< parts of an hMM query (its best ones)
-  double origin_gate = kDefaultOriginGate;  ///< descriptor matcher's origin gate [m]; 0 = the paper
+  DmmConfig dmm;               ///< dMM and the dMM stage of rerank
+  DmmRansacConfig ransac;      ///< dMM-RANSAC
+  PartsConfig parts;           ///< iMM, hMM and their rerank
   double bits_per_point = 14;  ///< storage of a raw map point (7 + 7 bits at 0.1 m in a 12.8 m crop)
 };
 
@@ -57,8 +51,13 @@ struct RankOptions {
   int top_k = 0;
 };
 
+/// A ranking's order: by tier (higher first), then score, then the first stage's score (where there is one),
+/// then the candidates' order.
 struct Ranking {
   std::vector<double> scores;                    ///< one per candidate, higher = more likely the same place
+  /// rerank: 1 for the candidates it reordered by dMM (their score is then dMM's), 0 for the others (their
+  /// score is the first stage's); empty: every candidate in tier 0.
+  std::vector<int> tiers;
   std::vector<std::optional<DmmResult>> direct;  ///< per candidate where a direct match ran (pose, inliers)
   std::vector<double> shortlist_scores;          ///< rerank: the first stage's scores; empty otherwise
   double prep_ms = 0;   ///< the query's own preparation (not its CPD) [ms]
@@ -76,22 +75,6 @@ class Ranker {
   virtual Ranking rank(const MapView& query, std::span<const std::size_t> candidates,
                        const RankOptions& options = {}) const = 0;
 };
-
-/// One registered method: how its spec is parsed and its ranker made.
-struct MethodEntry {
-  std::string_view name;    ///< first field of the spec
-  std::string_view syntax;  ///< for help and errors, e.g. "imm:K[:maxmax|summax|smw]"
-  /// Fills spec (all but name) from the fields after the name; throws InputError naming `text`.
-  void (*parse)(const std::string& text, const std::vector<std::string>& args, MethodSpec& spec);
-  std::unique_ptr<Ranker> (*make)(const MethodSpec& spec, const RankingConfig& config);
-};
-
-/// Every method, in the order `--help` lists them.
-const std::vector<MethodEntry>& method_registry();
-/// The entry named `name`, or nullptr.
-const MethodEntry* find_method(std::string_view name);
-/// "dmm, dmm-ransac, ...": every method's syntax, for help texts.
-std::string method_syntax_list();
 
 /// For rankers whose stored form is built from a map's points: make(points) of every map, in parallel (each map
 /// writes its own slot, so the result does not depend on num_threads). Throws InputError naming `method` and
@@ -120,5 +103,11 @@ std::unique_ptr<Ranker> make_ranker(const MethodSpec& method, const RankingConfi
 
 /// Candidate positions sorted by score, best first; ties keep their order.
 std::vector<std::size_t> ranking_order(const std::vector<double>& scores);
+/// Candidate positions in the ranking's order (tier, score, first-stage score, best first; ties keep their order).
+std::vector<std::size_t> ranking_order(const Ranking& ranking);
+/// Whether candidate a ranks above candidate b.
+bool ranks_above(const Ranking& ranking, std::size_t a, std::size_t b);
+/// The rank of candidate j (1 = best): 1 + the candidates above it + half of those tied with it.
+double tied_rank(const Ranking& ranking, std::size_t j);
 
 }  // namespace partslam

@@ -3,7 +3,7 @@
 // return the relative pose T_map_query of every candidate.
 #include "core/error.h"
 #include "core/timing.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 
 namespace partslam {
 namespace {
@@ -98,35 +98,44 @@ class RansacRanker final : public Ranker {
   double mean_points_ = 0;
 };
 
-void parse_direct(const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+// dmm, dmm-ransac and dmm-exhaustive take no arguments; `label` is the paper's name.
+void parse_direct(const std::string& text, const std::vector<std::string>& args, MethodSpec& m, const char* label) {
   if (!args.empty()) throw InputError("method '" + text + "': " + m.name + " takes no arguments");
   m.spec = m.name;
-  m.name_label = m.name == "dmm" ? "dMM" : m.name == "dmm-ransac" ? "dMM-RANSAC" : "dMM-exhaustive";
-  m.needs_points = true;
+  m.label = label;
+  m.traits.needs_points = true;
+  m.traits.gives_pose = true;
 }
 
 }  // namespace
 
 const MethodEntry& dmm_method() {
-  static const MethodEntry entry{"dmm", "dmm", parse_direct, [](const MethodSpec&, const RankingConfig& c) {
-                                   return std::unique_ptr<Ranker>(new DmmRanker(c, false));
-                                 }};
+  static const MethodEntry entry{
+      "dmm", "dmm",
+      [](const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+        parse_direct(text, args, m, "dMM");
+      },
+      [](const MethodSpec&, const RankingConfig& c) { return std::unique_ptr<Ranker>(new DmmRanker(c, false)); }};
   return entry;
 }
 
 const MethodEntry& dmm_exhaustive_method() {
-  static const MethodEntry entry{"dmm-exhaustive", "dmm-exhaustive", parse_direct,
-                                 [](const MethodSpec&, const RankingConfig& c) {
-                                   return std::unique_ptr<Ranker>(new DmmRanker(c, true));
-                                 }};
+  static const MethodEntry entry{
+      "dmm-exhaustive", "dmm-exhaustive",
+      [](const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+        parse_direct(text, args, m, "dMM-exhaustive");
+      },
+      [](const MethodSpec&, const RankingConfig& c) { return std::unique_ptr<Ranker>(new DmmRanker(c, true)); }};
   return entry;
 }
 
 const MethodEntry& dmm_ransac_method() {
-  static const MethodEntry entry{"dmm-ransac", "dmm-ransac", parse_direct,
-                                 [](const MethodSpec&, const RankingConfig& c) {
-                                   return std::unique_ptr<Ranker>(new RansacRanker(c));
-                                 }};
+  static const MethodEntry entry{
+      "dmm-ransac", "dmm-ransac",
+      [](const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+        parse_direct(text, args, m, "dMM-RANSAC");
+      },
+      [](const MethodSpec&, const RankingConfig& c) { return std::unique_ptr<Ranker>(new RansacRanker(c)); }};
   return entry;
 }
 

@@ -1,11 +1,11 @@
-#include "core/matching/method_spec.h"
+#include "core/ranking/method_spec.h"
 
 #include <algorithm>
 #include <charconv>
 #include <sstream>
 
 #include "core/error.h"
-#include "core/matching/ranking.h"
+#include "core/ranking/registry.h"
 
 namespace partslam {
 namespace {
@@ -65,7 +65,6 @@ MethodSpec parse_method_spec(const std::string& text) {
   MethodSpec m;
   m.name = f[0];
   f.erase(f.begin());
-  m.args = f;
   entry->parse(text, f, m);
   return m;
 }
@@ -79,7 +78,7 @@ std::vector<MethodSpec> parse_method_list(const std::string& text) {
 
 int max_parts(const std::vector<MethodSpec>& methods) {
   int k = 0;
-  for (const MethodSpec& m : methods) k = std::max({k, m.parts, max_parts(m.stages)});
+  for (const MethodSpec& m : methods) k = std::max(k, m.traits.parts);
   return k;
 }
 

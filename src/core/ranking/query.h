@@ -1,0 +1,58 @@
+// One query map against a database: the query entry point of `partslam match` and of any caller that ranks
+// stored maps for one map. It ranks the candidates with any registered method (under mpirun each process
+// prepares and ranks its slice of the candidates and the best rows are merged in the serial order), keeps the
+// best rows, and says how sure the answer is: where the method gives a direct match, the confidence is the best
+// match's inlier share minus the best one in another place (another dataset, or a frame more than
+// OtherPlace::distance away: core/matching/distinctiveness.h).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/evaluation/work_split.h"
+#include "core/matching/distinctiveness.h"
+#include "core/ranking/ranking.h"
+
+namespace partslam {
+
+/// A stored map as a candidate: what the ranker reads, and its place.
+struct QueryCandidate {
+  MapView view;
+  int dataset = 0;    ///< maps of different datasets are different places (their world frames differ)
+  Pose2 T_world_map;  ///< its frame in its dataset's world frame
+};
+
+/// One row of the answer. A plain record: it travels between processes as bytes.
+struct QueryRow {
+  std::size_t candidate = 0;            ///< index into the candidates
+  int tier = 0;                         ///< Ranking::tiers (rerank: 1 for its reordered top R)
+  double score = 0;                     ///< the method's score
+  std::optional<double> stage_score;    ///< a succinct method's score (its own, or rerank's first stage)
+  std::optional<DmmResult> pose;        ///< the direct match, where one ran
+};
+
+struct QueryAnswer {
+  std::vector<QueryRow> rows;        ///< best first, at most QueryRankOptions::top
+  std::optional<double> confidence;  ///< how sure the best row is; none when the method gives no pose
+  double prepare_ms = 0;             ///< preparing this process's candidates (offline work) [ms]
+  double prep_ms = 0;                ///< the query's own preparation [ms]
+  double match_ms = 0;               ///< ranking this process's candidates [ms]
+  std::size_t ranked_here = 0;       ///< candidates this process ranked
+};
+
+struct QueryRankOptions {
+  std::size_t top = 10;   ///< rows kept (>= 1)
+  int num_threads = 1;    ///< threads (results do not depend on it)
+  OtherPlace other_place;
+};
+
+/// Ranks the candidates for the query (same answer for any threads and processes). Throws InputError when the
+/// method cannot be split between processes (MethodTraits::shardable) and split has more than one, or when
+/// there is no candidate.
+QueryAnswer rank_query(const MethodSpec& method, const RankingConfig& config,
+                       std::span<const QueryCandidate> candidates, const MapView& query,
+                       const QueryRankOptions& options, const WorkSplit& split = WorkSplit{});
+
+}  // namespace partslam
