@@ -1,4 +1,4 @@
-// Online ranking speed of every method through the one entry point (core/matching/ranking.h): one query against the
+// Online ranking speed of every method through the one entry point (core/ranking/ranking.h): one query against the
 // other submaps of fr101 (229 maps, ../shared/data) or, without the data, of the simulator. Counters:
 // us_per_pair = the ranker's matching time per stored map, ms_query_prep = the query's own preparation,
 // bits_per_map = what the method stores. dMM is the baseline of the same run.
@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "core/matching/ranking.h"
+#include "core/ranking/ranking.h"
 #include "core/sim/simulator.h"
 #include "core/maps/submap.h"
 #include "io/carmen_log.h"

@@ -1,7 +1,7 @@
 // Ranks simulated submaps against each other with the library's one ranking entry point: what a program
 // linking the installed partslam::core / partslam::io does. Exits 0 when the succinct matcher puts a revisit
 // of the query's place in its top 10 and dMM returns a pose for it.
-#include <core/matching/ranking.h>
+#include <core/ranking/ranking.h>
 #include <core/maps/submap.h>
 #include <core/evaluation/tasks.h>
 #include <io/scan_source.h>
