@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <numeric>
 #include <set>
 
 #include "apps/commands.h"
@@ -42,13 +43,6 @@ struct DescribeOptions {
   CpdConfig cpd;
 };
 
-struct MapParts {
-  std::int64_t map_id = -1;
-  const Submap* submap = nullptr;
-  std::vector<Part> parts;
-  double cpd_ms = 0;
-};
-
 std::vector<io::DatasetInfo> chosen_datasets(const io::MapDatabase& db, const std::string& name) {
   if (!name.empty()) {
     const std::optional<io::DatasetInfo> d = db.find_dataset(name);
@@ -61,153 +55,127 @@ std::vector<io::DatasetInfo> chosen_datasets(const io::MapDatabase& db, const st
   return out;
 }
 
-void run_describe(DescribeOptions o) {
+// Every K to store, increasing: those of --k and P itself (the hMM query list).
+std::vector<int> checked_ks(DescribeOptions& o) {
   if (o.parts < 1 || o.parts > 10000)
     throw InputError("--parts must be in [1, 10000], got " + std::to_string(o.parts));
   if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
   std::set<int> ks;
   for (int k : o.ks) {
     if (k < 1 || k > o.parts)
-      throw InputError("--k: every K must be in [1, P = " + std::to_string(o.parts) + "], got " +
-                       std::to_string(k));
+      throw InputError("--k: every K must be in [1, P = " + std::to_string(o.parts) + "], got " + std::to_string(k));
     ks.insert(k);
   }
-  ks.insert(o.parts);  // the hMM query list
+  ks.insert(o.parts);
   o.cpd.max_parts = o.parts;
   validate(o.cpd);
   if (!o.json.empty()) io::check_writable(o.json);
+  return {ks.begin(), ks.end()};
+}
 
-  using Clock = std::chrono::steady_clock;
+// The maps to describe: every submap of the chosen datasets.
+struct Described {
+  std::vector<Submaps> loaded;
+  std::vector<std::int64_t> ids;
+  std::vector<const Points2*> points;
+  std::string names;  ///< the datasets, quoted
+  std::vector<CpdResult> cpd;
+  double cpd_s = 0;
+};
+
+void load_maps(const io::MapDatabase& db, const DescribeOptions& o, Described& d) {
+  for (const io::DatasetInfo& info : chosen_datasets(db, o.dataset)) {
+    d.loaded.push_back(db.load_submaps(info.id));
+    d.names += (d.names.empty() ? "'" : ", '") + info.spec.name + "'";
+  }
+  for (const Submaps& s : d.loaded)
+    for (const Submap& m : s) d.ids.push_back(m.id), d.points.push_back(&m.points);
+  if (d.ids.empty()) throw InputError(o.db + ": no submaps to describe (run 'partslam submaps LOG --db " + o.db + "')");
+}
+
+// CPD of every map (Eq. 2 against the dictionary). Seeded by the map id, so results do not depend on which maps
+// are described together, on the threads or, under mpirun (each rank its slice), on the ranks.
+void discover(const io::Dictionary& dictionary, const DescribeOptions& o, Described& d) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
+  ProgressBar bar(!o.quiet && is_reporting_process());
+  std::vector<std::uint64_t> keys(d.ids.begin(), d.ids.end());
+  d.cpd = discover_parts_split(d.points, keys, prepared, o.cpd, o.threads,
+                               [&bar](const std::string&, std::size_t done, std::size_t n) { bar("CPD", done, n); },
+                               world_split());
+  d.cpd_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void print_summary(const DescribeOptions& o, const Described& d, const std::vector<io::EncodedSet>& sets) {
+  std::vector<double> ms;
+  std::vector<std::size_t> counts;
+  for (const CpdResult& r : d.cpd) ms.push_back(r.ms), counts.push_back(r.parts.size());
+  const auto mean = [](const auto& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+  };
+  if (o.verbose)
+    for (std::size_t i = 0; i < d.ids.size(); ++i)
+      std::cout << "  map " << d.ids[i] << ": " << d.cpd[i].parts.size() << " parts, best AS " << std::setprecision(2)
+                << (d.cpd[i].parts.empty() ? 0.0 : d.cpd[i].parts.front().appearance_score) << std::setprecision(1)
+                << ", CPD " << d.cpd[i].ms << " ms\n";
+  std::cout << "CPD: " << mean(ms) << " ms per map (min " << *std::min_element(ms.begin(), ms.end()) << ", max "
+            << *std::max_element(ms.begin(), ms.end()) << "), " << d.cpd_s << " s on " << o.threads << " thread"
+            << (o.threads > 1 ? "s" : "") << "\n";
+  std::cout << "parts per map: mean " << mean(counts) << ", min " << *std::min_element(counts.begin(), counts.end())
+            << ", max " << *std::max_element(counts.begin(), counts.end()) << "\n";
+  std::cout << std::setw(6) << "K" << std::setw(12) << "bits/part" << std::setw(12) << "mean parts" << std::setw(12)
+            << "bits/map" << std::setw(10) << "min" << std::setw(10) << "max" << "\n";
+  for (const io::EncodedSet& set : sets) {
+    const int per_part = bits_per_part(set.codec);
+    const bool list = set.k == o.parts;
+    std::cout << std::setw(6) << set.k << std::setw(12) << per_part << std::setw(12) << set.mean_bits / per_part
+              << std::setw(12) << set.mean_bits << std::setw(10) << set.min_bits << std::setw(10) << set.max_bits
+              << (!list ? "" : set.k > kMaxUnscoredParts ? "  (hMM query list, with AS)" : "  (hMM query list)") << "\n";
+  }
+  std::cout << "stored " << sets.size() * d.ids.size() << " descriptors in " << o.db << "\n";
+}
+
+nlohmann::json summary_json(const DescribeOptions& o, const Described& d, const std::string& dictionary,
+                            const std::vector<io::EncodedSet>& sets) {
+  double ms = 0, parts = 0;
+  for (const CpdResult& r : d.cpd) ms += r.ms, parts += static_cast<double>(r.parts.size());
+  const double n = static_cast<double>(d.ids.size());
+  nlohmann::json j = {{"maps", d.ids.size()},  {"dictionary", dictionary}, {"parts", o.parts},
+                      {"cpd_ms_per_map", ms / n}, {"cpd_seconds", d.cpd_s}, {"threads", o.threads},
+                      {"mean_parts", parts / n}, {"db", o.db}};
+  j["sets"] = nlohmann::json::array();
+  for (const io::EncodedSet& set : sets)
+    j["sets"].push_back({{"k", set.k}, {"bits_per_part", bits_per_part(set.codec)}, {"mean_bits", set.mean_bits}});
+  return j;
+}
+
+void run_describe(DescribeOptions o) {
+  const std::vector<int> ks = checked_ks(o);
   const bool reporting = is_reporting_process();  // rank 0 of mpirun (or the only process) stores and prints
   io::MapDatabase db =
       io::MapDatabase::open(o.db, reporting ? io::MapDatabase::Mode::kReadWrite : io::MapDatabase::Mode::kReadOnly);
   const io::Dictionary dictionary = db.load_dictionary(o.dictionary);
-  const std::vector<io::DatasetInfo> datasets = chosen_datasets(db, o.dataset);
-  std::vector<Submaps> loaded;
-  std::vector<MapParts> maps;
-  std::string names;
-  for (const io::DatasetInfo& d : datasets) {
-    loaded.push_back(db.load_submaps(d.id));
-    names += (names.empty() ? "'" : ", '") + d.spec.name + "'";
+  Described d;
+  load_maps(db, o, d);
+  if (reporting) {
+    std::cout << "describe " << d.ids.size() << " maps of " << d.names << " against dictionary '" << dictionary.name
+              << "' (" << dictionary.points.size() << " points): P = " << o.parts << " parts, K =";
+    for (int k : ks) std::cout << " " << k;
+    std::cout << "\n";
+    if (o.parts <= kMaxUnscoredParts)
+      std::cout << "note: P <= " << kMaxUnscoredParts << " stores no appearance score; hMM's Sum-Max-Weighted "
+                << "then weighs every query part by 1\n";
   }
-  for (const Submaps& s : loaded)
-    for (const Submap& m : s) maps.push_back({m.id, &m, {}, 0});
-  if (maps.empty())
-    throw InputError(o.db + ": no submaps to describe (run 'partslam submaps LOG --db " + o.db + "')");
-  if (reporting) std::cout << "describe " << maps.size() << " maps of " << names << " against dictionary '"
-            << dictionary.name << "' (" << dictionary.points.size() << " points): P = " << o.parts
-            << " parts, K =";
-  for (int k : ks) if (reporting) std::cout << " " << k;
-  if (reporting) std::cout << "\n";
-  if (o.parts <= kMaxUnscoredParts && reporting) {
-    std::cout << "note: P <= " << kMaxUnscoredParts << " stores no appearance score; hMM's Sum-Max-Weighted "
-              << "then weighs every query part by 1\n";
-  }
-
-  // Offline: CPD of every map (Eq. 2 against the dictionary). Seeded by the map id, so results do not depend
-  // on which maps are described together or on the thread count.
-  const auto t0 = Clock::now();
-  const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
-  ProgressBar bar(!o.quiet && is_reporting_process());
-  std::vector<const Points2*> points;
-  std::vector<std::uint64_t> keys;
-  for (const MapParts& m : maps) points.push_back(&m.submap->points), keys.push_back(static_cast<std::uint64_t>(m.map_id));
-  // Under mpirun, each rank describes its slice of the maps (apps/mpi_split.h); rank 0 stores and reports.
-  std::vector<CpdResult> results =
-      discover_parts_split(points, keys, prepared, o.cpd, o.threads,
-                           [&bar](const std::string&, std::size_t d, std::size_t n) { bar("CPD", d, n); },
-                           world_split());
+  discover(dictionary, o, d);
   if (!reporting) return;
-  for (std::size_t i = 0; i < maps.size(); ++i) maps[i].parts = std::move(results[i].parts), maps[i].cpd_ms = results[i].ms;
-  const double cpd_s = std::chrono::duration<double>(Clock::now() - t0).count();
-
-  // Encode every K and write them in one transaction.
+  std::vector<std::vector<Part>> parts;
+  for (CpdResult& r : d.cpd) parts.push_back(r.parts);
+  const std::vector<io::EncodedSet> sets = io::encode_descriptor_sets(dictionary.points, ks, d.ids, parts);
+  io::store_descriptor_sets(db, dictionary.name, sets);
   std::cout << std::fixed << std::setprecision(1);
-  struct Set {
-    int k;
-    CodecConfig codec;
-    std::vector<io::DescriptorRecord> records;
-  };
-  std::vector<Set> sets;
-  for (int k : ks) {
-    const CodecConfig codec = descriptor_codec_config(dictionary.points, k);
-    std::vector<io::DescriptorRecord> records;
-    for (const MapParts& m : maps) {
-      try {
-        records.push_back({m.map_id, encode(select_top_parts(m.parts, k), codec)});
-      } catch (const InputError& e) {
-        throw InputError("map " + std::to_string(m.map_id) + ", K=" + std::to_string(k) + ": " + e.what());
-      }
-    }
-    sets.push_back({k, codec, std::move(records)});
-  }
-  {
-    io::MapDatabase::Transaction transaction(db);
-    for (const Set& set : sets) db.put_descriptors(dictionary.name, set.k, set.codec, set.records);
-    transaction.commit();
-  }
-
-  if (o.verbose) {
-    for (const MapParts& m : maps) {
-      std::cout << "  map " << m.map_id << ": " << m.parts.size() << " parts, best AS "
-                << std::setprecision(2) << (m.parts.empty() ? 0.0 : m.parts.front().appearance_score)
-                << std::setprecision(1) << ", CPD " << m.cpd_ms << " ms\n";
-    }
-  }
-  std::vector<double> cpd_ms;
-  std::vector<std::size_t> counts;
-  for (const MapParts& m : maps) cpd_ms.push_back(m.cpd_ms), counts.push_back(m.parts.size());
-  double mean_parts = 0;
-  for (std::size_t c : counts) mean_parts += static_cast<double>(c);
-  mean_parts /= static_cast<double>(maps.size());
-  double mean_ms = 0;
-  for (double t : cpd_ms) mean_ms += t;
-  mean_ms /= static_cast<double>(maps.size());
-  std::cout << "CPD: " << mean_ms << " ms per map (min " << *std::min_element(cpd_ms.begin(), cpd_ms.end())
-            << ", max " << *std::max_element(cpd_ms.begin(), cpd_ms.end()) << "), " << cpd_s << " s on "
-            << o.threads << " thread" << (o.threads > 1 ? "s" : "") << "\n";
-  std::cout << "parts per map: mean " << mean_parts << ", min "
-            << *std::min_element(counts.begin(), counts.end()) << ", max "
-            << *std::max_element(counts.begin(), counts.end()) << "\n";
-  std::cout << std::setw(6) << "K" << std::setw(12) << "bits/part" << std::setw(12) << "mean parts"
-            << std::setw(12) << "bits/map" << std::setw(10) << "min" << std::setw(10) << "max"
-            << "\n";
-  for (const auto& [k, codec, records] : sets) {
-    double bits = 0;
-    int lo = records.front().descriptor.bits, hi = lo;
-    for (const io::DescriptorRecord& r : records) {
-      bits += r.descriptor.bits;
-      lo = std::min(lo, r.descriptor.bits), hi = std::max(hi, r.descriptor.bits);
-    }
-    const int per_part = bits_per_part(codec);
-    std::cout << std::setw(6) << k << std::setw(12) << per_part << std::setw(12)
-              << bits / per_part / records.size() << std::setw(12)
-              << bits / static_cast<double>(records.size()) << std::setw(10) << lo << std::setw(10) << hi
-              << (k == o.parts ? "  (hMM query list" : "")
-              << (k == o.parts && k > kMaxUnscoredParts ? ", with AS)"
-                  : k == o.parts                        ? ")"
-                                                        : "")
-              << "\n";
-  }
-  std::cout << "stored " << sets.size() * maps.size() << " descriptors in " << o.db << "\n";
-  if (!o.json.empty()) {
-    nlohmann::json j = {{"maps", maps.size()},
-                        {"dictionary", dictionary.name},
-                        {"parts", o.parts},
-                        {"cpd_ms_per_map", mean_ms},
-                        {"cpd_seconds", cpd_s},
-                        {"threads", o.threads},
-                        {"mean_parts", mean_parts},
-                        {"db", o.db}};
-    j["sets"] = nlohmann::json::array();
-    for (const auto& [k, codec, records] : sets) {
-      double bits = 0;
-      for (const io::DescriptorRecord& r : records) bits += r.descriptor.bits;
-      j["sets"].push_back({{"k", k}, {"bits_per_part", bits_per_part(codec)},
-                           {"mean_bits", bits / static_cast<double>(records.size())}});
-    }
-    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(j); });
-  }
+  print_summary(o, d, sets);
+  if (!o.json.empty())
+    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(summary_json(o, d, dictionary.name, sets)); });
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "io/descriptor_store.h"
 
+#include <algorithm>
 #include <set>
 
 #include "core/error.h"
@@ -103,6 +104,41 @@ int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::
       best = s.k;
   }
   return best;
+}
+
+std::vector<EncodedSet> encode_descriptor_sets(const Points2& dictionary_points, const std::vector<int>& ks,
+                                               std::span<const std::int64_t> ids,
+                                               std::span<const std::vector<Part>> parts) {
+  if (ids.size() != parts.size())
+    throw InputError("encode descriptors: " + std::to_string(ids.size()) + " maps but " +
+                     std::to_string(parts.size()) + " part lists");
+  std::vector<EncodedSet> sets;
+  for (int k : ks) {
+    EncodedSet set;
+    set.k = k;
+    set.codec = descriptor_codec_config(dictionary_points, k);
+    double bits = 0;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      try {
+        set.records.push_back({ids[i], encode(select_top_parts(parts[i], k), set.codec)});
+      } catch (const InputError& e) {
+        throw InputError("map " + std::to_string(ids[i]) + ", K=" + std::to_string(k) + ": " + e.what());
+      }
+      const int b = set.records.back().descriptor.bits;
+      set.min_bits = i == 0 ? b : std::min(set.min_bits, b);
+      set.max_bits = i == 0 ? b : std::max(set.max_bits, b);
+      bits += b;
+    }
+    set.mean_bits = ids.empty() ? 0.0 : bits / static_cast<double>(ids.size());
+    sets.push_back(std::move(set));
+  }
+  return sets;
+}
+
+void store_descriptor_sets(MapDatabase& db, const std::string& dictionary, const std::vector<EncodedSet>& sets) {
+  MapDatabase::Transaction transaction(db);
+  for (const EncodedSet& set : sets) db.put_descriptors(dictionary, set.k, set.codec, set.records);
+  transaction.commit();
 }
 
 std::string resolve_descriptor_dictionary(const MapDatabase& db, const std::string& name) {

@@ -48,6 +48,24 @@ std::optional<MapDescriptor> load_descriptor(const MapDatabase& db, const std::s
 /// that holds map_id; 0 when there is none.
 int query_list_parts(const MapDatabase& db, const std::string& dictionary, std::int64_t map_id);
 
+/// The descriptors of one K for every described map, packed with the set's codec (what `describe` stores).
+struct EncodedSet {
+  int k = 0;
+  CodecConfig codec;
+  std::vector<DescriptorRecord> records;
+  int min_bits = 0, max_bits = 0;  ///< over the records
+  double mean_bits = 0;
+};
+
+/// Each K's descriptor set: for every map (ids[i] with parts[i], best first) its top-K parts, encoded with the
+/// codec of (dictionary_points, K). Throws InputError naming the map and K a part cannot be encoded for.
+std::vector<EncodedSet> encode_descriptor_sets(const Points2& dictionary_points, const std::vector<int>& ks,
+                                               std::span<const std::int64_t> ids,
+                                               std::span<const std::vector<Part>> parts);
+
+/// Stores the sets under the dictionary's name in one transaction (all or none).
+void store_descriptor_sets(MapDatabase& db, const std::string& dictionary, const std::vector<EncodedSet>& sets);
+
 /// The dictionary whose descriptors to read: the one named (which must have descriptors or be stored), else
 /// the only one with descriptors; throws InputError saying what to run or choose.
 std::string resolve_descriptor_dictionary(const MapDatabase& db, const std::string& name);
