@@ -53,8 +53,8 @@ int main(int argc, char** argv) {
     const auto share = [](std::size_t a, std::size_t b) { return b ? 100.0 * a / b : 0.0; };
     std::printf("queries: %zu (every %.1f m of travel after the split)\n", r.outcomes.size(), config.query_spacing);
     std::printf("in the map (overlap >= %.0f %%): %zu, pose within %.2f m / %.0f deg: %zu (%.1f %%)\n",
-                100 * config.min_overlap, r.in_map, config.max_translation_error,
-                config.max_rotation_error * 180 / std::numbers::pi, r.in_map_correct, share(r.in_map_correct, r.in_map));
+                100 * config.min_overlap, r.in_map, config.correct.translation,
+                config.correct.rotation * 180 / std::numbers::pi, r.in_map_correct, share(r.in_map_correct, r.in_map));
     std::printf("confident (>= %.2f): %zu, wrong among them: %zu (%.1f %%)\n", config.min_confidence, r.confident,
                 r.confident_wrong, share(r.confident_wrong, r.confident));
     std::printf("outside the map (overlap < %.0f %%): %zu, reported confidently: %zu (%.1f %%)\n",

@@ -124,7 +124,7 @@ void print_table(const EvalRun& run, std::ostream& out) {
   for (const MethodResult& m : r.methods) {
     if (m.poses_checked == 0) continue;
     out << std::setprecision(3) << m.method.label << ": relative pose of the relevant map within "
-        << run.options.config.pose_tolerance_m << " m / " << run.options.config.pose_tolerance_rad << " rad in "
+        << run.options.config.pose_tolerance.translation << " m / " << run.options.config.pose_tolerance.rotation << " rad in "
         << m.pose_within_tolerance << " of " << m.poses_checked << " pairs\n";
   }
   if (r.cpd_ms_per_map > 0) out << std::setprecision(1) << "CPD (offline): " << r.cpd_ms_per_map << " ms per map\n";

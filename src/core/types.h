@@ -51,6 +51,17 @@ struct Pose2 {
   }
 };
 
+/// How close two poses must be to count as the same pose: every "pose within tolerance" check (the relevant map's
+/// pose in eval, a loop closure, a relocalisation, a relation, consistency in a pose graph).
+struct PoseTolerance {
+  double translation = 0.5;  ///< [m]
+  double rotation = 0.2;     ///< [rad]
+  bool accepts(const Pose2& a, const Pose2& b) const {
+    return (a.translation() - b.translation()).norm() <= translation && std::abs(wrap_angle(a.theta - b.theta)) <= rotation;
+  }
+  bool valid() const { return translation >= 0 && rotation >= 0 && std::isfinite(translation) && std::isfinite(rotation); }
+};
+
 /// Applies a pose to every point of a set.
 inline Points2 transform(const Pose2& T, const Points2& points) {
   Points2 out;

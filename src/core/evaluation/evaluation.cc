@@ -13,8 +13,7 @@ void validate(const EvalConfig& config) {
   validate(config.tasks);
   validate(config.ranking);
   if (config.num_threads < 1 || config.num_threads > 1024) throw InputError("eval: threads must be in [1, 1024]");
-  if (!(config.pose_tolerance_m >= 0) || !(config.pose_tolerance_rad >= 0))
-    throw InputError("eval: pose tolerances must be >= 0");
+  if (!config.pose_tolerance.valid()) throw InputError("eval: pose_tolerance must be finite and >= 0");
 }
 
 DescribedMaps describe_maps(const Submaps& maps, const Points2& dictionary_points, const CpdConfig& cpd,
@@ -50,8 +49,7 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
   // Is T_map_query of the relevant pair within tolerance of the truth T_map_world * T_world_query?
   auto pose_ok = [&](const Task& task, const Pose2& T_map_query) {
     const Pose2 truth = maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
-    return (truth.translation() - T_map_query.translation()).norm() <= config.pose_tolerance_m &&
-           std::abs(wrap_angle(truth.theta - T_map_query.theta)) <= config.pose_tolerance_rad;
+    return config.pose_tolerance.accepts(truth, T_map_query);
   };
   std::vector<TaskOutcome> outcomes(tasks.size());
   parallel_for(

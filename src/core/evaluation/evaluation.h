@@ -28,8 +28,7 @@ struct EvalConfig {
   CpdConfig cpd;                 ///< parts (max_parts is raised to what the methods need)
   CodecConfig codec;             ///< storage of stored descriptors (dictionary_extent is filled in)
   int num_threads = 1;           ///< OpenMP threads over maps and tasks; results do not depend on it
-  double pose_tolerance_m = 0.5;     ///< relative pose check: translation [m]
-  double pose_tolerance_rad = 0.2;   ///< relative pose check: rotation [rad]
+  PoseTolerance pose_tolerance;      ///< relative pose check (0.5 m, 0.2 rad)
 };
 
 /// Throws InputError naming the offending field.

@@ -62,8 +62,7 @@ RelationCheck check_relevant_pairs(const Submaps& maps, const std::vector<Releva
     const auto a = lookup(r.t1), b = lookup(r.t2);
     if (!a || !b) continue;
     const Pose2 T_log = scans[*a].T_world_laser.inverse() * scans[*b].T_world_laser;
-    const bool agrees = (T_log.translation() - r.T_1_2.translation()).norm() <= config.max_translation_error &&
-                        std::abs(wrap_angle(T_log.theta - r.T_1_2.theta)) <= config.max_rotation_error;
+    const bool agrees = config.agreement.accepts(T_log, r.T_1_2);
     auto& v = linked[{std::min(*a, *b), std::max(*a, *b)}];
     v = v || agrees;
   }

@@ -24,8 +24,7 @@ using Relations = std::vector<Relation>;
 std::vector<std::optional<std::size_t>> associate_scans(const Scans& scans, const Scans& reference);
 
 struct RelationCheckConfig {
-  double max_translation_error = 0.3;  ///< relation vs log relative pose, translation [m]
-  double max_rotation_error = 0.1;     ///< relation vs log relative pose, rotation [rad]
+  PoseTolerance agreement{0.3, 0.1};  ///< relation vs log relative pose
 };
 
 struct RelationCheck {

@@ -55,7 +55,7 @@ RelocalisationReport evaluate_relocalisation(const GridMap& map, const Scans& sc
     const Pose2 error = o.truth.inverse() * o.result.T_map_query;
     o.translation_error = std::hypot(error.x, error.y);
     o.rotation_error = std::abs(error.theta);
-    o.correct = o.translation_error <= config.max_translation_error && o.rotation_error <= config.max_rotation_error;
+    o.correct = config.correct.accepts(o.truth, o.result.T_map_query);
     const bool in_map = o.overlap >= config.min_overlap, confident = o.result.confidence >= config.min_confidence;
     report.in_map += in_map;
     report.in_map_correct += in_map && o.correct;

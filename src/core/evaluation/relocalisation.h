@@ -21,8 +21,7 @@ struct RelocalisationConfig {
   double revisit_gap = 20.0;     ///< ... to one at least this much travel earlier [m] starts the revisits
   double query_spacing = 2.0;    ///< travel between the starts of consecutive query local maps [m]
   double min_overlap = 0.3;      ///< queries at least this much in the map are the ones that must be found
-  double max_translation_error = 0.3;                    ///< a pose counts as correct within this [m] ...
-  double max_rotation_error = 3.0 * std::numbers::pi / 180;  ///< ... and this [rad]
+  PoseTolerance correct{0.3, 3.0 * std::numbers::pi / 180};  ///< a pose counts as correct within this
   double min_confidence = kConfidentLocalization;  ///< a localisation at least this confident is "confident"
   SubmapConfig submap;           ///< how local maps are built (window_length, range, alignment)
   LocalizerConfig localizer;
@@ -39,7 +38,7 @@ struct RelocalisationOutcome {
   Localization result;
   double translation_error = 0.0;  ///< [m]
   double rotation_error = 0.0;     ///< [rad]
-  bool correct = false;            ///< within max_translation_error and max_rotation_error
+  bool correct = false;            ///< within RelocalisationConfig::correct of the truth
 };
 
 struct RelocalisationReport {

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/maps/manhattan.h"
+#include "core/matching/distinctiveness.h"
 #include "core/maps/scan.h"
 #include "core/timing.h"
 
@@ -109,7 +110,10 @@ Localization Localizer::locate(const Points2& query_points) const {
     out.elsewhere_score = found[1].score;
     out.T_map_elsewhere = found[1].T_map_query;
   }
-  out.confidence = std::max(0.0, out.score - out.elsewhere_score);
+  std::vector<double> scores;
+  for (const Scored& f : found) scores.push_back(f.score);
+  // Every other candidate is another place: each search avoided the poses found before it.
+  out.confidence = std::max(0.0, distinctiveness(scores, 0, [](std::size_t) { return true; }));
   out.candidates = static_cast<int>(found.size());
   out.time_ms = ms_since(t0);
   return out;
