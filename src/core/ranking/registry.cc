@@ -2,22 +2,25 @@
 
 namespace partslam {
 
-// Each function is defined in the method's own file.
-const MethodEntry& dmm_method();             // direct_ranker.cc
-const MethodEntry& dmm_ransac_method();      // direct_ranker.cc
-const MethodEntry& dmm_exhaustive_method();  // direct_ranker.cc
-const MethodEntry& imm_method();             // part_ranker.cc
-const MethodEntry& hmm_method();             // part_ranker.cc
-const MethodEntry& rerank_method();          // rerank_ranker.cc
-const MethodEntry& grid_method();            // grid_ranker.cc
-const MethodEntry& scan_context_method();    // scan_context_ranker.cc
-const MethodEntry& succinct_method();        // grid_ranker.cc
+// The table: one line per method, naming the function (defined in the method's own file) that returns its entry,
+// in the order `--help` lists them.
+#define PARTSLAM_METHODS(METHOD)                                                              \
+  METHOD(dmm_method)            /* direct_ranker.cc */                                        \
+  METHOD(dmm_ransac_method)     /* direct_ranker.cc */                                        \
+  METHOD(dmm_exhaustive_method) /* direct_ranker.cc */                                        \
+  METHOD(imm_method)            /* part_ranker.cc */                                          \
+  METHOD(hmm_method)            /* part_ranker.cc */                                          \
+  METHOD(rerank_method)         /* rerank_ranker.cc */                                        \
+  METHOD(grid_method)           /* grid_ranker.cc */                                          \
+  METHOD(scan_context_method)   /* scan_context_ranker.cc */                                  \
+  METHOD(succinct_method)       /* grid_ranker.cc */
+
+#define PARTSLAM_DECLARE(entry) const MethodEntry& entry();
+#define PARTSLAM_LIST(entry) entry(),
+PARTSLAM_METHODS(PARTSLAM_DECLARE)
 
 const std::vector<MethodEntry>& method_registry() {
-  static const std::vector<MethodEntry> methods = {
-      dmm_method(),  dmm_ransac_method(),  dmm_exhaustive_method(), imm_method(),      hmm_method(),
-      rerank_method(), grid_method(),      scan_context_method(),   succinct_method(),
-  };
+  static const std::vector<MethodEntry> methods = {PARTSLAM_METHODS(PARTSLAM_LIST)};
   return methods;
 }
 
