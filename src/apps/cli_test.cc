@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "apps/cli_testing.h"
 #include "apps/log_inputs.h"
@@ -51,7 +53,7 @@ class CliTest : public ::testing::Test {
     CodecConfig codec;  // 42 bits per part
     codec.dictionary_extent = {-20.0, 30.0, -5.0, 45.0};
     codec.rotation_bits = 0;
-    db.put_descriptor(3, "fr079", 3, codec, {io::Bytes(16, 0x5a), 126});
+    db.put_descriptor(3, "fr079", 3, codec, {std::vector<std::uint8_t>(16, 0x5a), 126});
   }
   void TearDown() override { fs::remove_all(dir_); }
 
