@@ -3,8 +3,10 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <random>
+#include <vector>
 
 #include "io/map_database.h"
 
@@ -53,7 +55,7 @@ class Loaded : public benchmark::Fixture {
     dataset_ = db.store_dataset({"fr079", "bench", {}, {}}, make_submaps());
     std::vector<partslam::io::DescriptorRecord> records;
     for (std::int64_t id : db.map_ids(dataset_))
-      records.push_back({id, {partslam::io::Bytes(16, 0x5a), 126}});
+      records.push_back({id, {std::vector<std::uint8_t>(16, 0x5a), 126}});
     partslam::CodecConfig codec;  // 42 bits per part: 126 bits are K = 3 parts
     codec.dictionary_extent = {-20.0, 30.0, -5.0, 45.0};
     codec.rotation_bits = 0;

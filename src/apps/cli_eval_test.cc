@@ -250,7 +250,7 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
                                   quoted(json));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("local map of sim:1 (10.0 .. 12.0 m of travel, log time "));
-  // The dashes of a new local map are explained under the table (issue 24), as the columns are.
+  // The dashes of a new local map are explained under the table, as the columns are.
   EXPECT_THAT(run.output, HasSubstr("-: a new local map has no pose in the stored dataset's world frame"));
   EXPECT_THAT(run.output, HasSubstr("dx, dy, dth: where that puts the query"));
   EXPECT_THAT(run.output, HasSubstr("confidence"));
@@ -276,7 +276,7 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
   }
 }
 
-// A stretch by the log's clock or by travel, alike (issue 24): the same scans give the same local map, and the
+// A stretch by the log's clock or by travel, alike: the same scans give the same local map, and the
 // label says which travel and which log time they cover.
 TEST_F(CliEvalTest, MatchTakesAStretchByLogTimeOrByTravelAlike) {
   const fs::path db = dir_ / "t.db";

@@ -159,9 +159,8 @@ TEST_F(CliLocateTest, QueryPointsFromAFile) {
   EXPECT_NEAR(frame["theta"].get<double>(), 0.0, 0.05);
 }
 
-// A stored map exported in either frame and either format gives the same local map (issue 24: the map-frame PLY
-// gave 141 of 180 points and -1.7 deg, the world-frame CSV 180 points and 0 deg): the map-frame file names its
-// frame's pose, and the query takes the points back into that world frame before building the local map.
+// A stored map exported in either frame and either format gives the same local map (same points, same pose): the
+// map-frame file names its frame's pose, and the query takes the points back into that world frame before building the local map.
 TEST_F(CliLocateTest, APointFileRoundTripsInEitherFrame) {
   const fs::path db = dir_ / "f.db";
   ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
@@ -230,7 +229,7 @@ TEST_F(CliLocateTest, BadInputIsRefusedWithTheFileNamed) {
       {"locate --map " + quoted(yaml) + " --query-points " + quoted(dir_ / "nan.csv"), "nan.csv:2: x: not finite"},
       {"locate --map " + quoted(yaml), "give --query-log LOG or --query-points FILE"},
       {"locate --map " + quoted(yaml) + " --query-log sim:1 --every 5 --from 1 --to 3", "--every goes with"},
-      // --every 0 is a bad --every, not a missing stretch (issue 24); no stretch at all names --every among them.
+      // --every 0 is a bad --every, not a missing stretch; no stretch at all names --every among them.
       {"locate --map " + quoted(yaml) + " --query-log sim:1 --every 0", "--every must be a positive number of metres, got 0"},
       {"locate --map " + quoted(yaml) + " --query-log sim:1 --every -2", "--every must be a positive number"},
       {"locate --map " + quoted(yaml) + " --query-log sim:1", "or --every M"},

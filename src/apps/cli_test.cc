@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "apps/cli_testing.h"
 #include "apps/log_inputs.h"
@@ -51,7 +53,7 @@ class CliTest : public ::testing::Test {
     CodecConfig codec;  // 42 bits per part
     codec.dictionary_extent = {-20.0, 30.0, -5.0, 45.0};
     codec.rotation_bits = 0;
-    db.put_descriptor(3, "fr079", 3, codec, {io::Bytes(16, 0x5a), 126});
+    db.put_descriptor(3, "fr079", 3, codec, {std::vector<std::uint8_t>(16, 0x5a), 126});
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -71,7 +73,7 @@ TEST_F(CliTest, InfoCountsSubmaps) {
   EXPECT_EQ(json.exit_code, 0) << json.output;
   EXPECT_THAT(json.output, HasSubstr("\"submaps\": 9"));
 
-  // A name that is not UTF-8 (stored before names were checked) no longer breaks --json for good.
+  // A name that is not UTF-8 (stored before names were checked) does not break --json.
   io::sqlite::Connection::open(db_, io::sqlite::Connection::Access::kReadWrite)
       .exec("UPDATE datasets SET name = CAST(X'626164ff' AS TEXT) WHERE name = 'sim-other'");
   const CliRun odd = run_partslam("info --json " + quoted(db_));
@@ -132,7 +134,7 @@ TEST_F(CliTest, BadMapIdExitsNonZeroWithMessage) {
 
   const CliRun format = run_partslam("export " + quoted(db_) + " --map 1 --format xyz");
   EXPECT_EQ(format.exit_code, 1);
-  EXPECT_THAT(format.output, HasSubstr("--format"));
+  EXPECT_THAT(format.output, HasSubstr("--format: expected ply or csv, got 'xyz'"));
   const CliRun neither = run_partslam("export " + quoted(db_));
   EXPECT_EQ(neither.exit_code, 1);
   EXPECT_THAT(neither.output, HasSubstr("--map ID or --dictionary NAME"));
@@ -176,8 +178,8 @@ TEST_F(CliTest, InfoRefusesNonDatabase) {
   EXPECT_THAT(missing.output, HasSubstr("no such file"));
 }
 
-// Every command that reads a log names every input the readers take, in the one wording (issue 24: submaps and
-// slam named CARMEN logs and sim only). CLI11 wraps nothing, so the wording appears whole.
+// Every command that reads a log names every input the readers take, in the one wording (not CARMEN logs and sim
+// only). CLI11 wraps nothing, so the wording appears whole.
 TEST(CliHelp, EveryLogReadingCommandNamesEveryInput) {
   for (const char* command : {"submaps", "slam", "dictionary", "export-map", "eval", "match", "locate"}) {
     const CliRun run = run_partslam(std::string(command) + " --help");

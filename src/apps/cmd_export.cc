@@ -25,7 +25,13 @@ struct ExportOptions {
 };
 
 io::PointFormat resolve_format(const ExportOptions& options) {
-  if (!options.format.empty()) return io::parse_point_format(options.format);
+  if (!options.format.empty()) {
+    try {
+      return io::parse_point_format(options.format);
+    } catch (const InputError&) {
+      throw InputError("--format: expected ply or csv, got '" + options.format + "'");
+    }
+  }
   return std::filesystem::path(options.out).extension() == ".ply" ? io::PointFormat::kPly
                                                                   : io::PointFormat::kCsv;
 }

@@ -1,10 +1,10 @@
-// `mpirun -n P partslam eval ...` (issue "scale"): the process's place among MPI ranks as a WorkSplit
-// (core/evaluation/work_split.h), over Debian's OpenMPI. MPI is started only when the process was launched by
+// `mpirun -n P partslam eval ...`: the process's place among MPI ranks as a WorkSplit (core/work_split.h),
+// over Debian's OpenMPI. MPI is started only when the process was launched by
 // mpirun (its environment says so), so a plain `partslam` run never touches it. Rank 0 prints and writes the
 // outputs; the other ranks compute their slices silently.
 #pragma once
 
-#include "core/evaluation/work_split.h"
+#include "core/work_split.h"
 
 namespace partslam::apps {
 

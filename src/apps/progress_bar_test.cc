@@ -1,4 +1,4 @@
-// The progress bar draws one bar per phase and never goes backwards (issue 24: 40 % 309/772 then 39 % 308/772).
+// The progress bar draws one bar per phase and never goes backwards (no 40 % 309/772 followed by 39 % 308/772).
 #include "apps/progress_bar.h"
 
 #include <gmock/gmock.h>

@@ -1,6 +1,10 @@
 #include "apps/scan_input.h"
 
 #include <cstdio>
+#include <string_view>
+#include <utility>
+
+#include "core/error.h"
 
 namespace partslam::apps {
 
@@ -16,9 +20,34 @@ void add_log_read_options(CLI::App& cmd, io::LogReadOptions& options) {
                  "transforms do (default: the first Odometry topic, else /tf)");
 }
 
+std::string with_flag_names(std::string text) {
+  // The readers name LogReadOptions::skip_damaged as the library does: a word of its own ("(skip_damaged ...",
+  // "; skip_damaged ..."), never part of a path or of another word.
+  static constexpr std::string_view kField = "skip_damaged", kFlag = "--skip-damaged";
+  auto delimits = [](char c) { return c == ' ' || c == '(' || c == ')' || c == ';' || c == ','; };
+  for (std::size_t at = text.find(kField); at != std::string::npos; at = text.find(kField, at)) {
+    const std::size_t end = at + kField.size();
+    if ((at == 0 || delimits(text[at - 1])) && (end == text.size() || delimits(text[end]))) {
+      text.replace(at, kField.size(), kFlag);
+      at += kFlag.size();
+    } else {
+      at = end;
+    }
+  }
+  return text;
+}
+
 io::ScanSource load_scans(const std::string& spec, const io::LogReadOptions& options) {
-  io::ScanSource source = io::load_scan_source(spec, options);
-  for (const std::string& w : source.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  io::ScanSource source;
+  try {
+    source = io::load_scan_source(spec, options);
+  } catch (const InputError& e) {
+    throw InputError(with_flag_names(e.what()));
+  }
+  for (std::string& w : source.warnings) {
+    w = with_flag_names(std::move(w));
+    std::fprintf(stderr, "warning: %s\n", w.c_str());
+  }
   return source;
 }
 

@@ -16,8 +16,8 @@ TEST(ParallelFor, EveryItemOnceForAnyThreads) {
   }
 }
 
-// A body's exception reaches the caller (it used to leave the OpenMP region and end the process, e.g. a stored
-// map too wide for dMM during `match`'s preparation): the lowest failing index's, for any thread count.
+// A body's exception reaches the caller (it must not leave the OpenMP region, which ends the process, e.g. a
+// stored map too wide for dMM during `match`'s preparation): the lowest failing index's, for any thread count.
 TEST(ParallelFor, RethrowsTheLowestItemsExceptionAfterTheLoop) {
   for (int threads : {1, 2, 4}) {
     try {

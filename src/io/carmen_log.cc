@@ -228,7 +228,7 @@ bool CarmenReader::jumps(const Scan& scan) {
                 "LogReadOptions.max_scan_jump %g m: a damaged pose",
                 scan.T_world_laser.x, scan.T_world_laser.y, d, previous_line_, options_.max_scan_jump);
   const std::string text = lines_->name() + ":" + std::to_string(lines_->line_number()) + ": " + numbers;
-  if (!options_.skip_damaged) throw InputError(text + " (--skip-damaged skips such scans)");
+  if (!options_.skip_damaged) throw InputError(text + " (skip_damaged skips such scans)");
   if (stats_.pose_jumps++ == 0) first_jump_ = text;
   return true;
 }
@@ -253,10 +253,10 @@ void CarmenReader::finish() {
                         " scans before it");
   if (stats_.damaged > 0)
     warnings_.push_back(name + ": skipped " + std::to_string(stats_.damaged) +
-                        " damaged line(s) (--skip-damaged); the first: " + first_damage_);
+                        " damaged line(s) (skip_damaged); the first: " + first_damage_);
   if (stats_.pose_jumps > 0)
     warnings_.push_back(name + ": skipped " + std::to_string(stats_.pose_jumps) +
-                        " scan(s) whose pose jumps (--skip-damaged); the first: " + first_jump_);
+                        " scan(s) whose pose jumps (skip_damaged); the first: " + first_jump_);
 }
 
 void CarmenReader::add_points(Scan& scan, std::size_t first, int n, double start, double increment,

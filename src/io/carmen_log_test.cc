@@ -185,7 +185,7 @@ TEST_P(MalformedLine, ThrowsNamingFileLineAndField) {
   EXPECT_EQ(log.odometry.size(), 2u);
   EXPECT_EQ(log.stats.damaged, 1u);
   ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_THAT(log.warnings[0], HasSubstr("bad.clf.gz: skipped 1 damaged line(s) (--skip-damaged); the first: "));
+  EXPECT_THAT(log.warnings[0], HasSubstr("bad.clf.gz: skipped 1 damaged line(s) (skip_damaged); the first: "));
   EXPECT_THAT(log.warnings[0], HasSubstr("bad.clf.gz:2: " + std::string(bad.expected)));
 }
 
@@ -418,7 +418,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// ---- recordings cut short, damage in the middle (issue 24) ----
+// ---- recordings cut short, damage in the middle ----
 
 /// The FLASER / ROBOTLASER1 lines of text that end with '\n'.
 std::size_t whole_scan_lines(std::string_view text) {
@@ -548,7 +548,7 @@ TEST(CarmenLog, DamageInTheMiddleIsAnErrorOrWithSkipDamagedSkippedAndCounted) {
     EXPECT_FALSE(log.stats.cut_short);
     for (const Scan& s : log.scans) EXPECT_TRUE(s.timestamp != 50 && s.timestamp != 120);
     ASSERT_EQ(log.warnings.size(), 1u);
-    EXPECT_THAT(log.warnings[0], HasSubstr("mid.log: skipped 2 damaged line(s) (--skip-damaged); the first: "));
+    EXPECT_THAT(log.warnings[0], HasSubstr("mid.log: skipped 2 damaged line(s) (skip_damaged); the first: "));
     EXPECT_THAT(log.warnings[0], HasSubstr("mid.log:51: FLASER range[3]: missing"));
     // A cut end and damage in the middle: both reported.
     testing::write_text(path, text.substr(0, text.size() - 30), gz);
@@ -578,7 +578,7 @@ TEST(CarmenLog, AScanWhosePoseJumpsIsRefusedNamingItsLineOrSkipped) {
   EXPECT_EQ(log.stats.pose_jumps, 1u);
   EXPECT_EQ(log.stats.valid_beams, 199u * 4u);
   ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_THAT(log.warnings[0], HasSubstr("jump.log: skipped 1 scan(s) whose pose jumps (--skip-damaged); the first: "));
+  EXPECT_THAT(log.warnings[0], HasSubstr("jump.log: skipped 1 scan(s) whose pose jumps (skip_damaged); the first: "));
   EXPECT_THAT(log.warnings[0], HasSubstr("jump.log:102: the scan's pose"));
   // A jump just within the limit is a scan like any other; the limit is an option.
   LogReadOptions wide;

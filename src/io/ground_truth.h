@@ -1,4 +1,4 @@
-// Ground truth for a log whose own poses are not it (raw logs; issue "raw logs", item 2), from either source the
+// Ground truth for a log whose own poses are not it (a raw log's drifting odometry), from either source the
 // benchmark logs come with: a corrected twin of the same run (a CARMEN log; its scans associated with the log's
 // by content, core/evaluation/relation_check.h) or a Freiburg .relations file (a reference trajectory solved
 // from the relations, core/evaluation/trajectory_check.h). The file name decides: *.relations is a relations

@@ -46,8 +46,7 @@
 #include "core/maps/dictionary.h"
 #include "core/parts/part_codec.h"
 #include "core/maps/submap.h"
-#include "core/slam/front_end.h"
-#include "io/blob_codec.h"
+#include "core/slam/front_end_config.h"
 
 namespace partslam::io {
 

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/maps/scan.h"
+#include "io/blob_codec.h"
 #include "io/map_database.h"
 #include "io/sqlite.h"
 

@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/parts/descriptor_layout.h"
+#include "io/blob_codec.h"
 #include "io/sqlite.h"
 
 namespace partslam::io {

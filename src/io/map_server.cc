@@ -69,8 +69,8 @@ Pgm read_pgm(const std::filesystem::path& path) {
   pgm.max_value = pgm_number(in, path, "max value", 1, 65535);
   const std::size_t n = static_cast<std::size_t>(pgm.width) * static_cast<std::size_t>(pgm.height);
   const std::size_t bytes = pgm.max_value > 255 ? 2 : 1;
-  // The pixels must be in the file before they are allocated: a 20-byte header claiming 16384 x 16384 pixels made
-  // the reader allocate 1.5 GB before finding the file cut short. P5: one whitespace, then n pixels of `bytes`
+  // The pixels must be in the file before they are allocated, so that a header claiming more pixels than the file
+  // holds allocates nothing (docs/NOTES.md, "Limits"). P5: one whitespace, then n pixels of `bytes`
   // bytes; P2: at least one digit and one separator per pixel but the last.
   const std::streamoff here = in.tellg();
   in.seekg(0, std::ios::end);

@@ -229,7 +229,7 @@ class Reader {
 
  private:
   void damaged(const std::string& what) {
-    if (!skip_damaged_) throw InputError(name_ + ": " + what + " (--skip-damaged skips the damaged part)");
+    if (!skip_damaged_) throw InputError(name_ + ": " + what + " (skip_damaged skips the damaged part)");
     if (report_.damaged_chunks++ == 0) report_.first_damage = what;
   }
 

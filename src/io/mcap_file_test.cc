@@ -184,7 +184,7 @@ TEST(McapFile, ADamagedChunkIsAnErrorOrSkippedAndCounted) {
       ADD_FAILURE() << c << ": no error";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr("bad.mcap: the chunk at byte " + std::to_string(second))) << c;
-      EXPECT_THAT(e.what(), HasSubstr("--skip-damaged"));
+      EXPECT_THAT(e.what(), HasSubstr("skip_damaged"));
     }
     const Got g = read(dir / "bad.mcap", true);
     EXPECT_EQ(g.times.size(), 8u) << c;
@@ -218,7 +218,7 @@ TEST(McapFile, DamageInAWholeFileIsNotACutAndReadingResumesAfterIt) {
       ADD_FAILURE() << message << ": no error";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(message));
-      EXPECT_THAT(e.what(), HasSubstr("--skip-damaged"));
+      EXPECT_THAT(e.what(), HasSubstr("skip_damaged"));
     }
     const Got g = read(dir / "d.mcap", true);
     EXPECT_FALSE(g.report.truncated) << message;

@@ -19,7 +19,7 @@ constexpr const char* kPoseKey = "T_world_points";
 PointFormat parse_point_format(const std::string& name) {
   if (name == "ply") return PointFormat::kPly;
   if (name == "csv") return PointFormat::kCsv;
-  throw InputError("--format: expected ply or csv, got '" + name + "'");
+  throw InputError("point format: expected ply or csv, got '" + name + "'");
 }
 
 void write_points(const std::filesystem::path& path, const Points2& points, PointFormat format,

@@ -12,7 +12,7 @@ namespace partslam::io {
 
 enum class PointFormat { kPly, kCsv };
 
-/// Parses "ply" or "csv"; throws InputError otherwise.
+/// Parses "ply" or "csv"; throws InputError ("point format: expected ply or csv, got '...'") otherwise.
 PointFormat parse_point_format(const std::string& name);
 
 /// Writes the points; T_world_points, when given, is written into the header (PLY: "comment T_world_points x y

@@ -84,7 +84,7 @@ class Decoder {
       out.events.push_back(std::move(e));
     } catch (const rm::BagError& err) {
       const std::string what = where + " (" + topic + ", " + type + "): " + err.what();
-      if (!options_.skip_damaged) throw InputError(what + " (--skip-damaged skips damaged messages)");
+      if (!options_.skip_damaged) throw InputError(what + " (skip_damaged skips damaged messages)");
       if (out.damaged++ == 0) out.first_damage = what;
     }
   }
@@ -197,7 +197,7 @@ FileRead read_db3(const std::filesystem::path& path, Decoder& decoder) {
     } catch (const InputError& e) {
       // A damaged page: SQLite stops there. With skip_damaged, every row the pages still hold whole is read instead.
       const std::string what = std::string(e.what()) + " (after messages row " + std::to_string(row) + ")";
-      if (!decoder.skip_damaged()) throw InputError(what + "; --skip-damaged reads the rows its pages still hold");
+      if (!decoder.skip_damaged()) throw InputError(what + "; skip_damaged reads the rows its pages still hold");
       FileRead salvaged;
       salvage_db3(path, decoder, salvaged);
       salvaged.cut.clear();

@@ -208,7 +208,7 @@ TEST(Ros2Bag, ADamagedDb3PageIsAnErrorOrSkipped) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("whole.db3"));
-    EXPECT_THAT(e.what(), HasSubstr("--skip-damaged reads the rows its pages still hold"));
+    EXPECT_THAT(e.what(), HasSubstr("skip_damaged reads the rows its pages still hold"));
   }
   LogReadOptions o;
   o.skip_damaged = true;

@@ -146,7 +146,7 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
         std::snprintf(what, sizeof what, "%s pose at stamp %.3f s jumps %.1f m from the one before (more than "
                       "LogReadOptions.max_scan_jump, %.0f m)", log.odometry_topic.c_str(), o.t, d,
                       options.max_scan_jump);
-        if (!options.skip_damaged) throw InputError(name + ": " + what + "; --skip-damaged leaves it out");
+        if (!options.skip_damaged) throw InputError(name + ": " + what + "; skip_damaged leaves it out");
         if (jumps++ == 0) log.warnings.push_back(name + ": left out an odometry " + what);
         continue;
       }

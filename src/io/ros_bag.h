@@ -1,4 +1,4 @@
-// ROS 1 bags (issue "use from outside", item 2) as a scan source, read with Debian's rosbag_storage library:
+// ROS 1 bags as a scan source, read with Debian's rosbag_storage library:
 // sensor_msgs/LaserScan messages become Scans (points of the beams with range_min < r < min(range_max,
 // LogReadOptions::max_usable_range); num_beams = ranges.size(); timestamp = header.stamp), posed by the
 // nav_msgs/Odometry messages interpolated at each scan's stamp (linear in x, y, the short way in theta) in both

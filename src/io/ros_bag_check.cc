@@ -94,7 +94,7 @@ class FileSource : public Source {
 };
 
 // A chunk's uncompressed records. Not zero-filled when allocated: a hostile chunk claiming kMaxChunkBytes costs
-// only the pages its data fills (a run of such chunks used to cost a 256 MB memset each).
+// only the pages its data fills, not a memset of kMaxChunkBytes each (docs/NOTES.md, "Fuzzing and sanitizers").
 struct ChunkBytes {
   std::unique_ptr<std::uint8_t[]> data;
   std::size_t size = 0;
@@ -524,7 +524,7 @@ ChunkWalk walk_bag_chunks(const std::string& path, const std::vector<std::string
     } catch (const BagError& e) {
       if (std::string_view(e.what()).starts_with("more than ")) throw;  // the size limit, not damage
       const std::string what = "the record at byte " + std::to_string(pos) + " is damaged: " + problem_of(e);
-      if (!skip_damaged) throw BagError("not a readable ROS 1 bag (" + what + "); --skip-damaged skips it and reads the rest");
+      if (!skip_damaged) throw BagError("not a readable ROS 1 bag (" + what + "); skip_damaged skips it and reads the rest");
       if (out.damaged++ == 0) out.first_damage = what;
       if (index) {
         next = next_known(pos);  // resynchronised at the next chunk the index gives

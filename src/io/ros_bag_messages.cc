@@ -103,7 +103,7 @@ class Collector {
   BagMessages finish() {
     BagMessages out = std::move(selection_).finish();
     if (damaged_ > 0)
-      out.warnings.push_back("skipped " + std::to_string(damaged_) + " damaged message(s) (--skip-damaged); the first: " +
+      out.warnings.push_back("skipped " + std::to_string(damaged_) + " damaged message(s) (skip_damaged); the first: " +
                              first_damage_);
     return out;
   }
@@ -186,10 +186,10 @@ BagMessages read_without_index(const std::string& path, std::size_t max_ranges, 
     warnings.push_back("the file ends at byte " + std::to_string(walk.file_size) + ", before its index at byte " +
                        std::to_string(walk.index_pos) + " (cut short); " + read + " before it");
   } else if (walk.damaged == 0) {
-    warnings.push_back("the bag's index is damaged (" + structure_error + "); " + read + " without it (--skip-damaged)");
+    warnings.push_back("the bag's index is damaged (" + structure_error + "); " + read + " without it (skip_damaged)");
   }
   if (walk.damaged > 0) {
-    std::string w = "skipped " + std::to_string(walk.damaged) + " damaged record(s) (--skip-damaged); the first: " +
+    std::string w = "skipped " + std::to_string(walk.damaged) + " damaged record(s) (skip_damaged); the first: " +
                     walk.first_damage;
     if (warnings.empty()) {  // a bag closed with its index: say what was read around the damage
       w += "; " + read;

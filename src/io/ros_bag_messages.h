@@ -99,7 +99,7 @@ struct ChunkWalk {
 /// start and its chunk positions bound the walk, which stops at the index. A record running past the end of the
 /// file ends the walk (cut_at) only when the file ends before index_pos (or index_pos is 0: never closed); before
 /// an index that lies within the file it is damage. A damaged record or chunk throws BagError naming its
-/// position (and --skip-damaged), or with skip_damaged is skipped and counted: the walk resumes at the next chunk
+/// position (and skip_damaged), or with skip_damaged is skipped and counted: the walk resumes at the next chunk
 /// the index gives (a record whose lengths run over that chunk is damaged too), or without a readable index at
 /// the record's end when its lengths lie within the file, else at the next record found that reads as a chunk
 /// record (at most 64 such searches; when none is found the rest is given up: lost_at). Throws BagError when the

@@ -201,7 +201,7 @@ TEST(RosBag, AnOdometryPoseThatJumpsIsDamage) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("jump.bag: /odom pose at stamp 101.150 s jumps 2998.9 m from the one before"));
-    EXPECT_THAT(e.what(), HasSubstr("--skip-damaged"));
+    EXPECT_THAT(e.what(), HasSubstr("skip_damaged"));
   }
   LogReadOptions o;
   o.skip_damaged = true;
@@ -388,7 +388,7 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   EXPECT_THAT(error("#ROSBAG V1.2\n" + good.substr(13)), HasSubstr("only ROS bag format 2.0 is read"));
 }
 
-// ---- bags cut short, corrupt chunks (issue 24) ----
+// ---- bags cut short, corrupt chunks ----
 
 // A top-level record of a bag file.
 struct TopRecord {
@@ -522,7 +522,7 @@ TEST(RosBag, ACorruptChunkInTheMiddleIsAnErrorOrWithSkipDamagedSkippedAndCounted
   expect_same_scans(Scans(log.scans.begin(), log.scans.begin() + static_cast<long>(chunks[0].second + chunks[1].second)),
                     whole.scans);
   ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_THAT(log.warnings[0], HasSubstr("corrupt.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " + place));
+  EXPECT_THAT(log.warnings[0], HasSubstr("corrupt.bag: skipped 1 damaged record(s) (skip_damaged); the first: " + place));
 }
 
 
@@ -537,10 +537,10 @@ void expect_all_but_chunk(const Scans& part, const Scans& whole,
   expect_same_scans(part, expected);
 }
 
-// QA, issue 24: a complete bag (its index, at the header's index_pos, within the file and intact) whose 7th chunk
-// record has a length running past the end of the file used to be read as a bag cut short there (the scans of its
-// first 6 chunks, exit 0). It is damage: an error naming the byte; with skip_damaged every other chunk is read,
-// found from the index (the chunks after the damaged one used to be dropped too).
+// A complete bag (its index, at the header's index_pos, within the file and intact) whose 7th chunk record has a
+// length running past the end of the file is damaged, not cut short there (not just the scans of its first 6
+// chunks, exit 0): an error naming the byte; with skip_damaged every other chunk is read, found from the index
+// (the chunks after the damaged one too).
 TEST(RosBag, ADamagedChunkLengthInACompleteBagIsDamageNotACut) {
   const std::filesystem::path source = testing::shared_data() / "bags" / "fr079.clf2bag.bag";
   if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
@@ -577,11 +577,11 @@ TEST(RosBag, ADamagedChunkLengthInACompleteBagIsDamageNotACut) {
     testing::write_bytes(dir / "damaged.bag", bytes);
     EXPECT_THAT([&] { read_ros_bag(dir / "damaged.bag"); },
                 ::testing::ThrowsMessage<InputError>(::testing::AllOf(
-                    HasSubstr("damaged.bag: not a readable ROS 1 bag (" + place + p.problem), HasSubstr("--skip-damaged"))));
+                    HasSubstr("damaged.bag: not a readable ROS 1 bag (" + place + p.problem), HasSubstr("skip_damaged"))));
     const RosBagLog log = read_ros_bag(dir / "damaged.bag", skip);
     expect_all_but_chunk(log.scans, whole.scans, chunks, 6);
     ASSERT_EQ(log.warnings.size(), 1u);
-    EXPECT_THAT(log.warnings[0], HasSubstr("damaged.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " +
+    EXPECT_THAT(log.warnings[0], HasSubstr("damaged.bag: skipped 1 damaged record(s) (skip_damaged); the first: " +
                                            place + p.problem));
     EXPECT_THAT(log.warnings[0], HasSubstr("; read the " + std::to_string(log.scans.size()) + " scans of its " +
                                            std::to_string(chunks.size() - 1) + " whole chunks (of the " +
@@ -596,13 +596,13 @@ TEST(RosBag, ADamagedChunkLengthInACompleteBagIsDamageNotACut) {
   const RosBagLog log = read_ros_bag(dir / "damaged.bag", skip);
   EXPECT_EQ(log.scans.size(), whole.scans.size() - chunks[2].second - chunks.back().second);
   ASSERT_EQ(log.warnings.size(), 1u);
-  EXPECT_THAT(log.warnings[0], HasSubstr("skipped 2 damaged record(s) (--skip-damaged); the first: the record at byte " +
+  EXPECT_THAT(log.warnings[0], HasSubstr("skipped 2 damaged record(s) (skip_damaged); the first: the record at byte " +
                                          std::to_string(starts[2]) + " is damaged"));
 }
 
 // Without a readable index (here a recording never closed: index_pos 0), a chunk whose header cannot be read
-// (so neither where it ends) used to end the walk with skip_damaged: the walker now finds the next chunk record by its header and
-// reads on; after the last chunk there is none to find, which a warning says.
+// (so neither where it ends) does not end the walk with skip_damaged: the walker finds the next chunk record by its
+// header and reads on; after the last chunk there is none to find, which a warning says.
 TEST(RosBag, WithoutAnIndexSkipDamagedFindsTheNextChunkAfterOneWithBadLengths) {
   const std::filesystem::path source = testing::shared_data() / "bags" / "aces.clf2bag.bag";
   if (!std::filesystem::exists(source)) GTEST_SKIP() << source << " is absent";
@@ -628,7 +628,7 @@ TEST(RosBag, WithoutAnIndexSkipDamagedFindsTheNextChunkAfterOneWithBadLengths) {
   expect_all_but_chunk(log.scans, whole.scans, chunks, 2);
   ASSERT_EQ(log.warnings.size(), 2u);
   EXPECT_THAT(log.warnings[0], HasSubstr("damaged.bag: the bag has no index (the recording was not closed)"));
-  EXPECT_THAT(log.warnings[1], HasSubstr("damaged.bag: skipped 1 damaged record(s) (--skip-damaged); the first: " + place));
+  EXPECT_THAT(log.warnings[1], HasSubstr("damaged.bag: skipped 1 damaged record(s) (skip_damaged); the first: " + place));
   // The last chunk damaged so: nothing after it is found (its index data records and the index are read past).
   bytes = good;
   std::memcpy(bytes.data() + starts.back() + 4, &field_len, 4);

@@ -18,7 +18,7 @@
 #include "core/parts/part_codec.h"
 #include "core/ranking/ranking.h"
 #include "core/evaluation/tasks.h"
-#include "core/evaluation/work_split.h"
+#include "core/work_split.h"
 
 namespace partslam {
 

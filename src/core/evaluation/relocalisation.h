@@ -1,4 +1,4 @@
-// The relocalisation protocol (issue "use from outside", its floors): a building map is made from the first
+// The relocalisation protocol (docs/NOTES.md, "Locate"): a building map is made from the first
 // visit of each place only — the scans of a corrected log before the first revisit (a scan within
 // revisit_radius of one at least revisit_gap of travel earlier) — and local maps of the later scans, every
 // query_spacing of travel, are located in it with no initial pose (core/matching/localizer.h). The map frame is

@@ -1,4 +1,4 @@
-// Local consistency of an estimated trajectory against a reference (issue "raw logs", front-end floor): for
+// Local consistency of an estimated trajectory against a reference (how the front end is judged): for
 // every submap window of the estimate (anchor every `spacing` of travel, scans within `window_length` of
 // travel after it, as submaps are built), each scan's pose relative to the anchor is compared with the same
 // relative pose in the reference, and the error is measured where it matters: the displacement of that
@@ -35,7 +35,7 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
                               const std::vector<std::optional<std::size_t>>& reference_index,
                               const ConsistencyConfig& config = {});
 
-/// Ground truth for submaps built on an estimated trajectory (issue "raw logs", item 2): each submap's frame
+/// Ground truth for submaps built on an estimated trajectory (a raw log's): each submap's frame
 /// in the reference's world frame, T_ref(j) * T_est(j)^-1 * T_world_map, through the scan j of the submap
 /// (scans anchor_scan .. anchor_scan + scan_timestamps.size() - 1 of `estimate`) nearest its anchor that has a
 /// reference; nullopt for a submap without one. The relative pose of two submaps is then the reference's, up
@@ -43,8 +43,7 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
 std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
                                                    const std::vector<std::optional<std::size_t>>& reference_index);
 
-/// A reference trajectory from a Freiburg .relations file (issue "raw logs", item 2, when there is no corrected
-/// twin): the scans of `estimate` that a relation names (the scan of nearest timestamp, within 1 ms) become the nodes of a pose graph
+/// A reference trajectory from a Freiburg .relations file (for a raw log without a corrected twin): the scans of `estimate` that a relation names (the scan of nearest timestamp, within 1 ms) become the nodes of a pose graph
 /// whose edges are the relations (sigma 1 cm, 0.01 rad) and, joining consecutive nodes so that every component
 /// is anchored, the estimate's own relative poses (sigma 1 m, 1 rad); the optimised poses are the reference.
 /// `reference_index` gets, per scan of `estimate`, its node in the returned scans (nullopt for other scans).

@@ -1,4 +1,4 @@
-// The local front end (issue "raw logs"; docs/NOTES.md "Front end"): turns a raw log's scans, whose poses are
+// The local front end (docs/NOTES.md "Front end"): turns a raw log's scans, whose poses are
 // drifting odometry, into a locally consistent trajectory by matching each scan against a local map of the
 // last few key scans (scan_matcher.h), seeded by the odometry increment since the previous scan:
 //   prediction_i = T_world_laser(i-1) * odom(i-1)^-1 * odom(i),   T_world_laser(i) = match(local map, scan i).
@@ -14,32 +14,10 @@
 
 #include "core/maps/scan.h"
 #include "core/parallel.h"
+#include "core/slam/front_end_config.h"
 #include "core/slam/scan_matcher.h"
 
 namespace partslam {
-
-struct FrontEndConfig {
-  ScanMatcherConfig matcher;
-  /// The match is refined once more (Gauss-Newton, no search) on a second field of this sigma: the first field's
-  /// wide basin finds the pose, the narrow one places it (docs/NOTES.md, "SLAM bench"). 0 turns it off [m].
-  double fine_sigma = 0.05;
-  double max_range = 40.0;         ///< beam endpoints farther from the laser are not matched [m] (20 m: see NOTES)
-  double point_resolution = 0.05;  ///< scan and local-map points are downsampled to one per cell [m]
-  int local_map_scans = 30;        ///< key scans in the local map
-  double key_translation = 0.2;    ///< travel that makes a key scan [m]
-  double key_rotation = 0.1;       ///< turn that makes a key scan [rad]
-  double min_score = 0.25;         ///< matches scoring lower are rejected (the prediction is kept)
-  /// Degeneracy: when the scan's surfaces leave one direction of translation unconstrained (the weaker eigenvalue
-  /// of sum n n^T over its surface normals below this share of the stronger: a bare corridor's axis), the match
-  /// keeps the prediction's translation along it (counted; not when the log's odometry never moves). 0 turns it off.
-  double degenerate_ratio = 0.1;
-  /// Jump detector: a scan whose matched turn since the previous scan differs from the odometry's by more than
-  /// this is counted as a heading jump (kept; reported, as a front end losing its heading shows) [rad].
-  double jump_turn = 0.1;
-};
-
-/// Throws InputError naming the offending field when a value is out of range.
-void validate(const FrontEndConfig& config);
 
 struct FrontEndStats {
   std::size_t scans = 0;            ///< scans in the result

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "core/evaluation/work_split.h"
+#include "core/work_split.h"
 #include "core/maps/submap.h"
 #include "core/parallel.h"
 #include "core/slam/pose_graph.h"

@@ -1,4 +1,4 @@
-// 2D pose-graph optimisation (issue "raw logs", item 4) with Ceres: nodes are poses, edges relative-pose
+// 2D pose-graph optimisation with Ceres (the back end of `slam`, core/slam/back_end.h): nodes are poses, edges relative-pose
 // measurements with a diagonal information (weights on x, y and theta); loop-closure edges go through a Cauchy
 // loss so that a wrong one is down-weighted rather than bending the map. The first node is held fixed.
 #pragma once

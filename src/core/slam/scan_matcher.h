@@ -1,4 +1,4 @@
-// Scan-to-map matching for the local front end (issue "raw logs"; docs/NOTES.md "Front end"): a scan's pose
+// Scan-to-map matching for the local front end (docs/NOTES.md "Front end"): a scan's pose
 // against a likelihood field of nearby map points, in two steps as in Cartographer's local trajectory builder:
 //  1. correlative search: every pose of a window around the prediction on a grid of two cells and of the
 //     rotation that moves the farthest point by two cells, then the one-cell grid around the best, scored by
@@ -11,21 +11,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/slam/front_end_config.h"
 #include "core/types.h"
 
 namespace partslam {
-
-struct ScanMatcherConfig {
-  double resolution = 0.05;      ///< likelihood field cell [m]
-  double sigma = 0.1;            ///< likelihood field width [m]
-  double linear_window = 0.3;    ///< correlative search half-width in x and y [m]
-  double angular_window = 0.2;   ///< correlative search half-width in rotation [rad]
-  int max_iterations = 20;       ///< Gauss-Newton iterations
-  int num_threads = 1;           ///< threads of the correlative search (the result does not depend on it)
-};
-
-/// Throws InputError naming the offending field when a value is out of range.
-void validate(const ScanMatcherConfig& config);
 
 /// M(q) on a grid covering the given points grown by 3 sigma. Empty (every value 0) for no points.
 class LikelihoodField {

@@ -1,4 +1,4 @@
-// Synthetic Manhattan-ish point maps for tests and benchmarks (until the simulator is on main): random
+// Synthetic Manhattan-ish point maps for tests and benchmarks: random
 // axis-aligned wall segments sampled with noise, cropped and expressed in query / map frames with a known
 // relative pose. Header-only, deterministic given the generator's seed.
 #pragma once

@@ -1,5 +1,5 @@
 // Test helper: several "processes" played by threads that exchange their records like MPI ranks (an in-memory
-// all-gather of their bytes), to test code written against core/evaluation/work_split.h without MPI.
+// all-gather of their bytes), to test code written against core/work_split.h without MPI.
 #pragma once
 
 #include <condition_variable>
@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "core/evaluation/work_split.h"
+#include "core/work_split.h"
 
 namespace partslam::testing {
 

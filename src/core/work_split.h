@@ -1,4 +1,4 @@
-// How the evaluation's work is split over processes (issue "scale": MPI ranks, apps/mpi_split.h). Each process
+// How the evaluation's work is split over processes (MPI ranks: apps/mpi_split.h). Each process
 // takes a contiguous slice of the maps (their CPD) and of the tasks; the slices are gathered in order on every
 // process, so every figure equals a single process's (timings apart). What travels are records of a trivially
 // copyable type (all_gather below), as bytes; the base class is one process: its slice is everything and

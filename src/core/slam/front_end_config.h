@@ -1,0 +1,43 @@
+// The settings of the local front end (front_end.h) and of its scan matcher (scan_matcher.h), apart from the
+// code that runs them: what a caller stores or validates (the map database keeps a dataset's front-end settings,
+// io/map_database.h) needs only these plain structs, not the front end's interface.
+#pragma once
+
+namespace partslam {
+
+struct ScanMatcherConfig {
+  double resolution = 0.05;      ///< likelihood field cell [m]
+  double sigma = 0.1;            ///< likelihood field width [m]
+  double linear_window = 0.3;    ///< correlative search half-width in x and y [m]
+  double angular_window = 0.2;   ///< correlative search half-width in rotation [rad]
+  int max_iterations = 20;       ///< Gauss-Newton iterations
+  int num_threads = 1;           ///< threads of the correlative search (the result does not depend on it)
+};
+
+/// Throws InputError naming the offending field when a value is out of range.
+void validate(const ScanMatcherConfig& config);
+
+struct FrontEndConfig {
+  ScanMatcherConfig matcher;
+  /// The match is refined once more (Gauss-Newton, no search) on a second field of this sigma: the first field's
+  /// wide basin finds the pose, the narrow one places it (docs/NOTES.md, "SLAM bench"). 0 turns it off [m].
+  double fine_sigma = 0.05;
+  double max_range = 40.0;         ///< beam endpoints farther from the laser are not matched [m] (20 m: see NOTES)
+  double point_resolution = 0.05;  ///< scan and local-map points are downsampled to one per cell [m]
+  int local_map_scans = 30;        ///< key scans in the local map
+  double key_translation = 0.2;    ///< travel that makes a key scan [m]
+  double key_rotation = 0.1;       ///< turn that makes a key scan [rad]
+  double min_score = 0.25;         ///< matches scoring lower are rejected (the prediction is kept)
+  /// Degeneracy: when the scan's surfaces leave one direction of translation unconstrained (the weaker eigenvalue
+  /// of sum n n^T over its surface normals below this share of the stronger: a bare corridor's axis), the match
+  /// keeps the prediction's translation along it (counted; not when the log's odometry never moves). 0 turns it off.
+  double degenerate_ratio = 0.1;
+  /// Jump detector: a scan whose matched turn since the previous scan differs from the odometry's by more than
+  /// this is counted as a heading jump (kept; reported, as a front end losing its heading shows) [rad].
+  double jump_turn = 0.1;
+};
+
+/// Throws InputError naming the offending field when a value is out of range.
+void validate(const FrontEndConfig& config);
+
+}  // namespace partslam
