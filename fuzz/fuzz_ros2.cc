@@ -3,6 +3,7 @@
 // it is and once with skip_damaged.
 #include "fuzz/fuzz_common.h"
 #include "io/ros2_bag.h"
+#include "io/scan_source.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;
@@ -12,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     io::LogReadOptions options;
     options.max_points = 200000;
     options.skip_damaged = skip;
-    fuzz::expect_input_error([&] { fuzz::check_bag_scans(io::read_ros2_bag(path, options).scans); });
+    fuzz::expect_input_error([&] { fuzz::check_bag_scans(io::load_scan_source(path.string(), options).scans); });
   }
   return 0;
 }

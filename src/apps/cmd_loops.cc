@@ -18,6 +18,7 @@
 #include "apps/mpi_split.h"
 #include "apps/progress_bar.h"
 #include "core/error.h"
+#include "core/evaluation/loop_evaluation.h"
 #include "core/evaluation/trajectory_check.h"
 #include "core/maps/submap.h"
 #include "core/slam/front_end.h"

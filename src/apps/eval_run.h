@@ -10,7 +10,7 @@
 
 #include "core/evaluation/evaluation.h"
 #include "core/maps/scan.h"
-#include "io/carmen_log.h"
+#include "io/log_read_options.h"
 
 namespace partslam::apps {
 

@@ -16,7 +16,7 @@
 
 #include "core/maps/submap.h"
 #include "core/slam/front_end.h"
-#include "io/carmen_log.h"
+#include "io/log_read_options.h"
 
 namespace partslam::apps {
 

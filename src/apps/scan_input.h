@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "io/carmen_log.h"
+#include "io/log_read_options.h"
 #include "io/scan_source.h"
 
 namespace partslam::apps {

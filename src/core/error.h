@@ -11,4 +11,19 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Runs validate_part, the check of a config nested in another; its InputError "<part> config: FIELD ..." is thrown
+/// again as "<owner>: PATH.FIELD ...", so a nested setting is named by its path from the outer config, e.g.
+/// "slam config: back_end.weights.loop_rotation must be finite and > 0, got -1".
+template <class Check>
+void validate_nested(const std::string& owner, const std::string& path, const Check& validate_part) {
+  try {
+    validate_part();
+  } catch (const InputError& e) {
+    std::string what = e.what();
+    const std::size_t config = what.find("config: ");
+    if (config != std::string::npos && what.find(':') == config + 6) what.erase(0, config + 8);
+    throw InputError(owner + ": " + path + "." + what);
+  }
+}
+
 }  // namespace partslam

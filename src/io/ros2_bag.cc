@@ -317,11 +317,6 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
   } catch (const rm::BagError& e) {
     throw InputError(name + ": " + e.what());
   }
-  if (messages.scans.empty() && !warnings.empty()) {
-    std::string why;
-    for (const std::string& w : warnings) why += "; " + w;
-    throw InputError(name + ": the bag holds no sensor_msgs/LaserScan message that could be read" + why);
-  }
   RosBagLog log = scans_from_bag_messages(messages, options, name);
   log.warnings.insert(log.warnings.end(), warnings.begin(), warnings.end());
   return log;

@@ -9,7 +9,7 @@
 
 #include <filesystem>
 
-#include "io/carmen_log.h"
+#include "io/log_read_options.h"
 #include "io/ros_bag.h"
 
 namespace partslam::io {
@@ -17,8 +17,9 @@ namespace partslam::io {
 /// True for a path ending in ".mcap" or ".db3", a folder holding metadata.yaml, or that metadata.yaml itself.
 bool is_ros2_bag(const std::filesystem::path& path);
 
-/// Throws InputError naming the file (and byte offset or row) for a missing, foreign or damaged file, a bag
-/// without LaserScan messages, a topic asked for that is not there, or more than options.max_points ranges.
+/// Throws InputError naming the file (and byte offset or row) for a missing, foreign or damaged file, a topic asked
+/// for that is not there, or more than options.max_points ranges. A bag without LaserScan messages gives no scans
+/// (load_scan_source, io/scan_source.h, refuses it).
 RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions& options = {});
 
 }  // namespace partslam::io

@@ -260,10 +260,10 @@ TEST(Ros2Bag, ForeignAndBrokenInputsAreRefusedByName) {
     std::ofstream(dir / "head.mcap", std::ios::binary) << head;
   }
   try {
-    read_ros2_bag(dir / "head.mcap");
+    load_scan_source((dir / "head.mcap").string());
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("head.mcap: the bag holds no sensor_msgs/LaserScan message that could be read; "));
+    EXPECT_THAT(e.what(), HasSubstr("head.mcap: no laser scans: the ROS 2 bag holds no sensor_msgs/LaserScan messages; "));
     EXPECT_THAT(e.what(), HasSubstr("the recording is cut short"));
   }
   // A db3 whose only topic is not a scan.

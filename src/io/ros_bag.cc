@@ -120,11 +120,6 @@ RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& 
 
 RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, const LogReadOptions& options,
                                   const std::string& name) {
-  if (messages.scans.empty()) {
-    std::string why;
-    for (const std::string& w : messages.warnings) why += "; " + w;
-    throw InputError(name + ": the bag holds no sensor_msgs/LaserScan messages" + why);
-  }
   RosBagLog log;
   for (const std::string& w : messages.warnings) log.warnings.push_back(name + ": " + w);
   log.scan_topic = messages.scan_topic;

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "core/maps/scan.h"
-#include "io/carmen_log.h"
+#include "io/log_read_options.h"
 
 namespace partslam::io {
 
@@ -49,10 +49,10 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
                                   const std::string& name);
 
 /// Throws InputError naming the file for a missing or foreign file, damage before the end of the file (a corrupt
-/// chunk, chunk length or message, a damaged index; unless options.skip_damaged: then skipped and counted), a bag without LaserScan messages, a scan with
-/// non-finite fields, or more than options.max_points valid beams. A bag cut short (its file ending before its index)
-/// is read up to its last whole
-/// chunk, with a warning.
+/// chunk, chunk length or message, a damaged index; unless options.skip_damaged: then skipped and counted), a scan
+/// with non-finite fields, or more than options.max_points valid beams. A bag cut short (its file ending before its
+/// index) is read up to its last whole chunk, with a warning. A bag without LaserScan messages gives no scans
+/// (load_scan_source, io/scan_source.h, refuses it).
 RosBagLog read_ros_bag(const std::filesystem::path& path, const LogReadOptions& options = {});
 
 }  // namespace partslam::io

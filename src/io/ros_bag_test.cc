@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/maps/submap.h"
+#include "io/carmen_log.h"
 #include "io/ros_bag_messages.h"
 #include "io/scan_source.h"
 #include "io/test_files.h"
@@ -172,10 +173,10 @@ TEST(RosBag, PosesFromTfWhenThereIsNoOdometry) {
   odometry_only.odometry.push_back({1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0});
   rosbag_messages::write_bag_messages((dir / "nolaser.bag").string(), odometry_only, false);
   try {
-    read_ros_bag(dir / "nolaser.bag");
+    load_scan_source((dir / "nolaser.bag").string());
     ADD_FAILURE() << "a bag without LaserScan was read";
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("nolaser.bag: the bag holds no sensor_msgs/LaserScan messages"));
+    EXPECT_THAT(e.what(), HasSubstr("nolaser.bag: no laser scans: the ROS 1 bag holds no sensor_msgs/LaserScan messages"));
   }
   // Interpolated between odometry stamps: scan 10 at t = 101.0 lies halfway between odometry 10 and 11.
   EXPECT_NEAR(tf.scans[10].T_world_laser.x, 1.05, 1e-6);
@@ -480,8 +481,9 @@ TEST(RosBag, BagsCutShortReadTheScansOfTheirWholeChunks) {
     for (const auto& c : chunks) before += c.second * (c.first <= cut);
     testing::write_bytes(dir / "cut.bag", std::string_view(bytes).substr(0, cut));
     if (before == 0) {
-      EXPECT_THAT([&] { read_ros_bag(dir / "cut.bag"); },
-                  ::testing::ThrowsMessage<InputError>(HasSubstr("no sensor_msgs/LaserScan messages; the file ends")));
+      EXPECT_THAT([&] { load_scan_source((dir / "cut.bag").string()); },
+                  ::testing::ThrowsMessage<InputError>(HasSubstr("no sensor_msgs/LaserScan messages; " +
+                                                                 (dir / "cut.bag").string() + ": the file ends")));
       continue;
     }
     const RosBagLog part = read_ros_bag(dir / "cut.bag");

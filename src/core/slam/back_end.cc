@@ -18,6 +18,8 @@ std::pair<double, double> residual(const Pose2& measured, const Pose2& from, con
 }  // namespace
 
 void validate(const BackEndConfig& c) {
+  validate_nested("back end config", "weights", [&] { validate(c.weights); });
+  validate_nested("back end config", "graph", [&] { validate(c.graph); });
   const std::pair<double, const char*> positive[] = {
       {c.max_translation_residual, "max_translation_residual"}, {c.max_rotation_residual, "max_rotation_residual"},
       {c.max_chain_translation, "max_chain_translation"},       {c.max_chain_rotation, "max_chain_rotation"}};

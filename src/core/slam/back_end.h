@@ -1,5 +1,5 @@
-// The back end of `slam` (docs/NOTES.md "SLAM bench"): the submap pose graph (loop_closure.h,
-// optimize_submap_graph) solved with only the loop closures that agree with the solution, and a verdict on it.
+// The back end of `slam` (docs/NOTES.md "SLAM bench"): the submap pose graph (submap_graph.h) solved with only
+// the loop closures that agree with the solution, and a verdict on it.
 //
 // Closures that slipped through verification would bend the map; the Cauchy loss alone does not stop a group of
 // them. So the graph is solved in rounds: after each solve, every closure whose residual (its measured relative
@@ -21,6 +21,7 @@
 
 #include "core/slam/loop_closure.h"
 #include "core/slam/pose_graph.h"
+#include "core/slam/submap_graph.h"
 
 namespace partslam {
 

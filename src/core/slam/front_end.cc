@@ -81,7 +81,7 @@ class LocalMap {
 }  // namespace
 
 void validate(const FrontEndConfig& c) {
-  validate(c.matcher);
+  validate_nested("front end config", "matcher", [&] { validate(c.matcher); });
   auto positive = [](double v, const char* field, double max) {
     if (!(v > 0.0) || !(v <= max))
       throw InputError(std::string("front end config: ") + field + " must be in (0, " + std::to_string(max) + "]");

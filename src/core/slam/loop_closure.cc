@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/ranking/ranking.h"
 #include "core/slam/scan_matcher.h"
+#include "core/slam/submap_graph.h"
 
 namespace partslam {
 namespace {
@@ -87,19 +88,6 @@ void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
 
 }  // namespace
 
-std::vector<Pose2> optimize_submap_graph(const Submaps& maps, const std::vector<LoopClosure>& closures,
-                                         const SubmapGraphWeights& w, const PoseGraphConfig& graph,
-                                         PoseGraphSummary* summary) {
-  std::vector<Pose2> initial;
-  for (const Submap& m : maps) initial.push_back(m.T_world_map);
-  std::vector<PoseGraphEdge> edges;
-  for (std::size_t i = 1; i < maps.size(); ++i)
-    edges.push_back({i - 1, i, initial[i - 1].inverse() * initial[i], w.chain_translation, w.chain_rotation, false});
-  for (const LoopClosure& l : closures)
-    edges.push_back({l.match, l.query, l.T_match_query, w.loop_translation, w.loop_rotation, true});
-  return optimize_pose_graph(initial, edges, graph, summary);
-}
-
 void validate(const LoopClosureConfig& c) {
   if (!(c.min_travel_gap >= 0.0) || !std::isfinite(c.min_travel_gap))
     throw InputError("loop closure config: min_travel_gap must be a finite number >= 0 [m]");
@@ -159,65 +147,6 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
   if (split.size() > 1) out = gather_hypotheses(out, split);
   if (config.graph_check) check_in_graph(maps, out);
   return out;
-}
-
-LoopEvaluation evaluate_loop_closures(const std::vector<LoopClosure>& closures, const Submaps& maps,
-                                      const std::vector<std::optional<Pose2>>& truth, const LoopTruthConfig& c) {
-  if (truth.size() != maps.size()) throw InputError("loop evaluation: one true frame per map is needed");
-  auto same_place = [&](std::size_t q, std::size_t g) {
-    return truth[q] && truth[g] && maps[q].travel - maps[g].travel >= c.min_travel_gap &&
-           (truth[q]->translation() - truth[g]->translation()).norm() <= c.radius;
-  };
-  LoopEvaluation e;
-  for (std::size_t q = 0; q < maps.size(); ++q) {
-    std::size_t pairs = 0;
-    for (std::size_t g = 0; g < q; ++g) pairs += same_place(q, g);
-    e.relevant_pairs += pairs;
-    e.relevant_queries += pairs > 0;
-  }
-  // A hypothesis is correct when its pose is (whatever the distance of the two frames); recall counts the
-  // correct ones between frames of the same place.
-  struct Judged {
-    double confidence;
-    bool correct, relevant;
-    std::size_t query;
-  };
-  std::vector<Judged> judged;
-  e.verdicts.assign(closures.size(), -1);
-  for (std::size_t i = 0; i < closures.size(); ++i) {
-    const LoopClosure& h = closures[i];
-    if (!truth.at(h.query) || !truth.at(h.match)) continue;
-    const Pose2 T = truth[h.match]->inverse() * *truth[h.query];
-    const bool correct = (T.translation() - h.T_match_query.translation()).norm() <= c.max_translation_error &&
-                         std::abs(wrap_angle(T.theta - h.T_match_query.theta)) <= c.max_rotation_error;
-    e.verdicts[i] = correct ? 1 : 0;
-    judged.push_back({h.confidence, correct, correct && same_place(h.query, h.match), h.query});
-  }
-  e.hypotheses = judged.size();
-  std::stable_sort(judged.begin(), judged.end(), [](const Judged& a, const Judged& b) { return a.confidence > b.confidence; });
-  std::size_t tp = 0, found = 0;
-  std::vector<bool> closed(maps.size(), false);
-  std::size_t closed_queries = 0;
-  bool perfect = true;
-  for (std::size_t k = 0; k < judged.size(); ++k) {
-    tp += judged[k].correct;
-    found += judged[k].relevant;
-    if (judged[k].relevant && !closed[judged[k].query]) closed[judged[k].query] = true, ++closed_queries;
-    perfect = perfect && judged[k].correct;
-    if (k + 1 < judged.size() && judged[k + 1].confidence == judged[k].confidence) continue;  // one point per threshold
-    const double precision = static_cast<double>(tp) / static_cast<double>(k + 1);
-    const double recall = e.relevant_pairs ? static_cast<double>(found) / static_cast<double>(e.relevant_pairs) : 0.0;
-    e.curve.push_back({judged[k].confidence, precision, recall});
-    if (precision + recall > 0) e.max_f1 = std::max(e.max_f1, 2 * precision * recall / (precision + recall));
-    if (perfect) {
-      e.recall_at_full_precision = recall;
-      e.confidence_at_full_precision = judged[k].confidence;
-      e.query_recall_at_full_precision =
-          e.relevant_queries ? static_cast<double>(closed_queries) / static_cast<double>(e.relevant_queries) : 0.0;
-    }
-  }
-  e.correct = tp;
-  return e;
 }
 
 }  // namespace partslam

@@ -7,20 +7,17 @@
 // same over one 2 m submap rarely does over 10 m; the pose is refined by it) and a confidence: the context
 // score minus the best one among the query's hypotheses at another place (stored frames more than other_place
 // apart), so a place that looks like several others gets a low confidence even when its score is high.
-// evaluate_loop_closures measures them against true map frames: precision-recall over the confidence, where a
-// hypothesis is correct when its pose is (0.5 m, 0.2 rad) and recall is the share of the relevant pairs (true
-// frames within R, beyond the travel gap) found by a correct hypothesis. Every verified shortlist candidate is
-// a hypothesis, so recall is bounded by how many of a query's relevant pairs its shortlist of R holds.
+// Their precision and recall against true map frames: core/evaluation/loop_evaluation.h; the pose graph they
+// join: submap_graph.h.
 #pragma once
 
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/work_split.h"
 #include "core/maps/submap.h"
 #include "core/parallel.h"
-#include "core/slam/pose_graph.h"
+#include "core/types.h"
 
 namespace partslam {
 
@@ -60,58 +57,10 @@ struct LoopClosure {
   double confidence = 0.0;  ///< context score (dMM score without context) minus the best one at another place
 };
 
-/// Information of a submap pose graph's edges: consecutive submaps joined by their stored relative pose (the
-/// front end's; sigma 5 cm, 0.02 rad) and loop closures (sigma 0.2 m, 0.1 rad, under a Cauchy loss).
-struct SubmapGraphWeights {
-  double chain_translation = 400;  ///< [1/m^2]
-  double chain_rotation = 2500;    ///< [1/rad^2]
-  double loop_translation = 25;    ///< [1/m^2]
-  double loop_rotation = 100;      ///< [1/rad^2]
-};
-
-/// The submap frames (T_world_map) optimised over that graph, the first held fixed.
-std::vector<Pose2> optimize_submap_graph(const Submaps& maps, const std::vector<LoopClosure>& closures,
-                                         const SubmapGraphWeights& weights = {}, const PoseGraphConfig& graph = {},
-                                         PoseGraphSummary* summary = nullptr);
-
 /// Hypotheses of every query, in query order, each query's by decreasing score. Over a split of several
 /// processes (MPI ranks), each takes every size-th query (later queries have more candidates) and the hypotheses
 /// are gathered before the graph check, so every process returns the one-process result.
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config = {},
                                             const Progress& progress = {}, const WorkSplit& split = local_work());
-
-struct LoopTruthConfig {
-  double radius = 2.0;               ///< R: true frames at most this far apart are the same place [m]
-  double min_travel_gap = 20.0;      ///< G: as LoopClosureConfig::min_travel_gap [m]
-  double max_translation_error = 0.5;  ///< a correct hypothesis's pose error [m]
-  double max_rotation_error = 0.2;     ///< [rad]
-};
-
-struct PrecisionRecall {
-  double confidence = 0.0;  ///< threshold: hypotheses with at least this confidence are accepted
-  double precision = 0.0;
-  double recall = 0.0;
-};
-
-struct LoopEvaluation {
-  std::size_t relevant_pairs = 0;  ///< (later, earlier) pairs of the same place with true frames
-  std::size_t hypotheses = 0;      ///< hypotheses between maps with true frames
-  std::size_t correct = 0;         ///< of them: the pose within the errors of the true relative pose
-  std::vector<PrecisionRecall> curve;  ///< one point per distinct confidence, decreasing
-  double max_f1 = 0.0;
-  double recall_at_full_precision = 0.0;  ///< largest recall with every accepted hypothesis correct
-  std::size_t relevant_queries = 0;       ///< maps with at least one relevant earlier map
-  /// Share of relevant_queries with a correct hypothesis to a relevant map, at the same threshold (the places
-  /// where the loop is closed, rather than every pair of the place's submaps).
-  double query_recall_at_full_precision = 0.0;
-  double confidence_at_full_precision = 0.0;  ///< the threshold that gives it
-  /// Per input closure: its pose is correct (1), wrong (0), or it involves a map without a true frame (-1).
-  std::vector<int> verdicts;
-};
-
-/// `true_frames[i]`: the true T_world_map of maps[i], or nullopt when unknown (left out of everything).
-LoopEvaluation evaluate_loop_closures(const std::vector<LoopClosure>& closures, const Submaps& maps,
-                                      const std::vector<std::optional<Pose2>>& true_frames,
-                                      const LoopTruthConfig& config = {});
 
 }  // namespace partslam

@@ -50,11 +50,18 @@ void check(const std::vector<Pose2>& initial, const std::vector<PoseGraphEdge>& 
 
 }  // namespace
 
+void validate(const PoseGraphConfig& c) {
+  if (!(c.robust_scale > 0) || !std::isfinite(c.robust_scale))
+    throw InputError("pose graph config: robust_scale must be finite and > 0, got " + std::to_string(c.robust_scale));
+  if (c.max_iterations < 1 || c.max_iterations > 100000)
+    throw InputError("pose graph config: max_iterations must be in [1, 100000], got " +
+                     std::to_string(c.max_iterations));
+}
+
 std::vector<Pose2> optimize_pose_graph(const std::vector<Pose2>& initial, const std::vector<PoseGraphEdge>& edges,
                                        const PoseGraphConfig& config, PoseGraphSummary* summary) {
   check(initial, edges);
-  if (!(config.robust_scale > 0) || config.max_iterations < 1)
-    throw InputError("pose graph config: robust_scale must be positive and max_iterations >= 1");
+  validate(config);
   std::vector<std::array<double, 3>> x(initial.size());
   for (std::size_t i = 0; i < initial.size(); ++i) x[i] = {initial[i].x, initial[i].y, initial[i].theta};
   ceres::Problem problem;

@@ -24,6 +24,9 @@ struct PoseGraphConfig {
   int max_iterations = 100;
 };
 
+/// Throws InputError naming the offending field.
+void validate(const PoseGraphConfig& config);
+
 struct PoseGraphSummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;

@@ -1,6 +1,9 @@
 #include "core/slam/pose_graph.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/error.h"
 
@@ -70,6 +73,17 @@ TEST(PoseGraph, RefusesBadGraphs) {
   EXPECT_THROW(optimize_pose_graph(nodes, {{0, 1, {}, 0, 1, false}}), InputError);
   EXPECT_THROW(optimize_pose_graph({{std::nan(""), 0, 0}}, {}), InputError);
   EXPECT_EQ(optimize_pose_graph({}, {}).size(), 0u);
+}
+
+TEST(PoseGraph, ValidateNamesTheField) {
+  EXPECT_NO_THROW(validate(PoseGraphConfig{}));
+  PoseGraphConfig c;
+  c.robust_scale = std::nan("");
+  EXPECT_THAT([&] { validate(c); }, ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("robust_scale")));
+  c = {};
+  c.max_iterations = 0;
+  EXPECT_THAT([&] { validate(c); }, ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("max_iterations")));
+  EXPECT_THROW(optimize_pose_graph({Pose2{}}, {}, c), InputError);
 }
 
 }  // namespace

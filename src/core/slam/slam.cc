@@ -1,6 +1,8 @@
 #include "core/slam/slam.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "core/error.h"
 #include "core/timing.h"
@@ -39,7 +41,17 @@ Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps
   return out;
 }
 
+void validate(const SlamConfig& c) {
+  validate_nested("slam config", "front_end", [&] { validate(c.front_end); });
+  validate_nested("slam config", "submaps", [&] { validate(c.submaps); });
+  validate_nested("slam config", "loops", [&] { validate(c.loops); });
+  if (!std::isfinite(c.min_confidence))
+    throw InputError("slam config: min_confidence must be finite, got " + std::to_string(c.min_confidence));
+  validate_nested("slam config", "back_end", [&] { validate(c.back_end); });
+}
+
 SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
+  validate(config);
   SlamResult r;
   auto t0 = Clock::now();
   FrontEndResult fe = scan_match_log(raw, config.front_end, progress);

@@ -23,6 +23,9 @@ struct SlamConfig {
   BackEndConfig back_end;       ///< the graph's weights, which closures it keeps, the verdict (back_end.h)
 };
 
+/// Every part's validate, the failing field named by its path ("slam config: back_end.max_rounds must be ...").
+void validate(const SlamConfig& config);
+
 struct SlamResult {
   Scans scans;                        ///< the log's scans with corrected poses (scans the front end dropped excluded)
   std::vector<Pose2> front_end_poses; ///< the same scans' poses from the front end, before loop closing

@@ -1,6 +1,11 @@
 #include "core/slam/slam.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
 
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
@@ -59,6 +64,44 @@ TEST(Slam, CorrectionsMoveScansWithTheirSubmaps) {
   EXPECT_NEAR(out[10].T_world_laser.y, 1.0, 1e-9);
   EXPECT_NEAR(out[29].T_world_laser.y, 0.0, 1e-9);  // after the last anchor: its correction
   EXPECT_THROW(corrected_scans(scans, before, {}), InputError);
+}
+
+// Every part's settings are checked, the failing one named by its path in SlamConfig.
+TEST(Slam, ValidateNamesTheNestedField) {
+  EXPECT_NO_THROW(validate(SlamConfig{}));
+  const auto message = [](const SlamConfig& c) -> std::string {
+    try {
+      validate(c);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  SlamConfig c;
+  c.back_end.weights.loop_rotation = -1;
+  EXPECT_EQ(message(c), "slam config: back_end.weights.loop_rotation must be finite and > 0, got -1.000000");
+  c = {};
+  c.back_end.graph.robust_scale = 0;
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: back_end.graph.robust_scale must be"));
+  c = {};
+  c.back_end.max_rounds = 0;
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: back_end.max_rounds must be"));
+  c = {};
+  c.front_end.matcher.sigma = std::nan("");
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: front_end.matcher.sigma must be"));
+  c = {};
+  c.front_end.key_rotation = 0;
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: front_end.key_rotation must be"));
+  c = {};
+  c.submaps.spacing = -2;
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: submaps.spacing must be"));
+  c = {};
+  c.loops.other_place = 0;
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: loops.other_place must be"));
+  c = {};
+  c.min_confidence = std::numeric_limits<double>::infinity();
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: min_confidence must be finite"));
+  EXPECT_THROW(run_slam(simulate(SimulatorConfig{}).scans, c), InputError);
 }
 
 }  // namespace

@@ -1,0 +1,31 @@
+// The submap pose graph: consecutive submaps joined by their stored relative pose (the front end's, locally
+// consistent) and loop closures (loop_closure.h) between earlier and later submaps, optimised over the submap
+// frames with the first held fixed. The back end (back_end.h) and the loop closures' consistency check solve it.
+#pragma once
+
+#include <vector>
+
+#include "core/maps/submap.h"
+#include "core/slam/loop_closure.h"
+#include "core/slam/pose_graph.h"
+
+namespace partslam {
+
+/// Information of a submap pose graph's edges: consecutive submaps joined by their stored relative pose (the
+/// front end's; sigma 5 cm, 0.02 rad) and loop closures (sigma 0.2 m, 0.1 rad, under a Cauchy loss).
+struct SubmapGraphWeights {
+  double chain_translation = 400;  ///< [1/m^2]
+  double chain_rotation = 2500;    ///< [1/rad^2]
+  double loop_translation = 25;    ///< [1/m^2]
+  double loop_rotation = 100;      ///< [1/rad^2]
+};
+
+/// Throws InputError naming the offending field (every weight must be finite and > 0).
+void validate(const SubmapGraphWeights& weights);
+
+/// The submap frames (T_world_map) optimised over that graph, the first held fixed.
+std::vector<Pose2> optimize_submap_graph(const Submaps& maps, const std::vector<LoopClosure>& closures,
+                                         const SubmapGraphWeights& weights = {}, const PoseGraphConfig& graph = {},
+                                         PoseGraphSummary* summary = nullptr);
+
+}  // namespace partslam
