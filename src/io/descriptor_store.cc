@@ -14,13 +14,12 @@ Dictionary resolve_dictionary(const MapDatabase& db, const std::string& name) {
   if (!name.empty()) return db.load_dictionary(name);
   const std::vector<DictionaryInfo> all = db.dictionaries();
   if (all.empty()) {
-    throw InputError(db.path().string() + ": no dictionary stored: run 'partslam dictionary LOG --db " +
-                     db.path().string() + " --name NAME' first");
+    throw InputError(db.path().string() + ": no dictionary stored (MapDatabase::add_dictionary stores one)");
   }
   if (all.size() > 1) {
     std::string names;
     for (const DictionaryInfo& d : all) names += (names.empty() ? "" : ", ") + d.name;
-    throw InputError(db.path().string() + ": several dictionaries (" + names + "): choose one with --dict");
+    throw InputError(db.path().string() + ": several dictionaries (" + names + "): name the one to use");
   }
   return db.load_dictionary(all.front().name);
 }

@@ -137,5 +137,38 @@ TEST_F(DescriptorStoreTest, StreamedMatcherNamesTheFileAndMapOfABadRow) {
   }
 }
 
+// Without a name, the only dictionary; none or several is an error in the library's words (no CLI flag).
+TEST_F(DescriptorStoreTest, ResolvesTheOnlyDictionaryAndNamesWhatIsMissingOrAmbiguous) {
+  {
+    MapDatabase::open(path_, MapDatabase::Mode::kCreate);
+    try {
+      resolve_dictionary(MapDatabase::open(path_, MapDatabase::Mode::kReadOnly), "");
+      FAIL() << "a dictionary was resolved in an empty database";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                path_.string() + ": no dictionary stored (MapDatabase::add_dictionary stores one)");
+    }
+  }
+  fill(2);
+  EXPECT_EQ(resolve_dictionary(MapDatabase::open(path_, MapDatabase::Mode::kReadOnly), "").name, "dict");
+  {
+    MapDatabase db = MapDatabase::open(path_, MapDatabase::Mode::kReadWrite);
+    Dictionary other;
+    other.name = "other";
+    other.source = "test";
+    other.resolution = 0.1;
+    other.points = {{0.0, 0.0}, {1.0, 1.0}};
+    db.add_dictionary(other);
+  }
+  const MapDatabase db = MapDatabase::open(path_, MapDatabase::Mode::kReadOnly);
+  EXPECT_EQ(resolve_dictionary(db, "other").name, "other");
+  try {
+    resolve_dictionary(db, "");
+    FAIL() << "one of two dictionaries was resolved without a name";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path_.string() + ": several dictionaries (dict, other): name the one to use");
+  }
+}
+
 }  // namespace
 }  // namespace partslam::io
