@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The include layers of src/ (ctest Layers.IncludesPointDown): apps -> plot -> io -> core, and inside core
-#   evaluation -> slam -> matching, parts, sim -> maps -> core/*.h (types, errors, parallel loops, work split),
+#   evaluation -> slam -> ranking -> parts -> matching, sim -> maps -> core/*.h (types, errors, parallel loops,
+#   work split),
 # each layer including only layers below it. Prints every include that points up (or sideways between two
 # folders of one layer) and fails if there is one; test files (*_test.cc, core/testing/) are left out.
 # Usage: check-layers.sh SRC_DIR [--graph] (--graph: print the include edges between folders of src/core, with
@@ -32,11 +33,10 @@ if [[ ${2:-} == --graph ]]; then
   exit 0
 fi
 
-# Rank of each layer: an include must go to a strictly lower rank. matching and parts still include each other
-# (ranking of parts, CPD with dMM): they share a rank and may include each other until they are untangled.
-declare -A rank=([core]=0 [core/maps]=1 [core/sim]=2 [core/matching]=2 [core/parts]=2 [core/slam]=3
-                 [core/evaluation]=4 [io]=10 [plot]=11 [apps]=12)
-same_layer_allowed="core/matching core/parts"
+# Rank of each layer: an include must go to a strictly lower rank (sim and matching share one and may not
+# include each other).
+declare -A rank=([core]=0 [core/maps]=1 [core/sim]=2 [core/matching]=2 [core/parts]=3 [core/ranking]=4
+                 [core/slam]=5 [core/evaluation]=6 [io]=10 [plot]=11 [apps]=12)
 
 failed=0
 while read -r from_layer to_layer from to; do
@@ -47,10 +47,6 @@ while read -r from_layer to_layer from to; do
     continue
   fi
   ((rank[$to_layer] < rank[$from_layer])) && continue
-  if ((rank[$to_layer] == rank[$from_layer])) && [[ " $same_layer_allowed " == *" $from_layer "* &&
-                                                   " $same_layer_allowed " == *" $to_layer "* ]]; then
-    continue
-  fi
   echo "$from includes $to: $from_layer may not include $to_layer"
   failed=1
 done < <(edges)

@@ -48,8 +48,7 @@ LoopEvaluation evaluate_loop_closures(const std::vector<LoopClosure>& closures, 
     const LoopClosure& h = closures[i];
     if (!truth.at(h.query) || !truth.at(h.match)) continue;
     const Pose2 T = truth[h.match]->inverse() * *truth[h.query];
-    const bool correct = (T.translation() - h.T_match_query.translation()).norm() <= c.max_translation_error &&
-                         std::abs(wrap_angle(T.theta - h.T_match_query.theta)) <= c.max_rotation_error;
+    const bool correct = PoseTolerance{c.max_translation_error, c.max_rotation_error}.accepts(T, h.T_match_query);
     e.verdicts[i] = correct ? 1 : 0;
     judged.push_back({h.confidence, correct, correct && same_place(h.query, h.match), h.query});
   }

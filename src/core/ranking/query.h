@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "core/evaluation/work_split.h"
+#include "core/work_split.h"
 #include "core/matching/distinctiveness.h"
 #include "core/ranking/ranking.h"
 

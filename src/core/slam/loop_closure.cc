@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/matching/distinctiveness.h"
 #include "core/ranking/ranking.h"
 #include "core/slam/scan_matcher.h"
 #include "core/slam/submap_graph.h"
@@ -12,6 +13,7 @@ namespace partslam {
 namespace {
 
 constexpr double kContextResolution = 0.1;  // context maps are downsampled to one point per cell [m]
+constexpr PoseTolerance kConsistent{0.5, 0.1};  // a hypothesis the optimised graph agrees with
 
 // Map i with the submaps within `context` of travel around it, in its frame, one point per cell.
 Points2 context_points(const Submaps& maps, std::size_t i, double context) {
@@ -56,14 +58,13 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
       h.context_score = m.score;
     }
   }
-  for (LoopClosure& h : out) {
-    const auto value = [&c](const LoopClosure& x) { return c.context > 0 ? x.context_score : x.score; };
-    double elsewhere = 0.0;
-    for (const LoopClosure& o : out) {
-      const double d = (maps[o.match].T_world_map.translation() - maps[h.match].T_world_map.translation()).norm();
-      if (d > c.other_place) elsewhere = std::max(elsewhere, value(o));
-    }
-    h.confidence = value(h) - elsewhere;
+  std::vector<double> values;
+  for (const LoopClosure& h : out) values.push_back(c.context > 0 ? h.context_score : h.score);
+  const OtherPlace other{c.other_place};
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].confidence = distinctiveness(values, i, [&](std::size_t j) {
+      return other.apart(maps[out[j].match].T_world_map.translation(), maps[out[i].match].T_world_map.translation());
+    });
   }
   return out;
 }
@@ -80,8 +81,7 @@ void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
   const std::vector<Pose2> solved = optimize_submap_graph(maps, positive);
   for (LoopClosure& l : closures) {
     const Pose2 T = solved[l.match].inverse() * solved[l.query];
-    const bool consistent = (T.translation() - l.T_match_query.translation()).norm() <= 0.5 &&
-                            std::abs(wrap_angle(T.theta - l.T_match_query.theta)) <= 0.1;
+    const bool consistent = kConsistent.accepts(T, l.T_match_query);
     if (!consistent) l.confidence -= 1.0;
   }
 }
