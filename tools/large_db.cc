@@ -148,7 +148,7 @@ int generate(const Args& args) {
   const io::MapDatabase src = io::MapDatabase::open(args.positional[0], io::MapDatabase::Mode::kReadOnly);
   const std::string dictionary = pick_dictionary(src, args.get("dict", ""));
   const std::optional<CodecConfig> codec = src.descriptor_codec(dictionary, k);
-  if (!codec) throw InputError(src.path().string() + ": no descriptors of dictionary '" + dictionary + "', K=" + std::to_string(k) + ": " + io::describe_hint(src, dictionary, k));
+  if (!codec) throw InputError(src.path().string() + ": no descriptors of dictionary '" + dictionary + "', K=" + std::to_string(k) + ": " + io::describe_hint(dictionary, k));
   std::vector<Source> pool;
   for (auto& [id, d] : io::load_descriptor_set(src, dictionary, k)) {
     const Submap m = src.load_submap(id);

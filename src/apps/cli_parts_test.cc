@@ -153,7 +153,7 @@ TEST_F(CliPartsTest, HmmNeedsDescribeFirst) {
   const CliRun before = run_partslam(match);
   EXPECT_EQ(before.exit_code, 1);
   EXPECT_THAT(before.output, HasSubstr("no descriptors stored"));
-  EXPECT_THAT(before.output, HasSubstr("run 'partslam describe"));
+  EXPECT_THAT(before.output, HasSubstr("'partslam describe"));
   EXPECT_THAT(before.output, Not(HasSubstr("query map")));  // fails before printing a ranking
 
   ASSERT_EQ(describe().exit_code, 0);

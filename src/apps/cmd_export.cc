@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "apps/commands.h"
+#include "apps/db_hints.h"
 #include "core/error.h"
 #include "io/map_database.h"
 #include "io/point_export.h"
@@ -53,7 +54,7 @@ void run_export(const ExportOptions& options, std::ostream& log) {
   std::string what;
   std::string out = options.out;
   if (by_map) {
-    const io::MapLocation where = db.locate(options.map_id);
+    const io::MapLocation where = with_hint([&] { return db.locate(options.map_id); }, info_hint(options.file));
     Submap submap = db.load_submap(options.map_id);
     points = std::move(submap.points);
     T_world_map = submap.T_world_map;

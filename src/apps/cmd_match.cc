@@ -24,6 +24,7 @@
 #include "apps/commands.h"
 #include "apps/json_text.h"
 #include "apps/cpd_options.h"
+#include "apps/db_hints.h"
 #include "apps/mpi_split.h"
 #include "apps/query_options.h"
 #include "io/descriptor_store.h"
@@ -169,7 +170,7 @@ void load_query(const io::MapDatabase& db, const MatchOptions& o, Query& q) {
   if (q.new_map) {
     q.map = local_map(db, o, q.label);
   } else {
-    q.map = db.load_submap(o.query);
+    q.map = with_hint([&] { return db.load_submap(o.query); }, info_hint(o.db));
     q.where = db.locate(o.query);
     q.label = "query map " + std::to_string(q.map.id) + " (dataset '" + q.where.dataset_name + "', submap " +
               std::to_string(q.where.index) + ", " + std::to_string(q.map.points.size()) + " points)";
@@ -299,10 +300,12 @@ void run_match(const MatchOptions& o) {
   std::string timing;
   io::RankingParts parts;
   if (method.traits.needs_parts) {
-    const std::string dictionary = io::resolve_descriptor_dictionary(db, o.dictionary);
+    const std::string dictionary =
+        with_hint([&] { return io::resolve_descriptor_dictionary(db, o.dictionary); }, describe_hint(o.db));
     std::vector<std::int64_t> ids;
     for (const Candidate& c : q.candidates) ids.push_back(c.map->id);
-    parts = io::load_ranking_parts(db, dictionary, method.traits, ids, q.map.id, o.query_parts);
+    parts = with_hint([&] { return io::load_ranking_parts(db, dictionary, method.traits, ids, q.map.id, o.query_parts); },
+                      describe_hint(o.db) + "; --query-parts names a stored list");
     char buf[200];
     std::snprintf(buf, sizeof buf, "dictionary '%s', query %zu parts (K=%d), descriptors %.1f ms; ",
                   dictionary.c_str(), parts.query.size(), parts.query_k, parts.ms);

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/db_hints.h"
 #include "apps/cpd_options.h"
 #include "io/descriptor_store.h"
 #include "core/parts/cpd.h"
@@ -38,7 +39,7 @@ void run_render(RenderOptions o) {
   if (std::filesystem::path(o.out).extension() != ".png")
     throw InputError("--out: expected a .png file, got '" + o.out + "'");
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
-  const io::MapLocation where = db.locate(o.map_id);
+  const io::MapLocation where = with_hint([&] { return db.locate(o.map_id); }, info_hint(o.db));
   const Submap submap = db.load_submap(o.map_id);
 
   plot::PartsFigure figure;

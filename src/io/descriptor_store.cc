@@ -24,9 +24,9 @@ Dictionary resolve_dictionary(const MapDatabase& db, const std::string& name) {
   return db.load_dictionary(all.front().name);
 }
 
-std::string describe_hint(const MapDatabase& db, const std::string& dictionary, int k) {
-  return "run 'partslam describe " + db.path().string() + " --dict " + dictionary +
-         (k > kMaxUnscoredParts ? " --parts " : " --k ") + std::to_string(k) + "' first";
+std::string describe_hint(const std::string& dictionary, int k) {
+  return "describe the maps against dictionary '" + dictionary + "' with " +
+         (k > kMaxUnscoredParts ? "P = " : "K = ") + std::to_string(k) + " first";
 }
 
 namespace {
@@ -148,8 +148,7 @@ std::string resolve_descriptor_dictionary(const MapDatabase& db, const std::stri
     return name;
   }
   if (names.empty()) {
-    throw InputError(db.path().string() + ": no descriptors stored: run 'partslam describe " + db.path().string() +
-                     " --dict NAME' first");
+    throw InputError(db.path().string() + ": no descriptors stored: describe the maps against a dictionary first");
   }
   if (names.size() > 1) throw InputError(db.path().string() + ": descriptors of several dictionaries: choose one");
   return *names.begin();
@@ -173,7 +172,7 @@ RankingParts load_ranking_parts(const MapDatabase& db, const std::string& dictio
   if (missing > 0) {
     throw InputError(std::to_string(missing) + " of " + std::to_string(candidates.size()) + " maps have no K=" +
                      std::to_string(k) + " descriptor for dictionary '" + dictionary +
-                     "': " + describe_hint(db, dictionary, k));
+                     "': " + describe_hint(dictionary, k));
   }
   out.query_k = traits.query_parts == QueryParts::kDescriptor ? k
                 : query_parts > 0                              ? query_parts
@@ -181,14 +180,13 @@ RankingParts load_ranking_parts(const MapDatabase& db, const std::string& dictio
   if (out.query_k == 0) {
     throw InputError("map " + std::to_string(query) + " has no hMM query list (a descriptor of more than " +
                      std::to_string(kMaxUnscoredParts) + " parts) for dictionary '" + dictionary +
-                     "': run 'partslam describe " + db.path().string() + " --dict " + dictionary +
-                     "' first (it stores the P-part list as K = P when P > " + std::to_string(kMaxUnscoredParts) +
-                     "), or name a stored list (query_parts)");
+                     "': describe the maps against it first (the P-part list is stored as K = P when P > " +
+                     std::to_string(kMaxUnscoredParts) + "), or name a stored list (query_parts)");
   }
   std::optional<MapDescriptor> descriptor = load_descriptor(db, dictionary, out.query_k, query);
   if (!descriptor) {
     throw InputError("the query map " + std::to_string(query) + " has no K=" + std::to_string(out.query_k) +
-                     " descriptor for dictionary '" + dictionary + "': " + describe_hint(db, dictionary, out.query_k));
+                     " descriptor for dictionary '" + dictionary + "': " + describe_hint(dictionary, out.query_k));
   }
   out.query = std::move(descriptor->parts);
   out.ms = ms_since(t0);

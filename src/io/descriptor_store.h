@@ -20,8 +20,8 @@ namespace partslam::io {
 /// what is missing or ambiguous.
 Dictionary resolve_dictionary(const MapDatabase& db, const std::string& name);
 
-/// "run 'partslam describe DB --dict NAME --k K'": how to produce a missing descriptor set.
-std::string describe_hint(const MapDatabase& db, const std::string& dictionary, int k);
+/// "describe the maps against dictionary 'NAME' with K = k first": how to produce a missing descriptor set.
+std::string describe_hint(const std::string& dictionary, int k);
 
 /// Every stored descriptor of (dictionary, K), decoded, by map id.
 std::map<std::int64_t, MapDescriptor> load_descriptor_set(const MapDatabase& db,

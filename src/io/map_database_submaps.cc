@@ -237,8 +237,7 @@ Submaps MapDatabase::load_submaps(std::int64_t dataset_id) const {
 Submap MapDatabase::load_submap(std::int64_t map_id) const {
   Statement q(impl_->db, std::string("SELECT ") + kSubmapColumns + " FROM submaps WHERE id = ?1");
   if (!q.bind_int(1, map_id).step()) {
-    throw InputError(path().string() + ": no map with id " + std::to_string(map_id) + " ('partslam info " +
-                     path().string() + "' lists the map ids)");
+    throw InputError(path().string() + ": no map with id " + std::to_string(map_id));
   }
   return read_submap(q, path().string());
 }
@@ -248,8 +247,7 @@ MapLocation MapDatabase::locate(std::int64_t map_id) const {
               "SELECT s.dataset_id, d.name, s.idx FROM submaps s JOIN datasets d ON d.id = s.dataset_id "
               "WHERE s.id = ?1");
   if (!q.bind_int(1, map_id).step()) {
-    throw InputError(path().string() + ": no map with id " + std::to_string(map_id) + " ('partslam info " +
-                     path().string() + "' lists the map ids)");
+    throw InputError(path().string() + ": no map with id " + std::to_string(map_id));
   }
   return {map_id, q.int64(0), q.text(1), q.int64(2)};
 }
