@@ -168,7 +168,8 @@ TEST_F(CliPartsTest, HmmNeedsDescribeFirst) {
   const CliRun k4 = run_partslam("match " + quoted(db_) + " --query 40 --method imm:4");
   EXPECT_EQ(k4.exit_code, 1);
   EXPECT_THAT(k4.output, HasSubstr("no K=4 descriptor for dictionary 'd'"));
-  EXPECT_THAT(k4.output, HasSubstr("--k 4"));
+  EXPECT_THAT(k4.output, HasSubstr("with K = 4 first"));
+  EXPECT_THAT(k4.output, HasSubstr("'partslam describe"));
 
   const CliRun rerank = run_partslam("match " + quoted(db_) + " --query 40 --method rerank:5:3 --top 6");
   ASSERT_EQ(rerank.exit_code, 0) << rerank.output;
