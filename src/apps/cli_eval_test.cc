@@ -318,8 +318,8 @@ TEST_F(CliEvalTest, MatchTakesAStretchByLogTimeOrByTravelAlike) {
   EXPECT_THAT(run.output, HasSubstr("--at-m"));
 }
 
-// --scan-match with a stretch runs the front end over the stretch and a margin before it, not the whole log (issue
-// 24: 6.9 s for a 2 m query of a bag), and still finds the stored map of that place.
+// --scan-match with a stretch runs the front end over the stretch and a margin before it, not the whole log, and
+// still finds the stored map of that place.
 TEST_F(CliEvalTest, MatchScanMatchesOnlyTheQueryStretch) {
   const fs::path db = dir_ / "sm.db", json = dir_ / "sm.json";
   ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);

@@ -352,7 +352,7 @@ DmmConfig dmm_config_for_dictionary() {
 namespace {
 
 // Refuses points spread over more than kMaxMapExtent: a map's grid pyramid grows with its area, and a query's
-// rotation step shrinks with its extent (a query 131 km wide took 2.6 GB and 18 min before this check).
+// rotation step shrinks with its extent (docs/NOTES.md has what a huge query cost without this check).
 void check_extent(const Points2& points, const char* what) {
   if (const Box2 box = bounding_box(points); box.width() > kMaxMapExtent || box.height() > kMaxMapExtent) {
     char text[160];

@@ -42,7 +42,7 @@ struct GridConfig {
   int hub_sample = 256;      ///< probe maps (other stored maps' queries) mu_m is averaged over (at most)
   int hub_bits = 7;          ///< bits of the stored mu_m (levels over [0, 1])
   /// A ranker over at least this many stored maps builds the exact index of grid_index.h and answers top-k
-  /// requests through it (measured 1.1x the scan's speed at 100 k maps, 1.5-2.4x at 1 M to 10 M: bench_dm).
+  /// requests through it (the threshold and the index's speed: docs/NOTES.md, bench_dm).
   std::size_t index_min_maps = 1'000'000;
 };
 

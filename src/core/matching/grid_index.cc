@@ -222,8 +222,8 @@ std::vector<GridMatch> GridIndex::top_k(const GridQuery& query, std::size_t k, G
   };
   auto node_bound = [&](const Node& node) {
     ++st.nodes_visited;
-    // Group bounds only: refining a node to its poses costs as much as scoring one map and was measured to
-    // prune little more (docs/NOTES.md).
+    // Group bounds only: refining a node to its poses costs as much as scoring one map and prunes little more
+    // (docs/NOTES.md).
     return best_bound(node.all_union, node.all_common, node.min_count, node.max_count, hub_weight_ * node.min_mu,
                       false);
   };

@@ -1,6 +1,6 @@
-// An exact index for the succinct matcher's top k (grid_descriptor.h; docs/NOTES.md, "A top-k index for the
-// succinct matcher": measured 1.1x the scan's speed at 100 k maps, 2.4x at 10 M; the tree itself prunes little,
-// the gain is the per-map pose-group bounds). The score of stored map m for a query is
+// An exact index for the succinct matcher's top k (grid_descriptor.h; its measured speed is in docs/NOTES.md,
+// "A top-k index for the succinct matcher": the tree itself prunes little, the gain is the per-map pose-group
+// bounds). The score of stored map m for a query is
 //   s(m) = max over the query's poses v of J(q_v, g_m)  -  hub_weight * mu_m        (J: Jaccard similarity)
 // and a scan computes it for every stored map (S = 17 translations a side and 4 turns: 1156 poses per map).
 //

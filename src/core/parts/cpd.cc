@@ -206,7 +206,7 @@ CpdResult discover_parts(const Points2& map_points, const PreparedDictionary& di
   result.stats.passed_mc = static_cast<int>(candidates.size());
   // Shuffle (seeded) so the matched ones are a fair sample of all candidates, and AS ties (common: a small
   // crop often fits the dictionary perfectly) go to a random candidate. For corners this beats keeping the
-  // strongest corners first (hMM cpd:3 on #1: 25.7 % against 30.5 %; docs/NOTES.md).
+  // strongest corners first (docs/NOTES.md has the comparison).
   for (std::size_t i = candidates.size(); i > 1; --i) std::swap(candidates[i - 1], candidates[rng() % i]);
 
   // AS (Eq. 2): exact search of every crop against the whole dictionary.

@@ -10,7 +10,7 @@
 // origin_gate, see dictionary_origin in part.h). Maps of the same place have nearby frames (their centroids),
 // so true part matches pass; chance overlaps of descriptor boxes mostly imply a far-off frame and are dropped.
 // This file holds the reference (double precision, one pair at a time); descriptor_database.h scores a whole
-// database with the same definitions on integer boxes, much faster.
+// database with the same definitions on integer boxes, in blocks of maps.
 #pragma once
 
 #include <string_view>

@@ -1,4 +1,4 @@
-// Loop closures (issue "raw logs", item 3): for every submap, the earlier submaps (beyond a travel gap) of the
+// Loop closures: for every submap, the earlier submaps (beyond a travel gap) of the
 // same place, found by a ranking method that verifies its shortlist by dMM (core/ranking/ranking.h:
 // rerank:R[:SPEC], the succinct shortlist reordered by dMM, or dmm itself). Every verified candidate is a
 // hypothesis (unless the drift gate rules it out) with the dMM relative pose, its score (inlier fraction), a
