@@ -1,8 +1,7 @@
 // partslam loops DB: loop closures among the submaps of one dataset (core/slam/loop_closure.h): for every
 // submap, the earlier submaps beyond the travel gap that its shortlist (rerank:20 = the succinct matcher's top
 // 20 verified by dMM) finds, with the dMM relative pose, score and confidence. Accepted closures (confidence
-// >= --min-confidence) go to --g2o as EDGE_SE2 lines, after a VERTEX_SE2 per submap frame and an EDGE_SE2
-// between consecutive submaps (the front end's). With ground truth — the stored frames of a dataset built from
+// >= --min-confidence) go to --g2o (io/loop_files.h). With ground truth — the stored frames of a dataset built from
 // a corrected log, or --truth TWIN|F.relations for a scan-matched one (the dataset's log is read again and
 // scan-matched with the stored settings, io/ground_truth.h) — it prints precision-recall, writes the curve to
 // --plot and the figures to --json.
@@ -26,6 +25,7 @@
 #include "core/timing.h"
 #include "io/atomic_file.h"
 #include "io/ground_truth.h"
+#include "io/loop_files.h"
 #include "io/map_database.h"
 #include "io/scan_source.h"
 #include "apps/scan_input.h"
@@ -95,48 +95,6 @@ std::vector<std::optional<Pose2>> true_frames(const io::DatasetInfo& d, const Su
   return frames;
 }
 
-void write_g2o(std::ostream& out, const Submaps& maps, const std::vector<LoopClosure>& accepted) {
-  // Information: consecutive submaps (the front end's relative pose) are trusted more than loop closures.
-  auto edge = [&out](std::int64_t from, std::int64_t to, const Pose2& T, const char* info) {
-    out << "EDGE_SE2 " << from << " " << to << " " << T.x << " " << T.y << " " << T.theta << " " << info << "\n";
-  };
-  out << std::setprecision(9);
-  for (const Submap& m : maps)
-    out << "VERTEX_SE2 " << m.id << " " << m.T_world_map.x << " " << m.T_world_map.y << " " << m.T_world_map.theta << "\n";
-  for (std::size_t i = 1; i < maps.size(); ++i)
-    edge(maps[i - 1].id, maps[i].id, maps[i - 1].T_world_map.inverse() * maps[i].T_world_map, "400 0 0 400 0 2500");
-  for (const LoopClosure& c : accepted) edge(maps[c.match].id, maps[c.query].id, c.T_match_query, "25 0 0 25 0 100");
-}
-
-nlohmann::json closures_json(const Submaps& maps, const std::vector<LoopClosure>& closures, double min_confidence) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const LoopClosure& c : closures) {
-    out.push_back({{"query", maps[c.query].id},
-                   {"match", maps[c.match].id},
-                   {"pose", {{"x", c.T_match_query.x}, {"y", c.T_match_query.y}, {"theta", c.T_match_query.theta}}},
-                   {"score", c.score},
-                   {"context_score", c.context_score},
-                   {"confidence", c.confidence},
-                   {"accepted", c.confidence >= min_confidence}});
-  }
-  return out;
-}
-
-nlohmann::json evaluation_json(const LoopEvaluation& e) {
-  nlohmann::json curve = nlohmann::json::array();
-  for (const PrecisionRecall& p : e.curve)
-    curve.push_back({{"confidence", p.confidence}, {"precision", p.precision}, {"recall", p.recall}});
-  return {{"relevant_pairs", e.relevant_pairs},
-          {"hypotheses", e.hypotheses},
-          {"correct", e.correct},
-          {"max_f1", e.max_f1},
-          {"recall_at_full_precision", e.recall_at_full_precision},
-          {"relevant_queries", e.relevant_queries},
-          {"query_recall_at_full_precision", e.query_recall_at_full_precision},
-          {"confidence_at_full_precision", e.confidence_at_full_precision},
-          {"curve", curve}};
-}
-
 void run_loops(const LoopsOptions& o) {
   validate(o.config);
   for (const std::string& path : {o.json, o.g2o, o.plot})
@@ -171,7 +129,7 @@ void run_loops(const LoopsOptions& o) {
                       {"min_travel_gap", o.config.min_travel_gap},
                       {"min_confidence", o.min_confidence},
                       {"seconds", seconds},
-                      {"closures", closures_json(maps, closures, o.min_confidence)}};
+                      {"closures", io::closures_json(maps, closures, o.min_confidence)}};
   if (!truth.empty()) {
     const LoopEvaluation e = evaluate_loop_closures(closures, maps, truth, o.truth_config);
     std::cout << std::setprecision(3) << "relevant pairs (R " << o.truth_config.radius << " m): " << e.relevant_pairs
@@ -180,7 +138,7 @@ void run_loops(const LoopsOptions& o) {
               << e.confidence_at_full_precision << "); places: " << e.relevant_queries
               << " submaps with a relevant earlier one, " << e.query_recall_at_full_precision
               << " of them closed at 100 % precision\n";
-    j["evaluation"] = evaluation_json(e);
+    j["evaluation"] = io::loop_evaluation_json(e);
     for (std::size_t i = 0; i < closures.size(); ++i) {
       if (e.verdicts[i] < 0) continue;
       const Pose2 T = truth[closures[i].match]->inverse() * *truth[closures[i].query];
@@ -194,7 +152,7 @@ void run_loops(const LoopsOptions& o) {
     }
   }
   if (!o.json.empty()) io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(j); });
-  if (!o.g2o.empty()) io::write_atomically(o.g2o, [&](std::ostream& out) { write_g2o(out, maps, accepted); });
+  if (!o.g2o.empty()) io::write_atomically(o.g2o, [&](std::ostream& out) { io::write_g2o(out, maps, accepted); });
 }
 
 }  // namespace
