@@ -47,7 +47,7 @@ void define_logs(py::module_& m) {
       .value("CARMEN", io::FlaserSpacing::kCarmen)
       .value("PI_OVER_N", io::FlaserSpacing::kPiOverN)
       .value("PI_OVER_N_MINUS_1", io::FlaserSpacing::kPiOverNMinus1);
-  py::class_<io::LogReadOptions> options(m, "LogReadOptions", "How logs are read (io/carmen_log.h)");
+  py::class_<io::LogReadOptions> options(m, "LogReadOptions", "How logs are read (io/log_read_options.h)");
   options.def_readwrite("min_range", &io::LogReadOptions::min_range, "[m]")
       .def_readwrite("max_usable_range", &io::LogReadOptions::max_usable_range, "[m]")
       .def_readwrite("no_return_range", &io::LogReadOptions::no_return_range, "[m]")

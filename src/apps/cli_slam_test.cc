@@ -97,5 +97,45 @@ TEST(CliSlam, RefusesAbsurdThreadCounts) {
   EXPECT_THAT(run.output, HasSubstr("--threads"));
 }
 
+// --print-config writes every setting; --config reads that file back, flags given override it, and a file with an
+// unknown key or a bad value is refused naming the file and the key (slam, loops and locate alike).
+TEST(CliSlam, SettingsFilesReadBackAndFlagsOverrideThem) {
+  const io::testing::TempDir dir;
+  const CliRun printed = run_partslam("slam --print-config");
+  ASSERT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_THAT(printed.output, HasSubstr("\nback_end:\n  weights:\n"));
+  std::string text = printed.output;
+  const std::size_t at = text.find("\nmin_confidence: 0.2\n");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, 21, "\nmin_confidence: 0.35\n");
+  std::ofstream(dir / "slam.yaml") << text;
+  const CliRun from_file = run_partslam("slam sim:2 --quiet --out " + quoted(dir / "a") + " --config " +
+                                        quoted(dir / "slam.yaml"));
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
+  EXPECT_THAT(from_file.output, HasSubstr("offered (confidence >= 0.35)"));
+  const CliRun flag = run_partslam("slam sim:2 --quiet --out " + quoted(dir / "b") + " --config " +
+                                   quoted(dir / "slam.yaml") + " --min-confidence 0.25");
+  ASSERT_EQ(flag.exit_code, 0) << flag.output;
+  EXPECT_THAT(flag.output, HasSubstr("offered (confidence >= 0.25)"));
+
+  std::ofstream(dir / "bad.yaml") << "loops:\n  context: 4\n  contxt: 2\n";
+  for (const std::string& command : {"slam sim:2 --out " + quoted(dir / "c"), "loops " + quoted(dir / "none.db"),
+                                    "locate --map " + quoted(dir / "none.yaml") + " --query-log sim --at-m 3"}) {
+    const CliRun bad = run_partslam(command + " --config " + quoted(dir / "bad.yaml"));
+    EXPECT_EQ(bad.exit_code, 1) << command;
+    EXPECT_THAT(bad.output, HasSubstr("bad.yaml: line ")) << command;
+    EXPECT_THAT(bad.output, HasSubstr("unknown key '")) << command;
+  }
+  std::ofstream(dir / "range.yaml") << "back_end:\n  graph:\n    robust_scale: -1\n";
+  const CliRun range = run_partslam("slam sim:2 --out " + quoted(dir / "d") + " --config " + quoted(dir / "range.yaml"));
+  EXPECT_EQ(range.exit_code, 1);
+  EXPECT_THAT(range.output, HasSubstr("range.yaml: slam config: back_end.graph.robust_scale must be finite and > 0"));
+  for (const char* command : {"loops --print-config", "locate --print-config"}) {
+    const CliRun defaults = run_partslam(command);
+    EXPECT_EQ(defaults.exit_code, 0) << command;
+    EXPECT_THAT(defaults.output, HasSubstr(" --config: every setting")) << command;
+  }
+}
+
 }  // namespace
 }  // namespace partslam

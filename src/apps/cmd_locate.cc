@@ -5,6 +5,8 @@
 // first scan of the stretch) or the point file's frame, the inlier share, the confidence (score minus the best
 // other candidate's; >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate") and the time; --json writes the
 // same; --plot draws it. --every M locates a local map every M of travel along the whole log, with a progress bar.
+// --config FILE.yaml sets the local map's and the localizer's settings (io/config_file.h, LocateConfig; flags given
+// override it), --print-config shows them all.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include <optional>
 
 #include "apps/commands.h"
+#include "apps/config_options.h"
 #include "apps/json_text.h"
 #include "apps/progress_bar.h"
 #include "apps/query_options.h"
@@ -21,6 +24,7 @@
 #include "core/matching/localizer.h"
 #include "core/timing.h"
 #include "io/atomic_file.h"
+#include "io/config_file.h"
 #include "io/map_server.h"
 #include "plot/answer_image.h"
 
@@ -31,6 +35,7 @@ constexpr double kConfident = kConfidentLocalization;
 
 struct LocateOptions {
   std::string map;
+  std::string config_file;  ///< --config
   QueryOptions query;
   std::optional<double> every;  ///< --every M: given (even as 0 or less) or not
   SubmapConfig submap;
@@ -122,7 +127,8 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
   std::printf("wrote %s\n", o.plot.c_str());
 }
 
-void run_locate(const LocateOptions& o) {
+// The combination of options, checked before any work.
+void check_options(const LocateOptions& o) {
   if (!o.query.given()) throw InputError("locate: give --query-log LOG or --query-points FILE");
   if (o.every && (!(*o.every > 0) || !std::isfinite(*o.every)))
     throw InputError("--every must be a positive number of metres, got " + std::to_string(*o.every));
@@ -133,47 +139,42 @@ void run_locate(const LocateOptions& o) {
   validate(o.localizer);
   if (!o.json.empty()) io::check_writable(o.json);
   if (!o.plot.empty()) io::check_writable(o.plot);
+}
 
-  auto t0 = Clock::now();
-  const GridMap map = io::read_map_yaml(o.map);
-  const Localizer localizer(map, o.localizer);
-  std::printf("map %s: %d x %d cells at %.3f m; prepared in %.0f ms (read %.0f ms)\n", o.map.c_str(), map.width,
-              map.height, map.resolution, localizer.prepare_ms(), ms_since(t0) - localizer.prepare_ms());
-  const QueryLog log = o.query.log.empty() ? QueryLog{} : load_query_log(o.query, {}, o.submap.window_length);
-  const Scans& scans = log.scans;
+// --every M: a local map every M of travel along the whole log, located one after the other.
+std::vector<Located> locate_every(const LocateOptions& o, const Localizer& localizer, const Scans& scans) {
+  const double every = *o.every;
+  const std::vector<double> s = travel_distances(scans);
+  if (!s.empty() && s.back() / every > 100000) {
+    char why[200];
+    std::snprintf(why, sizeof why, "--every %g m: %.3g local maps along %.1f m of travel (at most 100000; take a "
+                  "larger --every)", every, s.back() / every, s.back());
+    throw InputError(why);
+  }
+  ProgressBar bar(!o.quiet);
+  const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / every)) + 1;
+  std::size_t skipped = 0, done = 0;
   std::vector<Located> located;
-  if (o.every) {
-    const double every = *o.every;
-    const std::vector<double> s = travel_distances(scans);
-    if (!s.empty() && s.back() / every > 100000) {
-      char why[200];
-      std::snprintf(why, sizeof why, "--every %g m: %.3g local maps along %.1f m of travel (at most 100000; take a "
-                    "larger --every)", every, s.back() / every, s.back());
-      throw InputError(why);
+  for (double from = 0; !s.empty() && from + o.submap.window_length <= s.back(); from += every) {
+    bar("locate", done++, total);
+    Submap query;
+    try {
+      query = build_local_map(scans, from, from + o.submap.window_length, o.submap);
+    } catch (const InputError&) {
+      ++skipped;  // too few points in this stretch
+      continue;
     }
-    ProgressBar bar(!o.quiet);
-    const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / every)) + 1;
-    std::size_t skipped = 0, done = 0;
-    for (double from = 0; !s.empty() && from + o.submap.window_length <= s.back(); from += every) {
-      bar("locate", done++, total);
-      Submap query;
-      try {
-        query = build_local_map(scans, from, from + o.submap.window_length, o.submap);
-      } catch (const InputError&) {
-        ++skipped;  // too few points in this stretch
-        continue;
-      }
-      char label[160];
-      std::snprintf(label, sizeof label, "%.1f .. %.1f m of travel, log time %.3f .. %.3f s", from,
-                    from + o.submap.window_length, query.scan_timestamps.front(), query.scan_timestamps.back());
-      located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
-    }
-    if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
-  } else {
-    std::string label;
-    const Submap query = build_query(o.query, log, o.submap, label);
+    char label[160];
+    std::snprintf(label, sizeof label, "%.1f .. %.1f m of travel, log time %.3f .. %.3f s", from,
+                  from + o.submap.window_length, query.scan_timestamps.front(), query.scan_timestamps.back());
     located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
   }
+  if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
+  return located;
+}
+
+// Every localisation, and for several the confident count and the time per local map.
+void print_all(const std::vector<Located>& located) {
   std::vector<double> times;
   std::size_t confident = 0;
   for (const Located& l : located) {
@@ -186,6 +187,25 @@ void run_locate(const LocateOptions& o) {
     std::printf("%zu local maps, %zu confident (>= %.1f); time per local map: median %.1f ms, max %.1f ms\n",
                 located.size(), confident, kConfident, times[times.size() / 2], times.back());
   }
+}
+
+void run_locate(const LocateOptions& o) {
+  check_options(o);
+  auto t0 = Clock::now();
+  const GridMap map = io::read_map_yaml(o.map);
+  const Localizer localizer(map, o.localizer);
+  std::printf("map %s: %d x %d cells at %.3f m; prepared in %.0f ms (read %.0f ms)\n", o.map.c_str(), map.width,
+              map.height, map.resolution, localizer.prepare_ms(), ms_since(t0) - localizer.prepare_ms());
+  const QueryLog log = o.query.log.empty() ? QueryLog{} : load_query_log(o.query, {}, o.submap.window_length);
+  std::vector<Located> located;
+  if (o.every) {
+    located = locate_every(o, localizer, log.scans);
+  } else {
+    std::string label;
+    const Submap query = build_query(o.query, log, o.submap, label);
+    located.push_back(locate_one(localizer, query, log.scans, label, !o.plot.empty()));
+  }
+  print_all(located);
   if (!o.plot.empty() && !located.empty()) write_plot(o, map, located);
   if (!o.json.empty()) {
     nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident},
@@ -214,7 +234,19 @@ void register_locate(CLI::App& app) {
                   "draw the answer as a PNG: the local map's points on the building map where they were found "
                   "(--every: the located trajectory), green when confident, orange when not");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
-  cmd->callback([o] { run_locate(*o); });
+  add_config_options(*cmd, o->config_file, [] { return io::config_yaml(io::LocateConfig{}); });
+  cmd->callback([o, cmd] {
+    if (!o->config_file.empty()) {  // the file's settings, then the flags given
+      io::LocateConfig f;
+      io::read_config_file(o->config_file, f);
+      if (given(*cmd, "--window")) f.submaps.window_length = o->submap.window_length;
+      if (given(*cmd, "--max-range")) f.submaps.max_range = o->submap.max_range;
+      if (given(*cmd, "--candidates")) f.localizer.candidates = o->localizer.candidates;
+      o->submap = f.submaps;
+      o->localizer = f.localizer;
+    }
+    run_locate(*o);
+  });
 }
 
 }  // namespace partslam::apps

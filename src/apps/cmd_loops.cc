@@ -4,7 +4,9 @@
 // >= --min-confidence) go to --g2o (io/loop_files.h). With ground truth — the stored frames of a dataset built from
 // a corrected log, or --truth TWIN|F.relations for a scan-matched one (the dataset's log is read again and
 // scan-matched with the stored settings, io/ground_truth.h) — it prints precision-recall, writes the curve to
-// --plot and the figures to --json.
+// --plot and the figures to --json (precision-recall: core/evaluation/loop_evaluation.h). --config FILE.yaml sets
+// the loop closures', acceptance's and truth's settings (io/config_file.h, LoopsConfig; flags given override it),
+// --print-config shows them all.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iomanip>
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/config_options.h"
 #include "apps/json_text.h"
 #include "apps/mpi_split.h"
 #include "apps/progress_bar.h"
@@ -24,6 +27,7 @@
 #include "core/slam/loop_closure.h"
 #include "core/timing.h"
 #include "io/atomic_file.h"
+#include "io/config_file.h"
 #include "io/ground_truth.h"
 #include "io/loop_files.h"
 #include "io/map_database.h"
@@ -36,6 +40,7 @@ namespace {
 
 struct LoopsOptions {
   std::string db;
+  std::string config_file;  ///< --config
   io::LogReadOptions read;  ///< reading the dataset's log (--truth)
   std::string dataset;
   LoopClosureConfig config;
@@ -93,6 +98,24 @@ std::vector<std::optional<Pose2>> true_frames(const io::DatasetInfo& d, const Su
   note = "ground truth: " + truth.description + " (" + std::to_string(known) + " of " + std::to_string(maps.size()) +
          " submaps have a reference scan)";
   return frames;
+}
+
+// --config: the file's settings, then the flags given on the command line.
+void apply_config_file(const CLI::App& cmd, LoopsOptions& o) {
+  io::LoopsConfig f;
+  io::read_config_file(o.config_file, f);
+  if (given(cmd, "--method")) f.loops.method = o.config.method;
+  if (given(cmd, "--gap")) f.loops.min_travel_gap = o.config.min_travel_gap;
+  if (given(cmd, "--min-score")) f.loops.min_score = o.config.min_score;
+  if (given(cmd, "--context")) f.loops.context = o.config.context;
+  if (given(cmd, "--drift")) f.loops.drift_rate = o.config.drift_rate;
+  if (given(cmd, "--threads")) f.loops.num_threads = o.config.num_threads;
+  if (given(cmd, "--no-graph-check")) f.loops.graph_check = false;
+  if (given(cmd, "--min-confidence")) f.min_confidence = o.min_confidence;
+  if (given(cmd, "--radius")) f.truth.radius = o.truth_config.radius;
+  o.config = f.loops;
+  o.min_confidence = f.min_confidence;
+  o.truth_config = f.truth;
 }
 
 void run_loops(const LoopsOptions& o) {
@@ -188,10 +211,14 @@ void register_loops(CLI::App& app) {
   cmd->add_flag("--no-graph-check", [o](std::int64_t) { o->config.graph_check = false; },
                 "keep hypotheses that disagree with a robust pose graph of all of them at full confidence");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
-  cmd->callback([o] {
+  add_config_options(*cmd, o->config_file, [] { return io::config_yaml(io::LoopsConfig{}); });
+  cmd->callback([o, cmd] {
+    if (!o->config_file.empty()) apply_config_file(*cmd, *o);
     o->truth_config.min_travel_gap = o->config.min_travel_gap;
-    if (o->config.drift_rate == 0) o->config.drift_offset = 0;  // --drift 0: off
-    o->config.drift_turn_rate = 0.2 * o->config.drift_rate;
+    if (given(*cmd, "--drift")) {
+      if (o->config.drift_rate == 0) o->config.drift_offset = 0;  // --drift 0: off
+      o->config.drift_turn_rate = 0.2 * o->config.drift_rate;
+    }
     run_loops(*o);
   });
 }

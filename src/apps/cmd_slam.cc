@@ -4,7 +4,8 @@
 // map for map_server and `locate`), DIR/map.png (the same occupancy grid; --compare: the odometry's beside it),
 // DIR/loops.json, DIR/slam.json (closures used and set aside, the verdict: core/slam/back_end.h) and, with
 // --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric, rotation in degrees). Every
-// file is written atomically; DIR is created when missing.
+// file is written atomically; DIR is created when missing. --config FILE.yaml sets any field of SlamConfig
+// (io/config_file.h; flags given override it), --print-config shows them all.
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iomanip>
@@ -14,6 +15,7 @@
 #include <sstream>
 
 #include "apps/commands.h"
+#include "apps/config_options.h"
 #include "apps/log_inputs.h"
 #include "apps/json_text.h"
 #include "apps/progress_bar.h"
@@ -22,6 +24,7 @@
 #include "core/slam/slam.h"
 #include "io/atomic_file.h"
 #include "io/carmen_log.h"
+#include "io/config_file.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
 #include "apps/scan_input.h"
@@ -34,6 +37,7 @@ namespace {
 
 struct SlamOptions {
   std::string log;
+  std::string config_file;  ///< --config
   io::LogReadOptions read;
   std::string out;
   std::string relations;
@@ -101,7 +105,8 @@ void write_maps(const std::filesystem::path& dir, const Scans& corrected, const 
   plot::write_grid_maps_png(dir / "map.png", grids);
 }
 
-void run_slam_command(const SlamOptions& o) {
+// DIR, created when missing, and every file to be written there checked before the work.
+std::filesystem::path output_folder(const SlamOptions& o) {
   namespace fs = std::filesystem;
   const fs::path dir(o.out);
   std::error_code ec;
@@ -110,14 +115,11 @@ void run_slam_command(const SlamOptions& o) {
   for (const char* name :
        {"corrected.log", "map.png", "map.yaml", "map.pgm", "loops.json", "slam.json", "relations_error.json"})
     io::check_writable(dir / name);
-  const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
-  const io::ScanSource source = load_scans(o.log, o.read);
+  return dir;
+}
 
-  SlamResult r;
-  {
-    ProgressBar bar(!o.quiet);
-    r = run_slam(source.scans, o.config, [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
-  }
+// What the run did, on stdout; what may be wrong with it, as warnings on stderr.
+void print_summary(const SlamOptions& o, const io::ScanSource& source, const SlamResult& r) {
   const FrontEndStats& fe = r.front_end;
   const BackEndResult& b = r.back_end;
   std::cout << std::fixed << std::setprecision(1) << source.name << ": " << fe.scans << " scans, front end "
@@ -144,37 +146,57 @@ void run_slam_command(const SlamOptions& o) {
   }
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
+}
 
-  io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
-  write_maps(dir, r.scans, source.scans,
-             source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")",
-             o.compare);
+// DIR/loops.json: the closures offered to the back end, each with whether it was used.
+nlohmann::json loops_json(const SlamOptions& o, const SlamResult& r) {
   nlohmann::json loops = nlohmann::json::array();
   for (std::size_t k = 0; k < r.offered.size(); ++k) {
     const LoopClosure& l = r.offered[k];
     loops.push_back({{"query", l.query}, {"match", l.match}, {"score", l.score}, {"confidence", l.confidence},
-                     {"used", static_cast<bool>(b.used[k])},
+                     {"used", static_cast<bool>(r.back_end.used[k])},
                      {"pose", {{"x", l.T_match_query.x}, {"y", l.T_match_query.y}, {"theta", l.T_match_query.theta}}}});
   }
-  io::write_atomically(dir / "loops.json", [&](std::ostream& out) {
-    out << json_text({{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}});
-  });
+  return {{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}};
+}
+
+// --relations: the errors of the corrected and the odometry's trajectories, into DIR/relations_error.json and
+// the summary.
+void write_relations(const SlamOptions& o, const std::filesystem::path& dir, const Relations& relations,
+                     const io::ScanSource& source, const SlamResult& r, nlohmann::json& summary) {
+  const RelationsError before = relations_error(source.scans, relations);
+  const RelationsError after = relations_error(r.scans, relations);
+  summary["relations"] = {
+      {"file", o.relations}, {"slam", io::relations_error_json(after)}, {"odometry", io::relations_error_json(before)}};
+  io::write_atomically(dir / "relations_error.json",
+                       [&](std::ostream& out) { out << json_text(io::relations_error_json(after)); });
+  std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size()
+            << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
+  if (after.relations == 0)
+    std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
+              << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
+}
+
+void run_slam_command(const SlamOptions& o) {
+  const std::filesystem::path dir = output_folder(o);
+  const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
+  const io::ScanSource source = load_scans(o.log, o.read);
+  SlamResult r;
+  {
+    ProgressBar bar(!o.quiet);
+    r = run_slam(source.scans, o.config, [&bar](const std::string& s, std::size_t d, std::size_t n) { bar(s, d, n); });
+  }
+  print_summary(o, source, r);
+  const BackEndResult& b = r.back_end;
+  io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
+  write_maps(dir, r.scans, source.scans,
+             source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")",
+             o.compare);
+  io::write_atomically(dir / "loops.json", [&](std::ostream& out) { out << json_text(loops_json(o, r)); });
   nlohmann::json summary = slam_json(o, r);
   summary["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
   std::cout << "wrote " << (dir / "corrected.log").string() << ", map.yaml, map.pgm, map.png, loops.json, slam.json";
-  if (!o.relations.empty()) {
-    const RelationsError before = relations_error(source.scans, relations);
-    const RelationsError after = relations_error(r.scans, relations);
-    summary["relations"] = {
-        {"file", o.relations}, {"slam", io::relations_error_json(after)}, {"odometry", io::relations_error_json(before)}};
-    io::write_atomically(dir / "relations_error.json",
-                         [&](std::ostream& out) { out << json_text(io::relations_error_json(after)); });
-    std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size()
-              << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
-    if (after.relations == 0)
-      std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
-                << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
-  }
+  if (!o.relations.empty()) write_relations(o, dir, relations, source, r, summary);
   std::cout << "\n";
   io::write_atomically(dir / "slam.json", [&](std::ostream& out) { out << json_text(summary); });
 }
@@ -196,8 +218,15 @@ void register_slam(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--compare", o->compare, "map.png also shows the odometry's map beside the corrected one");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
-  cmd->callback([o] {
-    o->config.loops.num_threads = o->config.front_end.matcher.num_threads = o->threads;
+  add_config_options(*cmd, o->config_file, [] { return io::config_yaml(SlamConfig{}); });
+  cmd->callback([o, cmd] {
+    if (!o->config_file.empty()) {  // the file's settings, then the flags given
+      SlamConfig file;
+      io::read_config_file(o->config_file, file);
+      if (given(*cmd, "--min-confidence")) file.min_confidence = o->config.min_confidence;
+      o->config = file;
+    }
+    if (given(*cmd, "--threads")) o->config.loops.num_threads = o->config.front_end.matcher.num_threads = o->threads;
     run_slam_command(*o);
   });
 }

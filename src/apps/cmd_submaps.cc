@@ -72,6 +72,20 @@ void scan_match(io::ScanSource& source, const SubmapsOptions& o, nlohmann::json&
   source.scans = std::move(fe.scans);
 }
 
+// --relations: the relevant pairs of the stored submaps checked against the relations (printed; for the report).
+nlohmann::json check_relations(const SubmapsOptions& o, const Submaps& submaps, const Scans& scans, const Scans& raw,
+                               const Relations& relations) {
+  const auto pairs = relevant_pairs(submaps, o.tasks);
+  const RelationCheck check = check_relevant_pairs(submaps, pairs, scans, o.raw.empty() ? scans : raw, relations);
+  std::cout << "relations: " << check.relevant_pairs << " relevant pairs (R " << o.tasks.radius << " m, G "
+            << o.tasks.min_travel_gap << " m); " << check.with_relation << " linked by a relation, "
+            << check.confirmed << " confirmed (" << check.associated_scans << " of " << scans.size()
+            << " scans found in the raw log)\n";
+  return {{"relevant_pairs", check.relevant_pairs}, {"with_relation", check.with_relation},
+          {"confirmed", check.confirmed}, {"associated_scans", check.associated_scans},
+          {"radius", o.tasks.radius}, {"gap", o.tasks.min_travel_gap}};
+}
+
 void run_submaps(SubmapsOptions o) {
   o.config.align = !o.no_align;
   validate(o.config);
@@ -110,18 +124,7 @@ void run_submaps(SubmapsOptions o) {
             << static_cast<double>(source.scans.size()) / (read_s + build_s) << " scans/s\n"
             << "stored in " << o.db << "\n";
 
-  if (!o.relations.empty()) {
-    const auto pairs = relevant_pairs(submaps, o.tasks);
-    const RelationCheck check =
-        check_relevant_pairs(submaps, pairs, source.scans, o.raw.empty() ? source.scans : raw, relations);
-    std::cout << "relations: " << check.relevant_pairs << " relevant pairs (R " << o.tasks.radius << " m, G "
-              << o.tasks.min_travel_gap << " m); " << check.with_relation << " linked by a relation, "
-              << check.confirmed << " confirmed (" << check.associated_scans << " of " << source.scans.size()
-              << " scans found in the raw log)\n";
-    report["relations"] = {{"relevant_pairs", check.relevant_pairs}, {"with_relation", check.with_relation},
-                           {"confirmed", check.confirmed}, {"associated_scans", check.associated_scans},
-                           {"radius", o.tasks.radius}, {"gap", o.tasks.min_travel_gap}};
-  }
+  if (!o.relations.empty()) report["relations"] = check_relations(o, submaps, source.scans, raw, relations);
   if (!o.json.empty()) {
     report["dataset"] = spec.name;
     report["source"] = o.log;

@@ -102,6 +102,80 @@ void check_query_options(const QueryOptions& q, bool every_given) {
                      (q.offers_every ? ", or --every M (a local map every M of travel along the whole log)" : ""));
 }
 
+namespace {
+
+// A stretch of the log: scans[first, end) and its travel window along the log's own poses, as asked (a time range:
+// its scans' travel).
+struct Stretch {
+  std::size_t first = 0, end = 0;
+  double from_m = 0, to_m = 0;
+};
+
+// The stretch the options give, on the log's own poses (travel s) and clock (stamps t). Throws InputError naming
+// the options and the log's span when it holds no scan.
+Stretch find_stretch(const QueryOptions& q, const Scans& scans, const std::vector<double>& s,
+                     const std::vector<double>& t, double window) {
+  Stretch r;
+  if (q.from_m || q.at_m) {
+    const double from = q.from_m ? *q.from_m : *q.at_m, to = q.from_m ? *q.to_m : *q.at_m + window;
+    r.from_m = from, r.to_m = to;
+    r.first = first_at_or_after(s, from);
+    r.end = first_at_or_after(s, to, r.first);
+    if (r.first == r.end)
+      throw InputError(q.log + ": no scan between " + number(from) + " and " + number(to) + " m of travel (" +
+                       (q.from_m ? "--from-m/--to-m" : "--at-m") + "; " + travel_span(s) + ")");
+  } else if (q.from_time) {
+    if (!t.empty() && *q.from_time < t.front() - 1.0)
+      throw InputError(q.log + ": --from-time " + number(*q.from_time) + " s lies before the log's first scan (the "
+                       "log's clock; " + time_span(scans) + ")");
+    r.first = first_at_or_after(t, *q.from_time);
+    r.end = r.first;
+    while (r.end < scans.size() && t[r.end] < *q.to_time) ++r.end;
+    if (r.first != r.end) r.from_m = s[r.first], r.to_m = s[r.end - 1];
+    if (r.first == r.end)
+      throw InputError(q.log + ": no scan stamped in [" + number(*q.from_time) + ", " + number(*q.to_time) +
+                       ") s (--from-time/--to-time, the log's clock; " + time_span(scans) + ")");
+  } else {
+    r.first = first_at_or_after(t, *q.at_time);
+    if (!t.empty() && *q.at_time < t.front() - 1.0)  // not "seconds since the first scan": the log's own clock
+      throw InputError(q.log + ": --at " + number(*q.at_time) + " s lies before the log's first scan (--at, the log's "
+                       "clock; " + time_span(scans) + ")");
+    if (r.first == scans.size())
+      throw InputError(q.log + ": no scan stamped at or after " + number(*q.at_time) + " s (--at, the log's clock; " +
+                       time_span(scans) + ")");
+    r.end = first_at_or_after(s, s[r.first] + window, r.first);
+    r.from_m = s[r.first], r.to_m = s[r.first] + window;
+  }
+  return r;
+}
+
+// --scan-match with a stretch: the front end over the margin before the stretch and the stretch only, not the
+// whole log; out.scans, first, end and the front end's figures are set.
+void scan_match_stretch(const QueryOptions& q, const Scans& scans, const std::vector<double>& s, const Stretch& r,
+                        const FrontEndConfig& front_end, QueryLog& out) {
+  const std::size_t start = first_at_or_after(s, s[r.first] - kScanMatchMargin);
+  const Scans part(scans.begin() + static_cast<std::ptrdiff_t>(start),
+                   scans.begin() + static_cast<std::ptrdiff_t>(r.end));
+  const auto t0 = Clock::now();
+  FrontEndResult matched = scan_match_log(part, front_end);
+  out.match_ms = ms_since(t0);
+  out.matched_scans = part.size();
+  out.scans = std::move(matched.scans);
+  if (out.scans.size() == part.size()) {
+    out.first = r.first - start, out.end = r.end - start;
+    return;
+  }
+  // The front end dropped scans whose time went backwards: find the stretch by its scans' stamps.
+  std::size_t i = 0;
+  while (i < out.scans.size() && out.scans[i].timestamp < out.from_time) ++i;
+  std::size_t j = i;
+  while (j < out.scans.size() && out.scans[j].timestamp <= out.to_time) ++j;
+  if (i == j) throw InputError(q.log + ": --scan-match dropped every scan of the stretch (time going backwards)");
+  out.first = i, out.end = j;
+}
+
+}  // namespace
+
 QueryLog load_query_log(const QueryOptions& q, const FrontEndConfig& front_end, double window) {
   QueryLog out;
   io::ScanSource source = load_scans(q.log, q.read);
@@ -122,63 +196,15 @@ QueryLog load_query_log(const QueryOptions& q, const FrontEndConfig& front_end, 
   const std::vector<double> s = travel_distances(scans);
   std::vector<double> t(scans.size());
   for (std::size_t i = 0; i < scans.size(); ++i) t[i] = scans[i].timestamp;
-  std::size_t first = 0, end = 0;
-  double from_m = 0, to_m = 0;  // the travel window, as asked (time range: its scans' travel)
-  if (q.from_m || q.at_m) {
-    const double from = q.from_m ? *q.from_m : *q.at_m, to = q.from_m ? *q.to_m : *q.at_m + window;
-    from_m = from, to_m = to;
-    first = first_at_or_after(s, from);
-    end = first_at_or_after(s, to, first);
-    if (first == end)
-      throw InputError(q.log + ": no scan between " + number(from) + " and " + number(to) + " m of travel (" +
-                       (q.from_m ? "--from-m/--to-m" : "--at-m") + "; " + travel_span(s) + ")");
-  } else if (q.from_time) {
-    if (!t.empty() && *q.from_time < t.front() - 1.0)
-      throw InputError(q.log + ": --from-time " + number(*q.from_time) + " s lies before the log's first scan (the "
-                       "log's clock; " + time_span(scans) + ")");
-    first = first_at_or_after(t, *q.from_time);
-    end = first;
-    while (end < scans.size() && t[end] < *q.to_time) ++end;
-    if (first != end) from_m = s[first], to_m = s[end - 1];
-    if (first == end)
-      throw InputError(q.log + ": no scan stamped in [" + number(*q.from_time) + ", " + number(*q.to_time) +
-                       ") s (--from-time/--to-time, the log's clock; " + time_span(scans) + ")");
-  } else {
-    first = first_at_or_after(t, *q.at_time);
-    if (!t.empty() && *q.at_time < t.front() - 1.0)  // not "seconds since the first scan": the log's own clock
-      throw InputError(q.log + ": --at " + number(*q.at_time) + " s lies before the log's first scan (--at, the log's "
-                       "clock; " + time_span(scans) + ")");
-    if (first == scans.size())
-      throw InputError(q.log + ": no scan stamped at or after " + number(*q.at_time) + " s (--at, the log's clock; " +
-                       time_span(scans) + ")");
-    end = first_at_or_after(s, s[first] + window, first);
-    from_m = s[first], to_m = s[first] + window;
-  }
+  const Stretch r = find_stretch(q, scans, s, t, window);
   out.stretch = true;
-  out.from_m = from_m, out.to_m = to_m;
-  out.from_time = t[first], out.to_time = t[end - 1];
-  if (!q.scan_match) {
+  out.from_m = r.from_m, out.to_m = r.to_m;
+  out.from_time = t[r.first], out.to_time = t[r.end - 1];
+  if (q.scan_match) {
+    scan_match_stretch(q, scans, s, r, front_end, out);
+  } else {
     out.scans = std::move(scans);
-    out.first = first, out.end = end;
-    return out;
-  }
-  // --scan-match: the front end over the margin before the stretch and the stretch only, not the whole log.
-  const std::size_t start = first_at_or_after(s, s[first] - kScanMatchMargin);
-  const Scans part(scans.begin() + static_cast<std::ptrdiff_t>(start), scans.begin() + static_cast<std::ptrdiff_t>(end));
-  const auto t0 = Clock::now();
-  FrontEndResult matched = scan_match_log(part, front_end);
-  out.match_ms = ms_since(t0);
-  out.matched_scans = part.size();
-  out.scans = std::move(matched.scans);
-  if (out.scans.size() == part.size()) {
-    out.first = first - start, out.end = end - start;
-  } else {  // the front end dropped scans whose time went backwards: find the stretch by its scans' stamps
-    std::size_t i = 0;
-    while (i < out.scans.size() && out.scans[i].timestamp < out.from_time) ++i;
-    std::size_t j = i;
-    while (j < out.scans.size() && out.scans[j].timestamp <= out.to_time) ++j;
-    if (i == j) throw InputError(q.log + ": --scan-match dropped every scan of the stretch (time going backwards)");
-    out.first = i, out.end = j;
+    out.first = r.first, out.end = r.end;
   }
   return out;
 }

@@ -11,8 +11,8 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Runs validate_part, the check of a config nested in another; its InputError "<part> config: FIELD ..." is thrown
-/// again as "<owner>: PATH.FIELD ...", so a nested setting is named by its path from the outer config, e.g.
+/// Runs validate_part, the check of a config nested in another; its InputError "<part's label>: FIELD ..." is
+/// thrown again as "<owner>: PATH.FIELD ...", so a nested setting is named by its path from the outer config, e.g.
 /// "slam config: back_end.weights.loop_rotation must be finite and > 0, got -1".
 template <class Check>
 void validate_nested(const std::string& owner, const std::string& path, const Check& validate_part) {
@@ -20,8 +20,10 @@ void validate_nested(const std::string& owner, const std::string& path, const Ch
     validate_part();
   } catch (const InputError& e) {
     std::string what = e.what();
-    const std::size_t config = what.find("config: ");
-    if (config != std::string::npos && what.find(':') == config + 6) what.erase(0, config + 8);
+    const std::size_t label = what.find(": ");  // the part's own label ("back end config"), replaced by the path
+    if (label != std::string::npos &&
+        what.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ ") == label)
+      what.erase(0, label + 2);
     throw InputError(owner + ": " + path + "." + what);
   }
 }
