@@ -193,17 +193,15 @@ void load_query(const io::MapDatabase& db, const MatchOptions& o, Query& q) {
   if (q.candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
 }
 
-// The candidates as the query entry point sees them (points, parts where the method reads them, place).
+// The candidates as the query entry point sees them (points, parts where the method reads them, place: the
+// position of their dataset in q.loaded).
 std::vector<QueryCandidate> query_candidates(const Query& q, const io::RankingParts& parts) {
   std::vector<QueryCandidate> out;
-  std::vector<std::string> datasets;
   for (std::size_t i = 0; i < q.candidates.size(); ++i) {
     const Candidate& c = q.candidates[i];
-    const auto at = std::find(datasets.begin(), datasets.end(), c.dataset);
-    if (at == datasets.end()) datasets.push_back(c.dataset);
+    const auto dataset = std::find_if(q.loaded.begin(), q.loaded.end(), [&](const auto& d) { return d.first == c.dataset; });
     out.push_back({{&c.map->points, parts.stored.empty() ? nullptr : &parts.stored[i]},
-                   static_cast<int>(std::find(datasets.begin(), datasets.end(), c.dataset) - datasets.begin()),
-                   c.map->T_world_map});
+                   static_cast<int>(dataset - q.loaded.begin()), c.map->T_world_map});
   }
   return out;
 }

@@ -3,18 +3,14 @@
 #include <algorithm>
 #include <cassert>
 
+#include "core/ranking/ranking.h"
+
 namespace partslam {
 
 double tied_rank(const std::vector<double>& scores, std::size_t relevant) {
-  const double s = scores.at(relevant);
-  std::size_t better = 0, tied = 0;
-  for (std::size_t i = 0; i < scores.size(); ++i) {
-    if (i == relevant) continue;
-    if (scores[i] > s) ++better;
-    else if (scores[i] == s) ++tied;
-  }
-  // Ranks better+1 .. better+1+tied are shared by the tied group; the relevant map gets their mean.
-  return static_cast<double>(better) + 1.0 + static_cast<double>(tied) / 2.0;
+  Ranking ranking;
+  ranking.scores = scores;
+  return tied_rank(ranking, relevant);
 }
 
 RankSummary summarize_ranks(const std::vector<double>& ranks, const std::vector<std::size_t>& db_sizes) {

@@ -8,7 +8,8 @@
 
 namespace partslam {
 
-/// Rank (1 = best, ties share the mean rank) of scores[relevant] among scores; higher score = better.
+/// Rank (1 = best, ties share the mean rank) of scores[relevant] among scores; higher score = better (the plain
+/// scores' case of core/ranking/ranking.h's tied_rank).
 double tied_rank(const std::vector<double>& scores, std::size_t relevant);
 
 struct RankSummary {

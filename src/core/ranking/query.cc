@@ -93,7 +93,7 @@ QueryAnswer rank_query(const MethodSpec& method, const RankingConfig& config,
   const std::vector<QueryRow> scored = rows_of(ranking, first);
   // Every process's best rows, merged in the serial order.
   const std::span<const QueryRow> sent(scored.data(), std::min(o.top, scored.size()));
-  answer.rows = split.size() > 1 ? all_gather<QueryRow>(split, sent) : std::vector<QueryRow>(sent.begin(), sent.end());
+  answer.rows = all_gather<QueryRow>(split, sent);
   std::sort(answer.rows.begin(), answer.rows.end(), row_above);
   answer.rows.resize(std::min(o.top, answer.rows.size()));
   if (answer.rows.empty() || !answer.rows.front().pose) return answer;
