@@ -1,0 +1,97 @@
+// The succinct matcher's top k over a large database (grid_descriptor.h; measured in docs/NOTES.md, "The succinct
+// matcher at fleet scale"). The score of stored map m for a query is
+//   s(m) = max over the query's poses v of J(q_v, g_m)  -  hub_weight * mu_m        (J: Jaccard similarity)
+// and a scan computes it for every stored map (4 turns x 17 x 17 translations: 1156 poses a map). The cascade
+// computes it only for a short list, chosen in two cheaper stages:
+//   1. signature: a pose-invariant code of each grid (its autocorrelation at 24 small lags, 4 bits each, derived
+//      from the stored grid: no stored bits) against the query's under the two turns that change it; the
+//      signature_keep share of the maps nearest in L1 distance go on (at least signature_min);
+//   2. coarse: the score over the poses on whole cells within +-coarse_reach cells (100 of the 1156); the
+//      coarse_keep share of the best go on (at least coarse_min);
+//   3. full: the exact score over every pose, as the scan computes it, and the k best.
+// A database no larger than a stage's keep skips that stage, so up to coarse_min maps the top k equals the scan's
+// bit for bit. Above it the cascade can miss a map the scan ranks in its top k (and rank one above it that the
+// scan would not): it is an approximation, measured against the scan in bench_dm (BM_Succinct*).
+//
+// Stored per map: the grid (16 bytes, in blocks of 8 maps for 8-wide popcounts) and a 16-byte record (the
+// signature's 30 nibbles, 24 used, and mu as its hub level): 32 bytes. The popcount and distance kernels use
+// AVX-512 (VPOPCNTDQ, BW) when the CPU has it, chosen at run time; the portable path gives the same answers.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/matching/grid_descriptor.h"
+
+namespace partslam {
+
+struct GridCascadeConfig {
+  double signature_keep = 0.05;        ///< share of the stored maps the signature stage passes on
+  std::size_t signature_min = 50'000;  ///< ... and at least this many
+  double coarse_keep = 0.001;          ///< share of the stored maps the coarse stage passes on
+  std::size_t coarse_min = 2'000;      ///< ... and at least this many
+  int coarse_reach = 2;                ///< coarse poses: whole-cell translations within +-this many cells
+  bool use_simd = true;                ///< AVX-512 kernels when the CPU has them (false: the portable path)
+};
+
+/// Throws InputError naming the offending field.
+void validate(const GridCascadeConfig& config);
+
+/// The pose-invariant code of a grid of S x S cells (S <= 11): for each lag d = (dx, dy) with |dx|, |dy| <= 3 in
+/// one half-plane (24 lags), the number of occupied cells c whose c + d is occupied too, halved and capped at 15,
+/// two lags a byte (byte i: lag 2i low nibble, lag 2i + 1 high); bytes 12..15 are 0. A 180-degree turn of the
+/// grid leaves it unchanged, a quarter turn permutes it.
+using GridSignature = std::array<std::uint8_t, 16>;
+GridSignature grid_signature(const GridBits& grid, int cells);
+
+struct GridMatch {
+  std::size_t index = 0;  ///< the stored map's index
+  double score = 0;       ///< s(m), exactly what the scan computes
+  bool operator==(const GridMatch&) const = default;
+};
+
+struct GridCascadeStats {
+  std::size_t signature_kept = 0;  ///< maps the signature stage passed on (all when it was skipped)
+  std::size_t coarse_kept = 0;     ///< maps the coarse stage passed on, scored over every pose
+  double signature_ms = 0, coarse_ms = 0, full_ms = 0;
+};
+
+class GridCascade {
+ public:
+  /// grids[i] and mu[i] are stored map i's grid and hubness (mu empty: all 0); every mu must lie on the hub_bits
+  /// lattice (grid_hubness's quantisation). Throws InputError on mismatched sizes or a bad configuration.
+  GridCascade(std::span<const GridBits> grids, std::span<const double> mu, const GridConfig& grid,
+              const GridCascadeConfig& config = {});
+
+  /// The k best stored maps for a query (its make_query_grids under `grid`), best first (score descending,
+  /// then index ascending).
+  std::vector<GridMatch> top_k(const std::vector<GridBits>& query, std::size_t k,
+                               GridCascadeStats* stats = nullptr) const;
+
+  std::size_t size() const { return size_; }
+  /// Bytes held per the stored maps (grids and records).
+  std::size_t memory_bytes() const;
+  /// Whether the AVX-512 kernels run (the CPU has them and the configuration allows them).
+  bool simd() const { return simd_; }
+
+ private:
+  struct Block {  // 8 maps' grids, word 0 then word 1
+    std::array<std::uint64_t, 8> w0{}, w1{};
+  };
+  GridConfig grid_;
+  GridCascadeConfig config_;
+  std::size_t size_ = 0;
+  double levels_ = 1;  // mu = level / levels_
+  bool simd_ = false;
+  std::vector<Block> blocks_;
+  std::vector<GridSignature> records_;  // signature, byte 15: mu's level
+};
+
+/// The reference: every stored map's exact score, then the k best (score descending, then index ascending).
+std::vector<GridMatch> scan_top_k(const std::vector<GridBits>& query, std::span<const GridBits> grids,
+                                  std::span<const double> mu, double hub_weight, std::size_t k);
+
+}  // namespace partslam

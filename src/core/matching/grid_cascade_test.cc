@@ -1,0 +1,204 @@
+#include "core/matching/grid_cascade.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "core/error.h"
+#include "core/testing/simulated_maps.h"
+
+namespace partslam {
+namespace {
+
+// A place: points along a few random walls within +-5 m.
+Points2 random_place(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-5.0, 5.0), t(0.0, 1.0);
+  Points2 points;
+  for (int w = 0; w < 6; ++w) {
+    const Vec2 a{u(rng), u(rng)}, b{u(rng), u(rng)};
+    for (int i = 0; i < 40; ++i) points.push_back(a + t(rng) * (b - a));
+  }
+  return points;
+}
+
+// A visit of a place: turned by a quarter turn, moved by up to half a metre, a fifth of the points missed.
+Points2 visit(const Points2& place, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> offset(-0.5, 0.5);
+  std::uniform_int_distribution<int> turns(0, 3);
+  std::bernoulli_distribution seen(0.8);
+  const int k = turns(rng);
+  const Vec2 d{offset(rng), offset(rng)};
+  Points2 out;
+  for (Vec2 p : place) {
+    if (!seen(rng)) continue;
+    for (int turn = 0; turn < k; ++turn) p = Vec2{-p.y(), p.x()};
+    out.push_back(p + d);
+  }
+  return out;
+}
+
+// A fleet's database: visits of `places` places, with mu quantised to 7 bits like the ranker's and some grids
+// exactly duplicated so that scores tie.
+struct Synthetic {
+  std::vector<Points2> places;
+  std::vector<GridBits> grids;
+  std::vector<double> mu;
+};
+
+Synthetic synthetic(std::size_t n, int places, std::uint64_t seed, const GridConfig& config) {
+  std::mt19937_64 rng(seed);
+  Synthetic s;
+  for (int p = 0; p < places; ++p) s.places.push_back(random_place(rng));
+  std::uniform_int_distribution<int> place(0, places - 1), level(0, 127);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0 && i % 17 == 0) {
+      s.grids.push_back(s.grids[i / 2]);
+      s.mu.push_back(s.mu[i / 2]);
+      continue;
+    }
+    s.grids.push_back(make_grid(visit(s.places[static_cast<std::size_t>(place(rng))], rng), config));
+    s.mu.push_back(level(rng) / 127.0);
+  }
+  return s;
+}
+
+void expect_equal(const std::vector<GridMatch>& got, const std::vector<GridMatch>& scan, const std::string& what) {
+  ASSERT_EQ(got.size(), scan.size()) << what;
+  for (std::size_t r = 0; r < scan.size(); ++r) {
+    EXPECT_EQ(got[r].index, scan[r].index) << what << " rank " << r;
+    EXPECT_EQ(got[r].score, scan[r].score) << what << " rank " << r;  // bit for bit
+  }
+}
+
+
+// Every stage forced to prune on a small database.
+GridCascadeConfig pruning() {
+  return {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05, .coarse_min = 1};
+}
+
+TEST(GridCascade, EqualsTheScanWhenTheShortListsCoverTheDatabase) {
+  const GridConfig config = succinct_grid_config();
+  std::mt19937_64 rng(11);
+  for (const auto& [n, places] : {std::pair<std::size_t, int>{1500, 40}, {50, 5}, {13, 13}}) {
+    const Synthetic db = synthetic(n, places, 7 + n, config);
+    for (double hub_weight : {0.0, 1.0}) {
+      GridConfig c = config;
+      c.hub_weight = hub_weight;
+      for (bool simd : {false, true}) {
+        const GridCascade cascade(db.grids, db.mu, c, {.use_simd = simd});
+        EXPECT_EQ(cascade.size(), n);
+        for (int t = 0; t < 3; ++t) {
+          const std::vector<GridBits> q = make_query_grids(visit(db.places[rng() % db.places.size()], rng), config);
+          for (std::size_t k : {std::size_t{1}, std::size_t{7}, std::size_t{100}, n + 3}) {
+            GridCascadeStats stats;
+            const std::string what = "n " + std::to_string(n) + " hub " + std::to_string(hub_weight) + " simd " +
+                                     std::to_string(simd) + " k " + std::to_string(k);
+            expect_equal(cascade.top_k(q, k, &stats), scan_top_k(q, db.grids, db.mu, hub_weight, k), what);
+            EXPECT_EQ(stats.coarse_kept, n) << what;  // nothing pruned below coarse_min maps
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(GridCascade, StagesKeepTheirShareAndScoreExactly) {
+  const GridConfig config = succinct_grid_config();
+  const Synthetic db = synthetic(4000, 60, 3, config);
+  std::mt19937_64 rng(5);
+  const GridCascade portable(db.grids, db.mu, config, {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05,
+                                                       .coarse_min = 1, .use_simd = false});
+  const GridCascade simd(db.grids, db.mu, config, {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05,
+                                                   .coarse_min = 1, .use_simd = true});
+  for (int t = 0; t < 5; ++t) {
+    const Points2 place = db.places[rng() % db.places.size()];
+    const std::vector<GridBits> q = make_query_grids(visit(place, rng), config);
+    GridCascadeStats stats;
+    const std::vector<GridMatch> top = portable.top_k(q, 50, &stats);
+    EXPECT_EQ(stats.signature_kept, 1200u);
+    EXPECT_EQ(stats.coarse_kept, 200u);
+    ASSERT_EQ(top.size(), 50u);
+    // The AVX-512 kernels (where the CPU has them) give the same answer as the portable ones.
+    expect_equal(simd.top_k(q, 50), top, "simd " + std::to_string(t));
+    // Each answer carries its exact score, in the scan's order; the scan's own best is among them when it
+    // passed both stages, which a revisit of a stored place does here.
+    const std::vector<int> counts = grid_counts(q);
+    for (std::size_t r = 0; r < top.size(); ++r) {
+      EXPECT_EQ(top[r].score, grid_similarity(q, counts, db.grids[top[r].index]) - db.mu[top[r].index]);
+      if (r > 0) {
+        EXPECT_TRUE(top[r - 1].score > top[r].score ||
+                    (top[r - 1].score == top[r].score && top[r - 1].index < top[r].index));
+      }
+    }
+  }
+  // A stored grid queried with its own grid under every pose passes every stage and comes first.
+  for (std::size_t i : {std::size_t{3}, std::size_t{1234}, std::size_t{3999}}) {
+    Synthetic one = synthetic(1, 1, 99, config);
+    std::vector<GridBits> grids = db.grids;
+    std::vector<double> mu = db.mu;
+    grids[i] = make_grid(one.places[0], config);
+    mu[i] = 0;
+    const GridCascade c(grids, mu, config, pruning());
+    const std::vector<GridMatch> top = c.top_k(make_query_grids(one.places[0], config), 1);
+    ASSERT_EQ(top.size(), 1u);
+    EXPECT_EQ(top[0].index, i);
+    EXPECT_EQ(top[0].score, 1.0);
+  }
+}
+
+TEST(GridCascade, SignatureCountsPairsAtEachLagAndIgnoresAHalfTurn) {
+  GridBits line;  // cells 2..6 of row 4 (11 x 11)
+  for (int x = 2; x <= 6; ++x) line.words[static_cast<std::size_t>((x + 44) >> 6)] |= std::uint64_t{1} << ((x + 44) & 63);
+  const GridSignature s = grid_signature(line, 11);
+  // Lags in order (dy 0: dx 1..3; then dy 1..3: dx -3..3): dx = 1, 2, 3 on the row have 4, 3, 2 pairs -> 2, 1, 1.
+  EXPECT_EQ(s[0], 2 | (1 << 4));
+  EXPECT_EQ(s[1] & 15, 1);
+  for (std::size_t i = 2; i < s.size(); ++i) EXPECT_EQ(s[i], 0) << "byte " << i;
+  EXPECT_EQ(s[1] >> 4, 0);
+  // A place and its half turn (p -> -p) have one signature; a quarter turn moves the counts to other lags.
+  std::mt19937_64 rng(8);
+  const GridConfig config = succinct_grid_config();
+  const Points2 place = random_place(rng);
+  Points2 half, quarter;
+  for (const Vec2& p : place) half.push_back(-p), quarter.push_back(Vec2{-p.y(), p.x()});
+  EXPECT_EQ(grid_signature(make_grid(place, config), 11), grid_signature(make_grid(half, config), 11));
+  EXPECT_NE(grid_signature(make_grid(place, config), 11), grid_signature(make_grid(quarter, config), 11));
+}
+
+TEST(GridCascade, EmptyDatabasesAndEmptyGrids) {
+  const GridConfig config = succinct_grid_config();
+  std::mt19937_64 rng(2);
+  const std::vector<GridBits> q = make_query_grids(random_place(rng), config);
+  EXPECT_TRUE(GridCascade({}, {}, config).top_k(q, 5).empty());
+  const std::vector<GridBits> empty_grids(40);  // every stored grid empty: all score 0, ties by index
+  for (const GridCascadeConfig& c : {GridCascadeConfig{}, pruning()}) {
+    const std::vector<GridMatch> top = GridCascade(empty_grids, {}, config, c).top_k(q, 3);
+    ASSERT_EQ(top.size(), 3u);
+    EXPECT_EQ(top[0].index, 0u);
+    EXPECT_EQ(top[2].index, 2u);
+    EXPECT_EQ(top[0].score, 0.0);
+  }
+  EXPECT_TRUE(GridCascade(empty_grids, {}, config).top_k(q, 0).empty());
+}
+
+TEST(GridCascade, RefusesBadInputNamingIt) {
+  const GridConfig config = succinct_grid_config();
+  const GridCascade ok(std::vector<GridBits>(3), {}, config);
+  EXPECT_THROW(ok.top_k(std::vector<GridBits>(10), 1), InputError);  // not the config's poses
+  EXPECT_THROW(GridCascade(std::vector<GridBits>(3), std::vector<double>(2), config), InputError);
+  EXPECT_THROW(GridCascade(std::vector<GridBits>(3), {}, config, {.signature_keep = 0}), InputError);
+  EXPECT_THROW(GridCascade(std::vector<GridBits>(3), {}, config, {.coarse_min = 0}), InputError);
+  for (const double bad : {std::nan(""), 0.5, -1.0 / 127}) {  // off the 7-bit lattice, or outside [0, 1]
+    try {
+      const std::vector<double> mu{1.0 / 127, bad};
+      GridCascade(std::vector<GridBits>(2), mu, config);
+      FAIL() << "hubness " << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("hubness of map 1"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace partslam
