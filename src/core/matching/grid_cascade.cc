@@ -1,5 +1,9 @@
 #include "core/matching/grid_cascade.h"
 
+// GCC 12 reports its own AVX-512 headers' placeholder operands (_mm512_undefined_*) as uninitialised when they
+// are inlined; the kernels below read no uninitialised value (the portable path checks them in grid_cascade_test).
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 
 #include <algorithm>
@@ -13,6 +17,8 @@
 namespace partslam {
 
 namespace {
+
+__extension__ typedef unsigned __int128 u128;
 
 constexpr int kLagReach = 3;       // signature lags |dx|, |dy| <= 3
 constexpr int kSignatureBytes = 15;  // bytes 0..14 hold lags; byte 15 of a record is mu's level
@@ -69,15 +75,22 @@ int signature_distance(const GridSignature& a, const GridSignature& b) {
   return d;
 }
 
-// The distances of 8 records to the query's signatures (min over them).
-void distances8_portable(const GridSignature* r, const std::array<GridSignature, 2>& q, std::uint16_t* out) {
-  for (int j = 0; j < 8; ++j)
+// The distances of n records (a multiple of 8) to the query's signatures (min over them).
+void distances_portable(const GridSignature* r, std::size_t n, const std::array<GridSignature, 2>& q, std::uint16_t* out) {
+  for (std::size_t j = 0; j < n; ++j)
     out[j] = static_cast<std::uint16_t>(std::min(signature_distance(r[j], q[0]), signature_distance(r[j], q[1])));
 }
 
-__attribute__((target("avx512f,avx512bw"))) __m512i distances4_avx512(__m512i x, const __m512i* qlo, const __m512i* qhi) {
+// The 16 bytes at p in each 128-bit lane.
+__attribute__((target("avx512f"), always_inline)) inline __m512i broadcast16(const void* p) {
+  const __m512i x = _mm512_zextsi128_si512(_mm_loadu_si128(static_cast<const __m128i*>(p)));
+  return _mm512_shuffle_i32x4(x, x, 0);
+}
+
+__attribute__((target("avx512f,avx512bw"), always_inline)) inline __m512i distances4_avx512(__m512i x, const __m512i* qlo, const __m512i* qhi) {
   const __m512i nibble = _mm512_set1_epi8(15);
-  const __m512i lags = _mm512_broadcast_i32x4(_mm_set_epi8(0, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1));
+  static constexpr std::array<std::uint8_t, 16> kLags{255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0};
+  const __m512i lags = broadcast16(kLags.data());
   x = _mm512_and_si512(x, lags);
   const __m512i lo = _mm512_and_si512(x, nibble), hi = _mm512_and_si512(_mm512_srli_epi16(x, 4), nibble);
   __m512i best = _mm512_set1_epi64(-1);
@@ -89,19 +102,21 @@ __attribute__((target("avx512f,avx512bw"))) __m512i distances4_avx512(__m512i x,
   return best;
 }
 
-__attribute__((target("avx512f,avx512bw"))) void distances8_avx512(const GridSignature* r,
-                                                                    const std::array<GridSignature, 2>& q,
-                                                                    std::uint16_t* out) {
+__attribute__((target("avx512f,avx512bw"))) void distances_avx512(const GridSignature* r, std::size_t n,
+                                                                   const std::array<GridSignature, 2>& q,
+                                                                   std::uint16_t* out) {
   __m512i qlo[2], qhi[2];
   for (int t = 0; t < 2; ++t) {
-    const __m512i x = _mm512_broadcast_i32x4(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q[t].data())));
+    const __m512i x = broadcast16(q[t].data());
     qlo[t] = _mm512_and_si512(x, _mm512_set1_epi8(15));
     qhi[t] = _mm512_and_si512(_mm512_srli_epi16(x, 4), _mm512_set1_epi8(15));
   }
-  const __m512i a = distances4_avx512(_mm512_loadu_si512(r), qlo, qhi);
-  const __m512i b = distances4_avx512(_mm512_loadu_si512(r + 4), qlo, qhi);
-  const __m512i even = _mm512_permutex2var_epi64(a, _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0), b);
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm512_cvtepi64_epi16(even));
+  const __m512i even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
+  for (std::size_t j = 0; j < n; j += 8) {
+    const __m512i a = distances4_avx512(_mm512_loadu_si512(r + j), qlo, qhi);
+    const __m512i b = distances4_avx512(_mm512_loadu_si512(r + j + 4), qlo, qhi);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + j), _mm512_cvtepi64_epi16(_mm512_permutex2var_epi64(a, even, b)));
+  }
 }
 
 bool cpu_has_avx512() {
@@ -138,17 +153,17 @@ void validate(const GridCascadeConfig& c) {
 
 GridSignature grid_signature(const GridBits& grid, int cells) {
   if (cells < 1 || cells > 11) throw InputError("grid signature: cells must be in [1, 11]");
-  const unsigned __int128 g = (static_cast<unsigned __int128>(grid.words[1]) << 64) | grid.words[0];
+  const u128 g = (static_cast<u128>(grid.words[1]) << 64) | grid.words[0];
   GridSignature out{};
   int lag = 0;
   for (int dy = 0; dy <= kLagReach; ++dy)
     for (int dx = -kLagReach; dx <= kLagReach; ++dx) {
       if (dy == 0 && dx <= 0) continue;
       // Cells (x, y) whose (x + dx, y + dy) lies on the grid; bit x + S y moved down by dx + S dy lands on them.
-      unsigned __int128 columns = 0;
+      u128 columns = 0;
       for (int y = 0; y + dy < cells; ++y)
-        for (int x = std::max(0, -dx); x < cells && x + dx < cells; ++x) columns |= static_cast<unsigned __int128>(1) << (x + cells * y);
-      const unsigned __int128 pairs = g & (g >> (dx + cells * dy)) & columns;
+        for (int x = std::max(0, -dx); x < cells && x + dx < cells; ++x) columns |= static_cast<u128>(1) << (x + cells * y);
+      const u128 pairs = g & (g >> (dx + cells * dy)) & columns;
       const int c = std::popcount(static_cast<std::uint64_t>(pairs)) + std::popcount(static_cast<std::uint64_t>(pairs >> 64));
       const auto value = static_cast<std::uint8_t>(std::min(15, c / 2));
       out[static_cast<std::size_t>(lag / 2)] |= static_cast<std::uint8_t>(lag % 2 == 0 ? value : value << 4);
@@ -205,16 +220,27 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
     const std::array<GridSignature, 2> q{grid_signature(pose(0, reach, reach), grid_.cells),
                                          grid_signature(pose(1, reach, reach), grid_.cells)};
     std::vector<std::uint16_t> distance(records_.size());
-    for (std::size_t b = 0; b < records_.size(); b += 8)
-      (simd_ ? distances8_avx512 : distances8_portable)(&records_[b], q, &distance[b]);
+    (simd_ ? distances_avx512 : distances_portable)(records_.data(), records_.size(), q, distance.data());
+    // Four interleaved histograms: runs of equal distances do not wait on one counter.
+    std::array<std::array<std::uint32_t, 512>, 4> part{};
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+      for (std::size_t h = 0; h < 4; ++h) ++part[h][distance[i + h]];
+    for (; i < n; ++i) ++part[0][distance[i]];
     std::array<std::size_t, 512> histogram{};
-    for (std::size_t i = 0; i < n; ++i) ++histogram[distance[i]];
+    for (std::size_t d = 0; d < histogram.size(); ++d) histogram[d] = std::size_t{part[0][d]} + part[1][d] + part[2][d] + part[3][d];
     std::size_t bar = 0, below = 0;
     while (below + histogram[bar] < signature_n) below += histogram[bar++];
     std::size_t at_bar = signature_n - below;
-    list.reserve(signature_n);
-    for (std::size_t i = 0; i < n; ++i)
-      if (distance[i] < bar || (distance[i] == bar && at_bar > 0 && at_bar--)) list.push_back(static_cast<std::uint32_t>(i));
+    list.resize(signature_n + 1);  // one spare slot: each map is written, and kept by moving on
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < n; ++j) {  // branch-free: most maps are dropped, at random
+      const bool tie = distance[j] == bar && at_bar > 0;
+      list[kept] = static_cast<std::uint32_t>(j);
+      kept += distance[j] < bar || tie;
+      at_bar -= tie;
+    }
+    list.resize(kept);
   } else {
     list.resize(n);
     for (std::size_t i = 0; i < n; ++i) list[i] = static_cast<std::uint32_t>(i);

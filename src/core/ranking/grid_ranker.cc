@@ -1,6 +1,6 @@
 // The occupancy-grid descriptors (core/matching/grid_descriptor.h) as rankers: `grid[:S[:key=value...]]`, the
 // baseline, and `succinct`, the product's default succinct matcher. A large database ranked for its top k
-// answers through the exact index (core/matching/grid_index.h).
+// answers through core/matching/grid_cascade.h's kernels, configured as an exact scan.
 #include "core/ranking/grid_ranker.h"
 
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "core/error.h"
-#include "core/matching/grid_index.h"
+#include "core/matching/grid_cascade.h"
 #include "core/timing.h"
 
 namespace partslam {
@@ -24,10 +24,11 @@ class GridRanker final : public Ranker {
     std::vector<const Points2*> points;
     for (const MapView& m : maps) points.push_back(m.points);
     hub_ = grid_hubness(points, stored_, config_, num_threads, progress);
-    // The index answers top-k requests over the whole of a large database (rank with options.top_k > 0).
+    // Top-k requests over the whole of a large database (rank with options.top_k > 0) go through the cascade's
+    // kernels with short lists as long as the database: the scan's exact top k.
     index_.reset();
     if (stored_.size() >= config_.index_min_maps)
-      index_ = std::make_unique<GridIndex>(stored_, hub_, config_.hub_weight);
+      index_ = std::make_unique<GridCascade>(stored_, hub_, config_, GridCascadeConfig{.coarse_min = stored_.size()});
   }
 
   double bits_per_map() const override { return grid_bits_per_map(config_); }
@@ -42,9 +43,9 @@ class GridRanker final : public Ranker {
     r.prep_ms = ms_since(t0);
     t0 = Clock::now();
     if (options.top_k > 0 && index_ != nullptr && is_everyone(candidates)) {
-      // The k best exactly (grid_index.h); the others cannot enter the top k and rank below them.
+      // The k best exactly (grid_cascade.h); the others cannot enter the top k and rank below them.
       r.scores.assign(candidates.size(), -std::numeric_limits<double>::infinity());
-      for (const GridMatch& m : index_->top_k(GridQuery(q, config_), static_cast<std::size_t>(options.top_k)))
+      for (const GridMatch& m : index_->top_k(q, static_cast<std::size_t>(options.top_k)))
         r.scores[m.index] = m.score;
       r.match_ms = ms_since(t0);
       return r;
@@ -62,7 +63,7 @@ class GridRanker final : public Ranker {
   GridConfig config_;
   std::vector<GridBits> stored_;
   std::vector<double> hub_;  // mu_m, quantised to hub_bits
-  std::unique_ptr<GridIndex> index_;
+  std::unique_ptr<GridCascade> index_;
 
   bool is_everyone(std::span<const std::size_t> candidates) const {
     if (candidates.size() != stored_.size()) return false;

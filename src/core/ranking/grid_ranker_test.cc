@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/matching/grid_index.h"
+#include "core/matching/grid_cascade.h"
 #include "core/testing/simulated_maps.h"
 
 namespace partslam {
@@ -21,8 +21,8 @@ void expect_equal(const std::vector<GridMatch>& index, const std::vector<GridMat
 }
 
 // Real query grids (the simulator's submaps, the succinct configuration and its hubness values as the ranker
-// computes them) against the other submaps: the ranker's scores, their top k, and the index's top k agree.
-TEST(GridRanker, TopKThroughTheIndexEqualsTheScan) {
+// computes them) against the other submaps: the ranker's scores, their top k, and the cascade's top k (its short lists cover this database) agree.
+TEST(GridRanker, TopKThroughTheCascadeEqualsTheScan) {
   const Submaps& maps = testing::simulated_maps();
   const std::vector<MapView> views = testing::point_views(maps);
   const GridConfig config = succinct_grid_config();
@@ -31,7 +31,7 @@ TEST(GridRanker, TopKThroughTheIndexEqualsTheScan) {
   const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("succinct"), RankingConfig{});
   ranker->prepare(views, 1);
   GridConfig indexed = config;
-  indexed.index_min_maps = 0;  // the index even for this small database
+  indexed.index_min_maps = 0;  // the cascade even for this small database
   const std::unique_ptr<Ranker> indexed_ranker = make_grid_ranker(indexed);
   indexed_ranker->prepare(views, 1);
   std::vector<std::size_t> everyone(maps.size());
@@ -39,9 +39,9 @@ TEST(GridRanker, TopKThroughTheIndexEqualsTheScan) {
   std::vector<const Points2*> points;
   for (const Submap& m : maps) points.push_back(&m.points);
   const std::vector<double> mu = grid_hubness(points, grids, config);
-  const GridIndex index(grids, mu, 1.0);
+  const GridCascade index(grids, mu, config);
   for (std::size_t qi = 0; qi < maps.size(); qi += 9) {
-    const GridQuery q(make_query_grids(maps[qi].points, config), config);
+    const std::vector<GridBits> q = make_query_grids(maps[qi].points, config);
     const std::vector<GridMatch> top = index.top_k(q, 10);
     expect_equal(top, scan_top_k(q, grids, mu, 1.0, 10), "query " + std::to_string(qi));
     const Ranking r = ranker->rank(views[qi], everyone);
@@ -50,7 +50,7 @@ TEST(GridRanker, TopKThroughTheIndexEqualsTheScan) {
       EXPECT_EQ(top[j].index, order[j]) << "query " << qi << " rank " << j;
       EXPECT_EQ(top[j].score, r.scores[order[j]]) << "query " << qi << " rank " << j;
     }
-    // The ranker asked for its top k (as `partslam match --top` does) answers through the index: the same k
+    // The ranker asked for its top k (as `partslam match --top` does) answers through the cascade: the same k
     // first, everything else below them.
     const Ranking fast = indexed_ranker->rank(views[qi], everyone, {.num_threads = 1, .top_k = 10});
     const std::vector<std::size_t> fast_order = ranking_order(fast.scores);
