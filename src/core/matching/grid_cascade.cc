@@ -2,8 +2,10 @@
 
 // GCC 12 reports its own AVX-512 headers' placeholder operands (_mm512_undefined_*) as uninitialised when they
 // are inlined; the kernels below read no uninitialised value (the portable path checks them in grid_cascade_test).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <immintrin.h>
 
 #include <algorithm>
