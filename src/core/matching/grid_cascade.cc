@@ -1,7 +1,8 @@
 #include "core/matching/grid_cascade.h"
 
-// GCC 12 reports its own AVX-512 headers' placeholder operands (_mm512_undefined_*) as uninitialised when they
-// are inlined; the kernels below read no uninitialised value (the portable path checks them in grid_cascade_test).
+// GCC 12 reports its own AVX-512 headers' placeholder operands (_mm512_undefined_*) as uninitialised when
+// they are inlined; the kernels below read no uninitialised value (the portable path checks them in
+// grid_cascade_test).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -22,7 +23,7 @@ namespace {
 
 __extension__ typedef unsigned __int128 u128;
 
-constexpr int kLagReach = 3;       // signature lags |dx|, |dy| <= 3
+constexpr int kLagReach = 3;         // signature lags |dx|, |dy| <= 3
 constexpr int kSignatureBytes = 15;  // bytes 0..14 hold lags; byte 15 of a record is mu's level
 
 // The query's grids on a set of poses, as the kernels read them.
@@ -36,9 +37,10 @@ struct Poses {
   }
 };
 
-// Best Jaccard (as both / either) of each of 8 maps over the poses: the pose order and the strict comparison of
-// grid_similarity, so the fraction is the one the scan finds.
-void best8_portable(const std::uint64_t* w0, const std::uint64_t* w1, const Poses& p, int* both, int* either) {
+// Best Jaccard (as both / either) of each of 8 maps over the poses: the pose order and the strict comparison
+// of grid_similarity, so the fraction is the one the scan finds.
+void best8_portable(const std::uint64_t* w0, const std::uint64_t* w1, const Poses& p, int* both,
+                    int* either) {
   for (int j = 0; j < 8; ++j) {
     const int nb = std::popcount(w0[j]) + std::popcount(w1[j]);
     int bb = 0, be = 1;
@@ -51,14 +53,16 @@ void best8_portable(const std::uint64_t* w0, const std::uint64_t* w1, const Pose
   }
 }
 
-__attribute__((target("avx512f,avx512vpopcntdq"))) void best8_avx512(const std::uint64_t* w0, const std::uint64_t* w1,
-                                                                      const Poses& p, int* both, int* either) {
+__attribute__((target("avx512f,avx512vpopcntdq"))) void best8_avx512(const std::uint64_t* w0,
+                                                                     const std::uint64_t* w1, const Poses& p,
+                                                                     int* both, int* either) {
   const __m512i g0 = _mm512_loadu_si512(w0), g1 = _mm512_loadu_si512(w1);
   const __m512i nb = _mm512_add_epi64(_mm512_popcnt_epi64(g0), _mm512_popcnt_epi64(g1));
   __m512i bb = _mm512_setzero_si512(), be = _mm512_set1_epi64(1);
   for (std::size_t v = 0; v < p.count.size(); ++v) {
-    const __m512i c = _mm512_add_epi64(_mm512_popcnt_epi64(_mm512_and_si512(g0, _mm512_set1_epi64(static_cast<long long>(p.w0[v])))),
-                                       _mm512_popcnt_epi64(_mm512_and_si512(g1, _mm512_set1_epi64(static_cast<long long>(p.w1[v])))));
+    const __m512i c = _mm512_add_epi64(
+        _mm512_popcnt_epi64(_mm512_and_si512(g0, _mm512_set1_epi64(static_cast<long long>(p.w0[v])))),
+        _mm512_popcnt_epi64(_mm512_and_si512(g1, _mm512_set1_epi64(static_cast<long long>(p.w1[v])))));
     const __m512i e = _mm512_sub_epi64(_mm512_add_epi64(nb, _mm512_set1_epi64(p.count[v])), c);
     // c * be > bb * e on small non-negative values (32 x 32 -> 64-bit products)
     const __mmask8 m = _mm512_cmpgt_epi64_mask(_mm512_mul_epu32(c, be), _mm512_mul_epu32(bb, e));
@@ -78,9 +82,11 @@ int signature_distance(const GridSignature& a, const GridSignature& b) {
 }
 
 // The distances of n records (a multiple of 8) to the query's signatures (min over them).
-void distances_portable(const GridSignature* r, std::size_t n, const std::array<GridSignature, 2>& q, std::uint16_t* out) {
+void distances_portable(const GridSignature* r, std::size_t n, const std::array<GridSignature, 2>& q,
+                        std::uint16_t* out) {
   for (std::size_t j = 0; j < n; ++j)
-    out[j] = static_cast<std::uint16_t>(std::min(signature_distance(r[j], q[0]), signature_distance(r[j], q[1])));
+    out[j] =
+        static_cast<std::uint16_t>(std::min(signature_distance(r[j], q[0]), signature_distance(r[j], q[1])));
 }
 
 // The 16 bytes at p in each 128-bit lane.
@@ -89,9 +95,11 @@ __attribute__((target("avx512f"), always_inline)) inline __m512i broadcast16(con
   return _mm512_shuffle_i32x4(x, x, 0);
 }
 
-__attribute__((target("avx512f,avx512bw"), always_inline)) inline __m512i distances4_avx512(__m512i x, const __m512i* qlo, const __m512i* qhi) {
+__attribute__((target("avx512f,avx512bw"), always_inline)) inline __m512i distances4_avx512(
+    __m512i x, const __m512i* qlo, const __m512i* qhi) {
   const __m512i nibble = _mm512_set1_epi8(15);
-  static constexpr std::array<std::uint8_t, 16> kLags{255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0};
+  static constexpr std::array<std::uint8_t, 16> kLags{255, 255, 255, 255, 255, 255, 255, 255,
+                                                      255, 255, 255, 255, 255, 255, 255, 0};
   const __m512i lags = broadcast16(kLags.data());
   x = _mm512_and_si512(x, lags);
   const __m512i lo = _mm512_and_si512(x, nibble), hi = _mm512_and_si512(_mm512_srli_epi16(x, 4), nibble);
@@ -105,8 +113,8 @@ __attribute__((target("avx512f,avx512bw"), always_inline)) inline __m512i distan
 }
 
 __attribute__((target("avx512f,avx512bw"))) void distances_avx512(const GridSignature* r, std::size_t n,
-                                                                   const std::array<GridSignature, 2>& q,
-                                                                   std::uint16_t* out) {
+                                                                  const std::array<GridSignature, 2>& q,
+                                                                  std::uint16_t* out) {
   __m512i qlo[2], qhi[2];
   for (int t = 0; t < 2; ++t) {
     const __m512i x = broadcast16(q[t].data());
@@ -117,7 +125,8 @@ __attribute__((target("avx512f,avx512bw"))) void distances_avx512(const GridSign
   for (std::size_t j = 0; j < n; j += 8) {
     const __m512i a = distances4_avx512(_mm512_loadu_si512(r + j), qlo, qhi);
     const __m512i b = distances4_avx512(_mm512_loadu_si512(r + j + 4), qlo, qhi);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + j), _mm512_cvtepi64_epi16(_mm512_permutex2var_epi64(a, even, b)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + j),
+                     _mm512_cvtepi64_epi16(_mm512_permutex2var_epi64(a, even, b)));
   }
 }
 
@@ -128,12 +137,15 @@ bool cpu_has_avx512() {
 }
 
 // Better: higher score, then lower index.
-bool better(const GridMatch& a, const GridMatch& b) { return a.score != b.score ? a.score > b.score : a.index < b.index; }
+bool better(const GridMatch& a, const GridMatch& b) {
+  return a.score != b.score ? a.score > b.score : a.index < b.index;
+}
 
 // The n best of `matches` (all when fewer), best first when `sorted`.
 void keep_best(std::vector<GridMatch>& matches, std::size_t n, bool sorted) {
   if (matches.size() > n) {
-    std::nth_element(matches.begin(), matches.begin() + static_cast<std::ptrdiff_t>(n), matches.end(), better);
+    std::nth_element(matches.begin(), matches.begin() + static_cast<std::ptrdiff_t>(n), matches.end(),
+                     better);
     matches.resize(n);
   }
   if (sorted) std::sort(matches.begin(), matches.end(), better);
@@ -146,11 +158,14 @@ std::size_t keep_count(double share, std::size_t least, std::size_t n) {
 }  // namespace
 
 void validate(const GridCascadeConfig& c) {
-  if (!(c.signature_keep > 0 && c.signature_keep <= 1)) throw InputError("grid cascade: signature_keep must be in (0, 1]");
-  if (!(c.coarse_keep > 0 && c.coarse_keep <= 1)) throw InputError("grid cascade: coarse_keep must be in (0, 1]");
+  if (!(c.signature_keep > 0 && c.signature_keep <= 1))
+    throw InputError("grid cascade: signature_keep must be in (0, 1]");
+  if (!(c.coarse_keep > 0 && c.coarse_keep <= 1))
+    throw InputError("grid cascade: coarse_keep must be in (0, 1]");
   if (c.signature_min < 1) throw InputError("grid cascade: signature_min must be >= 1");
   if (c.coarse_min < 1) throw InputError("grid cascade: coarse_min must be >= 1");
-  if (c.coarse_reach < 0 || c.coarse_reach > 11) throw InputError("grid cascade: coarse_reach must be in [0, 11]");
+  if (c.coarse_reach < 0 || c.coarse_reach > 11)
+    throw InputError("grid cascade: coarse_reach must be in [0, 11]");
 }
 
 GridSignature grid_signature(const GridBits& grid, int cells) {
@@ -161,12 +176,15 @@ GridSignature grid_signature(const GridBits& grid, int cells) {
   for (int dy = 0; dy <= kLagReach; ++dy)
     for (int dx = -kLagReach; dx <= kLagReach; ++dx) {
       if (dy == 0 && dx <= 0) continue;
-      // Cells (x, y) whose (x + dx, y + dy) lies on the grid; bit x + S y moved down by dx + S dy lands on them.
+      // Cells (x, y) whose (x + dx, y + dy) lies on the grid; bit x + S y moved down by dx + S dy lands on
+      // them.
       u128 columns = 0;
       for (int y = 0; y + dy < cells; ++y)
-        for (int x = std::max(0, -dx); x < cells && x + dx < cells; ++x) columns |= static_cast<u128>(1) << (x + cells * y);
+        for (int x = std::max(0, -dx); x < cells && x + dx < cells; ++x)
+          columns |= static_cast<u128>(1) << (x + cells * y);
       const u128 pairs = g & (g >> (dx + cells * dy)) & columns;
-      const int c = std::popcount(static_cast<std::uint64_t>(pairs)) + std::popcount(static_cast<std::uint64_t>(pairs >> 64));
+      const int c = std::popcount(static_cast<std::uint64_t>(pairs)) +
+                    std::popcount(static_cast<std::uint64_t>(pairs >> 64));
       const auto value = static_cast<std::uint8_t>(std::min(15, c / 2));
       out[static_cast<std::size_t>(lag / 2)] |= static_cast<std::uint8_t>(lag % 2 == 0 ? value : value << 4);
       ++lag;
@@ -194,7 +212,8 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
     const double m = mu.empty() ? 0.0 : mu[i];
     const double level = std::round(m * levels_);
     if (!(level >= 0 && level <= levels_) || level / levels_ != m)
-      throw InputError("grid cascade: hubness of map " + std::to_string(i) + " is not on the hub_bits lattice");
+      throw InputError("grid cascade: hubness of map " + std::to_string(i) +
+                       " is not on the hub_bits lattice");
     records_[i][kSignatureBytes] = static_cast<std::uint8_t>(level);
   }
 }
@@ -208,12 +227,16 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
   const int reach = grid_.max_shift * grid_.substeps, side = 2 * reach + 1;
   if (query.size() != static_cast<std::size_t>(4 * side * side))
     throw InputError("grid cascade: " + std::to_string(query.size()) + " query grids, expected " +
-                     std::to_string(4 * side * side) + " (make_query_grids under the cascade's configuration)");
+                     std::to_string(4 * side * side) +
+                     " (make_query_grids under the cascade's configuration)");
   GridCascadeStats st;
   const std::size_t n = size_;
   const std::size_t coarse_n = std::max({keep_count(config_.coarse_keep, config_.coarse_min, n), k});
-  const std::size_t signature_n = std::max(keep_count(config_.signature_keep, config_.signature_min, n), coarse_n);
-  auto pose = [&](int turn, int row, int column) { return query[static_cast<std::size_t>((turn * side + row) * side + column)]; };
+  const std::size_t signature_n =
+      std::max(keep_count(config_.signature_keep, config_.signature_min, n), coarse_n);
+  auto pose = [&](int turn, int row, int column) {
+    return query[static_cast<std::size_t>((turn * side + row) * side + column)];
+  };
 
   // 1. signatures: the maps nearest the query's (turns 0 and 1; 2 and 3 give the same codes), ties by index.
   auto t0 = Clock::now();
@@ -230,7 +253,8 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
       for (std::size_t h = 0; h < 4; ++h) ++part[h][distance[i + h]];
     for (; i < n; ++i) ++part[0][distance[i]];
     std::array<std::size_t, 512> histogram{};
-    for (std::size_t d = 0; d < histogram.size(); ++d) histogram[d] = std::size_t{part[0][d]} + part[1][d] + part[2][d] + part[3][d];
+    for (std::size_t d = 0; d < histogram.size(); ++d)
+      histogram[d] = std::size_t{part[0][d]} + part[1][d] + part[2][d] + part[3][d];
     std::size_t bar = 0, below = 0;
     while (below + histogram[bar] < signature_n) below += histogram[bar++];
     std::size_t at_bar = signature_n - below;
@@ -265,7 +289,8 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
       (simd_ ? best8_avx512 : best8_portable)(w0.data(), w1.data(), poses, both.data(), either.data());
       for (std::size_t i = 0; i < m; ++i) {
         const std::uint32_t id = maps[j + i];
-        out[j + i] = {id, static_cast<double>(both[i]) / either[i] - grid_.hub_weight * (records_[id][kSignatureBytes] / levels_)};
+        out[j + i] = {id, static_cast<double>(both[i]) / either[i] -
+                              grid_.hub_weight * (records_[id][kSignatureBytes] / levels_)};
       }
     }
     return out;

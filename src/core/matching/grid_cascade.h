@@ -1,17 +1,18 @@
-// The succinct matcher's top k over a large database (grid_descriptor.h; measured in docs/NOTES.md, "The succinct
-// matcher at fleet scale"). The score of stored map m for a query is
+// The succinct matcher's top k over a large database (grid_descriptor.h; measured in docs/NOTES.md, "The
+// succinct matcher at fleet scale"). The score of stored map m for a query is
 //   s(m) = max over the query's poses v of J(q_v, g_m)  -  hub_weight * mu_m        (J: Jaccard similarity)
 // and a scan computes it for every stored map (4 turns x 17 x 17 translations: 1156 poses a map). The cascade
 // computes it only for a short list, chosen in two cheaper stages:
-//   1. signature: a pose-invariant code of each grid (its autocorrelation at 24 small lags, 4 bits each, derived
+//   1. signature: a pose-invariant code of each grid (its autocorrelation at 24 small lags, 4 bits each,
+//   derived
 //      from the stored grid: no stored bits) against the query's under the two turns that change it; the
 //      signature_keep share of the maps nearest in L1 distance go on (at least signature_min);
 //   2. coarse: the score over the poses on whole cells within +-coarse_reach cells (100 of the 1156); the
 //      coarse_keep share of the best go on (at least coarse_min);
 //   3. full: the exact score over every pose, as the scan computes it, and the k best.
-// A database no larger than a stage's keep skips that stage, so up to coarse_min maps the top k equals the scan's
-// bit for bit. Above it the cascade can miss a map the scan ranks in its top k (and rank one above it that the
-// scan would not): it is an approximation, measured against the scan in bench_dm (BM_Succinct*).
+// A database no larger than a stage's keep skips that stage, so up to coarse_min maps the top k equals the
+// scan's bit for bit. Above it the cascade can miss a map the scan ranks in its top k (and rank one above it
+// that the scan would not): it is an approximation, measured against the scan in bench_dm (BM_Succinct*).
 //
 // Stored per map: the grid (16 bytes, in blocks of 8 maps for 8-wide popcounts) and a 16-byte record (the
 // signature's 30 nibbles, 24 used, and mu as its hub level): 32 bytes. The popcount and distance kernels use
@@ -40,10 +41,10 @@ struct GridCascadeConfig {
 /// Throws InputError naming the offending field.
 void validate(const GridCascadeConfig& config);
 
-/// The pose-invariant code of a grid of S x S cells (S <= 11): for each lag d = (dx, dy) with |dx|, |dy| <= 3 in
-/// one half-plane (24 lags), the number of occupied cells c whose c + d is occupied too, halved and capped at 15,
-/// two lags a byte (byte i: lag 2i low nibble, lag 2i + 1 high); bytes 12..15 are 0. A 180-degree turn of the
-/// grid leaves it unchanged, a quarter turn permutes it.
+/// The pose-invariant code of a grid of S x S cells (S <= 11): for each lag d = (dx, dy) with |dx|, |dy| <= 3
+/// in one half-plane (24 lags), the number of occupied cells c whose c + d is occupied too, halved and capped
+/// at 15, two lags a byte (byte i: lag 2i low nibble, lag 2i + 1 high); bytes 12..15 are 0. A 180-degree turn
+/// of the grid leaves it unchanged, a quarter turn permutes it.
 using GridSignature = std::array<std::uint8_t, 16>;
 GridSignature grid_signature(const GridBits& grid, int cells);
 
@@ -61,8 +62,9 @@ struct GridCascadeStats {
 
 class GridCascade {
  public:
-  /// grids[i] and mu[i] are stored map i's grid and hubness (mu empty: all 0); every mu must lie on the hub_bits
-  /// lattice (grid_hubness's quantisation). Throws InputError on mismatched sizes or a bad configuration.
+  /// grids[i] and mu[i] are stored map i's grid and hubness (mu empty: all 0); every mu must lie on the
+  /// hub_bits lattice (grid_hubness's quantisation). Throws InputError on mismatched sizes or a bad
+  /// configuration.
   GridCascade(std::span<const GridBits> grids, std::span<const double> mu, const GridConfig& grid,
               const GridCascadeConfig& config = {});
 

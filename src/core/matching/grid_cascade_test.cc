@@ -63,14 +63,14 @@ Synthetic synthetic(std::size_t n, int places, std::uint64_t seed, const GridCon
   return s;
 }
 
-void expect_equal(const std::vector<GridMatch>& got, const std::vector<GridMatch>& scan, const std::string& what) {
+void expect_equal(const std::vector<GridMatch>& got, const std::vector<GridMatch>& scan,
+                  const std::string& what) {
   ASSERT_EQ(got.size(), scan.size()) << what;
   for (std::size_t r = 0; r < scan.size(); ++r) {
     EXPECT_EQ(got[r].index, scan[r].index) << what << " rank " << r;
     EXPECT_EQ(got[r].score, scan[r].score) << what << " rank " << r;  // bit for bit
   }
 }
-
 
 // Every stage forced to prune on a small database.
 GridCascadeConfig pruning() {
@@ -89,11 +89,12 @@ TEST(GridCascade, EqualsTheScanWhenTheShortListsCoverTheDatabase) {
         const GridCascade cascade(db.grids, db.mu, c, {.use_simd = simd});
         EXPECT_EQ(cascade.size(), n);
         for (int t = 0; t < 3; ++t) {
-          const std::vector<GridBits> q = make_query_grids(visit(db.places[rng() % db.places.size()], rng), config);
+          const std::vector<GridBits> q =
+              make_query_grids(visit(db.places[rng() % db.places.size()], rng), config);
           for (std::size_t k : {std::size_t{1}, std::size_t{7}, std::size_t{100}, n + 3}) {
             GridCascadeStats stats;
-            const std::string what = "n " + std::to_string(n) + " hub " + std::to_string(hub_weight) + " simd " +
-                                     std::to_string(simd) + " k " + std::to_string(k);
+            const std::string what = "n " + std::to_string(n) + " hub " + std::to_string(hub_weight) +
+                                     " simd " + std::to_string(simd) + " k " + std::to_string(k);
             expect_equal(cascade.top_k(q, k, &stats), scan_top_k(q, db.grids, db.mu, hub_weight, k), what);
             EXPECT_EQ(stats.coarse_kept, n) << what;  // nothing pruned below coarse_min maps
           }
@@ -107,10 +108,12 @@ TEST(GridCascade, StagesKeepTheirShareAndScoreExactly) {
   const GridConfig config = succinct_grid_config();
   const Synthetic db = synthetic(4000, 60, 3, config);
   std::mt19937_64 rng(5);
-  const GridCascade portable(db.grids, db.mu, config, {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05,
-                                                       .coarse_min = 1, .use_simd = false});
-  const GridCascade simd(db.grids, db.mu, config, {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05,
-                                                   .coarse_min = 1, .use_simd = true});
+  const GridCascade portable(
+      db.grids, db.mu, config,
+      {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05, .coarse_min = 1, .use_simd = false});
+  const GridCascade simd(
+      db.grids, db.mu, config,
+      {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05, .coarse_min = 1, .use_simd = true});
   for (int t = 0; t < 5; ++t) {
     const Points2 place = db.places[rng() % db.places.size()];
     const std::vector<GridBits> q = make_query_grids(visit(place, rng), config);
@@ -149,9 +152,11 @@ TEST(GridCascade, StagesKeepTheirShareAndScoreExactly) {
 
 TEST(GridCascade, SignatureCountsPairsAtEachLagAndIgnoresAHalfTurn) {
   GridBits line;  // cells 2..6 of row 4 (11 x 11)
-  for (int x = 2; x <= 6; ++x) line.words[static_cast<std::size_t>((x + 44) >> 6)] |= std::uint64_t{1} << ((x + 44) & 63);
+  for (int x = 2; x <= 6; ++x)
+    line.words[static_cast<std::size_t>((x + 44) >> 6)] |= std::uint64_t{1} << ((x + 44) & 63);
   const GridSignature s = grid_signature(line, 11);
-  // Lags in order (dy 0: dx 1..3; then dy 1..3: dx -3..3): dx = 1, 2, 3 on the row have 4, 3, 2 pairs -> 2, 1, 1.
+  // Lags in order (dy 0: dx 1..3; then dy 1..3: dx -3..3): dx = 1, 2, 3 on the row have 4, 3, 2 pairs -> 2,
+  // 1, 1.
   EXPECT_EQ(s[0], 2 | (1 << 4));
   EXPECT_EQ(s[1] & 15, 1);
   for (std::size_t i = 2; i < s.size(); ++i) EXPECT_EQ(s[i], 0) << "byte " << i;

@@ -3,6 +3,7 @@
 // answers through core/matching/grid_cascade.h's kernels, configured as an exact scan.
 #include "core/ranking/grid_ranker.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -19,16 +20,18 @@ class GridRanker final : public Ranker {
   explicit GridRanker(const GridConfig& config) : config_(config) { validate(config_); }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
-    stored_ = prepare_from_points<GridBits>(maps, num_threads, progress, "grid", "grids",
-                                            [&](const Points2& points) { return make_grid(points, config_); });
+    stored_ =
+        prepare_from_points<GridBits>(maps, num_threads, progress, "grid", "grids",
+                                      [&](const Points2& points) { return make_grid(points, config_); });
     std::vector<const Points2*> points;
     for (const MapView& m : maps) points.push_back(m.points);
     hub_ = grid_hubness(points, stored_, config_, num_threads, progress);
-    // Top-k requests over the whole of a large database (rank with options.top_k > 0) go through the cascade's
-    // kernels with short lists as long as the database: the scan's exact top k.
+    // Top-k requests over the whole of a large database (rank with options.top_k > 0) go through the
+    // cascade's kernels with short lists as long as the database: the scan's exact top k.
     index_.reset();
     if (stored_.size() >= config_.index_min_maps)
-      index_ = std::make_unique<GridCascade>(stored_, hub_, config_, GridCascadeConfig{.coarse_min = stored_.size()});
+      index_ = std::make_unique<GridCascade>(
+          stored_, hub_, config_, GridCascadeConfig{.coarse_min = std::max<std::size_t>(1, stored_.size())});
   }
 
   double bits_per_map() const override { return grid_bits_per_map(config_); }
@@ -83,14 +86,21 @@ GridConfig parse_grid_args(const std::string& text, const std::vector<std::strin
       c.cells = parse_spec_int(text, a, "S (cells per side)", 1, 11);
       continue;
     }
-    if (eq == std::string::npos) throw InputError("method '" + text + "': expected key=value, got '" + a + "'");
+    if (eq == std::string::npos)
+      throw InputError("method '" + text + "': expected key=value, got '" + a + "'");
     const std::string key = a.substr(0, eq), value = a.substr(eq + 1);
-    if (key == "shift") c.max_shift = parse_spec_int(text, value, "shift (cells)", 0, 11);
-    else if (key == "sub") c.substeps = parse_spec_int(text, value, "sub (steps per cell)", 1, 8);
-    else if (key == "min") c.min_points = parse_spec_int(text, value, "min (points)", 1, 10000);
-    else if (key == "box") c.box_size = parse_spec_int(text, value, "box (dm)", 10, 1000) / 10.0;
-    else if (key == "hub") c.hub_weight = parse_spec_int(text, value, "hub (percent)", 0, 1000) / 100.0;
-    else throw InputError("method '" + text + "': unknown grid option '" + a + "' (box, shift, sub, min, hub)");
+    if (key == "shift")
+      c.max_shift = parse_spec_int(text, value, "shift (cells)", 0, 11);
+    else if (key == "sub")
+      c.substeps = parse_spec_int(text, value, "sub (steps per cell)", 1, 8);
+    else if (key == "min")
+      c.min_points = parse_spec_int(text, value, "min (points)", 1, 10000);
+    else if (key == "box")
+      c.box_size = parse_spec_int(text, value, "box (dm)", 10, 1000) / 10.0;
+    else if (key == "hub")
+      c.hub_weight = parse_spec_int(text, value, "hub (percent)", 0, 1000) / 100.0;
+    else
+      throw InputError("method '" + text + "': unknown grid option '" + a + "' (box, shift, sub, min, hub)");
   }
   validate(c);
   return c;
@@ -138,12 +148,14 @@ const MethodEntry& grid_method() {
 }
 
 const MethodEntry& succinct_method() {
-  static const MethodEntry entry{"succinct", "succinct", parse_succinct, [](const MethodSpec&, const RankingConfig&) {
-                                   return make_grid_ranker(succinct_grid_config());
-                                 }};
+  static const MethodEntry entry{
+      "succinct", "succinct", parse_succinct,
+      [](const MethodSpec&, const RankingConfig&) { return make_grid_ranker(succinct_grid_config()); }};
   return entry;
 }
 
-std::unique_ptr<Ranker> make_grid_ranker(const GridConfig& config) { return std::make_unique<GridRanker>(config); }
+std::unique_ptr<Ranker> make_grid_ranker(const GridConfig& config) {
+  return std::make_unique<GridRanker>(config);
+}
 
 }  // namespace partslam
