@@ -16,7 +16,7 @@ MAIN="dmm,succinct,rerank:20,rerank:10,grid:11,sc,sc:128,imm:3,hmm:3,rerank:20:3
 TABLE_A="$MAIN,imm:1,imm:2,imm:4,imm:5,hmm:1,hmm:2,hmm:4,hmm:5,hmm:3:maxmax,hmm:3:summax,rerank:10:3"
 [ -d "$DATA" ] || { echo "make-results: $DATA not found (the real data sets are needed)" >&2; exit 1; }
 mkdir -p "$OUT"
-rm -f "$OUT"/*.json "$OUT"/*.png
+rm -f "$OUT"/set*.json "$OUT"/val_*.json "$OUT"/fig_d_*.png  # its own outputs only (raw-logs and the SLAM bench write here too)
 eval_set() {  # name input dictionary methods radius [extra args]
   local name=$1 input=$2 dict=$3 methods=$4 radius=$5
   shift 5
