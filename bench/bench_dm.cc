@@ -250,26 +250,26 @@ constexpr const char* kLogs[] = {
 constexpr std::size_t kQueryBuildings = 3;  // the queries' buildings: the first three logs (the tuning sets)
 constexpr int kQueriesPerBuilding = 20;
 
+Building building(std::string name, Submaps maps) {
+  const GridConfig config = succinct_grid_config();
+  Building b{std::move(name), std::move(maps), {}, {}};
+  std::vector<const Points2*> points;
+  for (const Submap& m : b.maps) b.grids.push_back(make_grid(m.points, config)), points.push_back(&m.points);
+  b.mu = grid_hubness(points, b.grids, config, 2);
+  return b;
+}
+
 const std::vector<Building>& buildings() {
   static const std::vector<Building> out = [] {
     std::vector<Building> v;
     const char* env = std::getenv("PARTSLAM_SHARED_DATA");
     const std::filesystem::path shared = env != nullptr && *env != '\0' ? env : PARTSLAM_SHARED_DATA;
-    const GridConfig config = succinct_grid_config();
     for (const char* log : kLogs) {
       if (!std::filesystem::exists(shared / log)) continue;
-      Building b{log, build_submaps(io::read_carmen_log(shared / log).scans), {}, {}};
-      std::vector<const Points2*> points;
-      for (const Submap& m : b.maps) b.grids.push_back(make_grid(m.points, config)), points.push_back(&m.points);
-      b.mu = grid_hubness(points, b.grids, config, 2);
-      v.push_back(std::move(b));
+      v.push_back(building(log, build_submaps(io::read_carmen_log(shared / log).scans)));
     }
     if (v.size() <= kQueryBuildings) {  // no real data: the simulator's submaps stand in for every building
-      Building b{"simulated", build_submaps(simulate().scans), {}, {}};
-      std::vector<const Points2*> points;
-      for (const Submap& m : b.maps) b.grids.push_back(make_grid(m.points, config)), points.push_back(&m.points);
-      b.mu = grid_hubness(points, b.grids, config, 2);
-      v.assign(kQueryBuildings + 1, b);
+      v.assign(kQueryBuildings + 1, building("simulated", build_submaps(simulate().scans)));
     }
     return v;
   }();

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numeric>
 #include <string>
 
 #include "core/error.h"
@@ -168,27 +169,51 @@ void validate(const GridCascadeConfig& c) {
     throw InputError("grid cascade: coarse_reach must be in [0, 11]");
 }
 
-GridSignature grid_signature(const GridBits& grid, int cells) {
-  if (cells < 1 || cells > 11) throw InputError("grid signature: cells must be in [1, 11]");
-  const u128 g = (static_cast<u128>(grid.words[1]) << 64) | grid.words[0];
-  GridSignature out{};
-  int lag = 0;
+namespace {
+
+// One signature lag: the bit shift that takes cell (x + dx, y + dy) to cell (x, y), and the cells (x, y)
+// whose (x + dx, y + dy) lies on the grid (empty when none does, e.g. on grids narrower than the lag).
+struct Lag {
+  int shift = 0;
+  u128 cells = 0;
+};
+
+// The 24 lags of a grid of S cells a side, in signature order (dy 0: dx 1..3; then dy 1..3: dx -3..3).
+std::array<Lag, 24> lags_of(int side) {
+  std::array<Lag, 24> out{};
+  std::size_t lag = 0;
   for (int dy = 0; dy <= kLagReach; ++dy)
     for (int dx = -kLagReach; dx <= kLagReach; ++dx) {
       if (dy == 0 && dx <= 0) continue;
-      // Cells (x, y) whose (x + dx, y + dy) lies on the grid; bit x + S y moved down by dx + S dy lands on
-      // them.
-      u128 columns = 0;
-      for (int y = 0; y + dy < cells; ++y)
-        for (int x = std::max(0, -dx); x < cells && x + dx < cells; ++x)
-          columns |= static_cast<u128>(1) << (x + cells * y);
-      const u128 pairs = g & (g >> (dx + cells * dy)) & columns;
-      const int c = std::popcount(static_cast<std::uint64_t>(pairs)) +
-                    std::popcount(static_cast<std::uint64_t>(pairs >> 64));
-      const auto value = static_cast<std::uint8_t>(std::min(15, c / 2));
-      out[static_cast<std::size_t>(lag / 2)] |= static_cast<std::uint8_t>(lag % 2 == 0 ? value : value << 4);
-      ++lag;
+      Lag& l = out[lag++];
+      l.shift = dx + side * dy;
+      for (int y = 0; y + dy < side; ++y)
+        for (int x = std::max(0, -dx); x < side && x + dx < side; ++x)
+          l.cells |= static_cast<u128>(1) << (x + side * y);
     }
+  return out;
+}
+
+}  // namespace
+
+GridSignature grid_signature(const GridBits& grid, int cells) {
+  if (cells < 1 || cells > 11) throw InputError("grid signature: cells must be in [1, 11]");
+  static const std::array<std::array<Lag, 24>, 12> kLags = [] {
+    std::array<std::array<Lag, 24>, 12> t{};
+    for (int side = 1; side <= 11; ++side) t[static_cast<std::size_t>(side)] = lags_of(side);
+    return t;
+  }();
+  const u128 g = (static_cast<u128>(grid.words[1]) << 64) | grid.words[0];
+  GridSignature out{};
+  for (std::size_t lag = 0; lag < 24; ++lag) {
+    const Lag& l = kLags[static_cast<std::size_t>(cells)][lag];
+    if (l.cells == 0) continue;  // no pair at this lag (and its shift may not be positive)
+    const u128 pairs = g & (g >> l.shift) & l.cells;
+    const int c = std::popcount(static_cast<std::uint64_t>(pairs)) +
+                  std::popcount(static_cast<std::uint64_t>(pairs >> 64));
+    const auto value = static_cast<std::uint8_t>(std::min(15, c / 2));
+    out[lag / 2] |= static_cast<std::uint8_t>(lag % 2 == 0 ? value : value << 4);
+  }
   return out;
 }
 
@@ -205,10 +230,11 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
   simd_ = config_.use_simd && cpu_has_avx512();
   blocks_.resize((size_ + 7) / 8);
   records_.resize(blocks_.size() * 8);
+  const bool signatures = size_ > keep(0).signature;  // a larger k only keeps more
   for (std::size_t i = 0; i < size_; ++i) {
     blocks_[i / 8].w0[i % 8] = grids[i].words[0];
     blocks_[i / 8].w1[i % 8] = grids[i].words[1];
-    records_[i] = grid_signature(grids[i], grid_.cells);
+    if (signatures) records_[i] = grid_signature(grids[i], grid_.cells);
     const double m = mu.empty() ? 0.0 : mu[i];
     const double level = std::round(m * levels_);
     if (!(level >= 0 && level <= levels_) || level / levels_ != m)
@@ -216,6 +242,13 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
                        " is not on the hub_bits lattice");
     records_[i][kSignatureBytes] = static_cast<std::uint8_t>(level);
   }
+}
+
+GridCascade::Keep GridCascade::keep(std::size_t k) const {
+  Keep out;
+  out.coarse = std::max(keep_count(config_.coarse_keep, config_.coarse_min, size_), k);
+  out.signature = std::max(keep_count(config_.signature_keep, config_.signature_min, size_), out.coarse);
+  return out;
 }
 
 std::size_t GridCascade::memory_bytes() const {
@@ -231,9 +264,7 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
                      " (make_query_grids under the cascade's configuration)");
   GridCascadeStats st;
   const std::size_t n = size_;
-  const std::size_t coarse_n = std::max({keep_count(config_.coarse_keep, config_.coarse_min, n), k});
-  const std::size_t signature_n =
-      std::max(keep_count(config_.signature_keep, config_.signature_min, n), coarse_n);
+  const auto [coarse_n, signature_n] = keep(k);
   auto pose = [&](int turn, int row, int column) {
     return query[static_cast<std::size_t>((turn * side + row) * side + column)];
   };
@@ -269,7 +300,7 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
     list.resize(kept);
   } else {
     list.resize(n);
-    for (std::size_t i = 0; i < n; ++i) list[i] = static_cast<std::uint32_t>(i);
+    std::iota(list.begin(), list.end(), std::uint32_t{0});
   }
   st.signature_kept = list.size();
   st.signature_ms = ms_since(t0);

@@ -80,6 +80,12 @@ class GridCascade {
   bool simd() const { return simd_; }
 
  private:
+  /// How many maps the coarse and the signature stage keep for a top k (a stage keeping them all is skipped).
+  struct Keep {
+    std::size_t coarse = 0, signature = 0;
+  };
+  Keep keep(std::size_t k) const;
+
   struct Block {  // 8 maps' grids, word 0 then word 1
     std::array<std::uint64_t, 8> w0{}, w1{};
   };
@@ -89,7 +95,7 @@ class GridCascade {
   double levels_ = 1;  // mu = level / levels_
   bool simd_ = false;
   std::vector<Block> blocks_;
-  std::vector<GridSignature> records_;  // signature, byte 15: mu's level
+  std::vector<GridSignature> records_;  // signature (left 0 when the stage never runs), byte 15: mu's level
 };
 
 /// The reference: every stored map's exact score, then the k best (score descending, then index ascending).
