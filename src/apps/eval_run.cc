@@ -121,12 +121,22 @@ void print_table(const EvalRun& run, std::ostream& out) {
         << std::setprecision(2)
         << std::setw(12) << m.ms_per_query << std::setprecision(0) << std::setw(10) << m.bits_per_map << "\n";
   }
+  out << std::left << std::setw(22) << "oracle (true overlap)" << std::right << std::setprecision(1) << std::setw(8)
+      << r.oracle.anr_percent << std::setprecision(3) << std::setw(8) << r.oracle.recall_at_1;
+  if (r1pct) out << std::setw(8) << r.oracle.recall_at_1pct;
+  out << std::setw(8) << r.oracle.recall_at_5pct << std::setw(8) << r.oracle.recall_at_10pct << "\n";
   for (const MethodResult& m : r.methods) {
     if (m.poses_checked == 0) continue;
     out << std::setprecision(3) << m.method.label << ": relative pose of the relevant map within "
         << run.options.config.pose_tolerance.translation << " m / " << run.options.config.pose_tolerance.rotation << " rad in "
-        << m.pose_within_tolerance << " of " << m.poses_checked << " pairs\n";
+        << m.pose_within_tolerance << " of " << m.poses_checked << " pairs; of the "
+        << m.poses_checked_overlap30 << " with >= 30 % true overlap " << m.pose_within_tolerance_overlap30
+        << " (within 0.1 m / 1 deg: " << m.pose_fine_overlap30 << ")\n";
   }
+  for (const MethodResult& m : r.methods)
+    if (m.calibration_error)
+      out << std::setprecision(3) << m.method.label << ": expected calibration error " << *m.calibration_error
+          << " over its probabilities\n";
   if (r.cpd_ms_per_map > 0) out << std::setprecision(1) << "CPD (offline): " << r.cpd_ms_per_map << " ms per map\n";
   out << std::setprecision(1) << "total " << run.seconds << " s\n";
 }
@@ -177,8 +187,19 @@ nlohmann::json to_json(const EvalRun& run) {
                             {"bits_per_map", m.bits_per_map},
                             {"poses_checked", m.poses_checked},
                             {"pose_within_tolerance", m.pose_within_tolerance},
+                            {"poses_checked_overlap30", m.poses_checked_overlap30},
+                            {"pose_within_tolerance_overlap30", m.pose_within_tolerance_overlap30},
+                            {"pose_fine_overlap30", m.pose_fine_overlap30},
                             {"normalized_ranks", m.normalized_ranks}});
+    if (m.calibration_error) {
+      j["methods"].back()["calibration_error"] = *m.calibration_error;
+      j["methods"].back()["reliability"] = m.reliability;
+    }
   }
+  j["oracle"] = {{"anr", r.oracle.anr_percent},
+                 {"recall_at_1", r.oracle.recall_at_1},
+                 {"recall_at_5pct", r.oracle.recall_at_5pct},
+                 {"recall_at_10pct", r.oracle.recall_at_10pct}};
   return j;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "core/parts/descriptor_layout.h"
@@ -37,6 +38,7 @@ std::vector<MapView> map_views(const Submaps& maps, const DescribedMaps& describ
   std::vector<MapView> views(maps.size());
   for (std::size_t i = 0; i < maps.size(); ++i) {
     views[i].points = &maps[i].points;
+    views[i].origins = &maps[i].origins;
     if (i < described.parts.size()) views[i].parts = &described.parts[i];
   }
   return views;
@@ -47,10 +49,10 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
                                    const EvalConfig& config, const Progress& progress) {
   const std::vector<MapView> views = map_views(maps, described);
   // Is T_map_query of the relevant pair within tolerance of the truth T_map_world * T_world_query?
-  auto pose_ok = [&](const Task& task, const Pose2& T_map_query) {
-    const Pose2 truth = maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
-    return config.pose_tolerance.accepts(truth, T_map_query);
+  const auto truth = [&](const Task& task) {
+    return maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
   };
+  const PoseTolerance fine{0.1, std::numbers::pi / 180};
   std::vector<TaskOutcome> outcomes(tasks.size());
   parallel_for(
       tasks.size(), config.num_threads,
@@ -64,7 +66,18 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
         out.db_size = task.database.size();
         out.match_ms = r.match_ms;
         out.prep_ms = r.prep_ms + (method.traits.needs_parts ? described.cpd_ms.at(task.query) : 0.0);
-        if (!r.direct.empty() && r.direct[relevant]) out.pose = pose_ok(task, r.direct[relevant]->T_map_query);
+        out.true_overlap = true_overlap(maps[task.query], maps[task.relevant]);
+        if (!r.direct.empty() && r.direct[relevant]) {
+          out.pose = config.pose_tolerance.accepts(truth(task), r.direct[relevant]->T_map_query);
+          out.pose_fine = fine.accepts(truth(task), r.direct[relevant]->T_map_query);
+        }
+        for (std::size_t j = 0; j < r.probability.size(); ++j) {
+          if (!r.probability[j]) continue;
+          const double p = *r.probability[j];
+          const int bins = TaskOutcome::kCalibrationBins;
+          const auto b = static_cast<std::size_t>(std::clamp(static_cast<int>(p * bins), 0, bins - 1));
+          out.bin_probability[b] += p, out.bin_same[b] += j == relevant && out.pose == 1, out.bin_pairs[b] += 1;
+        }
       },
       method.label, progress);
   return outcomes;
@@ -76,9 +89,18 @@ MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> ou
   result.bits_per_map = bits_per_map;
   std::vector<double> ranks;
   std::vector<std::size_t> sizes;
-  double match_ms = 0, prep_ms = 0, pairs = 0, posed_ok = 0;
+  double match_ms = 0, prep_ms = 0, pairs = 0, posed_ok = 0, posed_ok30 = 0, posed_fine30 = 0;
+  constexpr int kBins = TaskOutcome::kCalibrationBins;
+  std::array<double, kBins> bin_p{}, bin_y{}, bin_n{};
+  double calibrated_pairs = 0;
   for (const TaskOutcome& o : outcomes) {
     if (o.pose >= 0) ++result.poses_checked, posed_ok += o.pose;
+    if (o.pose >= 0 && o.true_overlap >= 0.3)
+      ++result.poses_checked_overlap30, posed_ok30 += o.pose, posed_fine30 += o.pose_fine;
+    for (std::size_t b = 0; b < kBins; ++b) {
+      bin_p[b] += o.bin_probability[b], bin_y[b] += o.bin_same[b], bin_n[b] += o.bin_pairs[b];
+      calibrated_pairs += o.bin_pairs[b];
+    }
     ranks.push_back(o.rank);
     sizes.push_back(o.db_size);
     result.normalized_ranks.push_back(o.rank / static_cast<double>(o.db_size));
@@ -88,6 +110,19 @@ MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> ou
   }
   result.summary = summarize_ranks(ranks, sizes);
   if (result.poses_checked > 0) result.pose_within_tolerance = posed_ok / static_cast<double>(result.poses_checked);
+  if (result.poses_checked_overlap30 > 0) {
+    result.pose_within_tolerance_overlap30 = posed_ok30 / static_cast<double>(result.poses_checked_overlap30);
+    result.pose_fine_overlap30 = posed_fine30 / static_cast<double>(result.poses_checked_overlap30);
+  }
+  if (calibrated_pairs > 0) {
+    double ece = 0;
+    for (std::size_t b = 0; b < kBins; ++b) {
+      if (bin_n[b] == 0) continue;
+      ece += std::abs(bin_p[b] - bin_y[b]) / calibrated_pairs;
+      result.reliability.push_back({bin_p[b] / bin_n[b], bin_y[b] / bin_n[b], bin_n[b]});
+    }
+    result.calibration_error = ece;
+  }
   if (!outcomes.empty()) {
     const double n = static_cast<double>(outcomes.size());
     result.ms_per_pair = match_ms / pairs;
@@ -155,6 +190,23 @@ std::vector<CpdResult> discover_parts_split(const std::vector<const Points2*>& m
   return out;
 }
 
+RankSummary oracle_ranks(const Submaps& maps, std::span<const Task> tasks, int num_threads) {
+  std::vector<double> ranks(tasks.size());
+  std::vector<std::size_t> sizes(tasks.size());
+  parallel_for(tasks.size(), num_threads, [&](std::size_t t) {
+    const Task& task = tasks[t];
+    Ranking r;
+    std::size_t relevant = 0;
+    for (std::size_t j = 0; j < task.database.size(); ++j) {
+      r.scores.push_back(true_overlap(maps[task.query], maps[task.database[j]]));
+      if (task.database[j] == task.relevant) relevant = j;
+    }
+    ranks[t] = tied_rank(r, relevant);
+    sizes[t] = task.database.size();
+  });
+  return summarize_ranks(ranks, sizes);
+}
+
 EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
                     const EvalConfig& config, const EvalProgress& progress, const WorkSplit& split) {
   validate(config);
@@ -174,6 +226,7 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
                      " m): the log has no loop closure");
   }
   report.tasks = tasks.size();
+  report.oracle = oracle_ranks(maps, tasks, config.num_threads);
 
   bool need_parts = false, need_hmm_query = false;
   for (const MethodSpec& m : methods) {

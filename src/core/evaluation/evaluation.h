@@ -7,6 +7,7 @@
 // evaluate() runs the three for every method on the same tasks.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -64,6 +65,13 @@ struct TaskOutcome {
   double rank = 0;          ///< tied rank of the relevant map (1 = best)
   std::size_t db_size = 0;  ///< N of the task
   int pose = -1;            ///< -1: no pose for the relevant map; 0: wrong; 1: within tolerance
+  bool pose_fine = false;   ///< the relevant map's pose within 0.1 m / 1 degree
+  double true_overlap = 0;  ///< the relevant pair's true overlap (tasks.h)
+  /// Calibrated methods: the candidates it gave a probability, binned by it (kCalibrationBins equal-width bins):
+  /// the sum of their probabilities, how many were the same place at that pose (the relevant map posed within
+  /// tolerance), how many there were. A plain record (it travels between processes).
+  static constexpr int kCalibrationBins = 10;
+  std::array<double, kCalibrationBins> bin_probability{}, bin_same{}, bin_pairs{};
   double match_ms = 0;      ///< online matching of the whole task database [ms]
   double prep_ms = 0;       ///< the query's own preparation, its CPD included [ms]
 };
@@ -85,7 +93,18 @@ struct MethodResult {
   /// posed, and the share whose T_map_query is within pose_tolerance of the truth (from the maps' poses).
   std::size_t poses_checked = 0;
   double pose_within_tolerance = 0;
+  /// The same over the relevant pairs with >= 30 % true overlap, and the share of those within 0.1 m / 1 deg.
+  std::size_t poses_checked_overlap30 = 0;
+  double pose_within_tolerance_overlap30 = 0;
+  double pose_fine_overlap30 = 0;
+  /// Calibrated methods: expected calibration error of their probabilities over every pair they scored (10
+  /// equal-width bins), and each bin's (mean probability, observed share of same place, pairs).
+  std::optional<double> calibration_error;
+  std::vector<std::array<double, 3>> reliability;
 };
+
+/// The ceiling of the tasks: their databases ranked by the true overlap at the true pose.
+RankSummary oracle_ranks(const Submaps& maps, std::span<const Task> tasks, int num_threads = 1);
 
 /// Stage 3: the figures of one method from its task outcomes.
 MethodResult summarize(const MethodSpec& method, std::span<const TaskOutcome> outcomes, double bits_per_map);
@@ -96,6 +115,8 @@ struct EvalReport {
   std::size_t relevant_pairs = 0;  ///< relevant pairs found (tasks are sampled from them)
   double low_overlap_share = 0;    ///< share of relevant pairs whose true overlap is below 30 % (the ceiling)
   std::size_t tasks = 0;
+  /// The ceiling: ranking every task's database by the true overlap at the true pose (tasks.h, true_overlap).
+  RankSummary oracle;
   double cpd_ms_per_map = 0;       ///< offline CPD per map [ms] (0 when no method uses parts)
   std::vector<MethodResult> methods;
 };

@@ -89,15 +89,18 @@ std::optional<Submap> shape_local_map(const Points2& points_world, const SubmapC
 // The submap of scans [first, end): their points within max_range, shaped as above.
 std::optional<Submap> build_one(const Scans& scans, const std::vector<double>& s, std::size_t first, std::size_t end,
                                 const SubmapConfig& config) {
-  Points2 world;
+  Points2 world, origins_world;
   std::vector<double> timestamps;
   for (std::size_t j = first; j < end; ++j) {
     const Points2 pts = points_world(scans[j], config.max_range);
     world.insert(world.end(), pts.begin(), pts.end());
     timestamps.push_back(scans[j].timestamp);
+    const Vec2 o = scans[j].T_world_laser.translation();
+    if (origins_world.empty() || (o - origins_world.back()).norm() >= kOriginSpacing) origins_world.push_back(o);
   }
   std::optional<Submap> m = shape_local_map(world, config);
   if (!m) return std::nullopt;
+  m->origins = transform(m->T_world_map.inverse(), origins_world);
   m->anchor_scan = static_cast<std::int64_t>(first);
   m->anchor_timestamp = scans[first].timestamp;
   m->travel = s[first];

@@ -31,7 +31,14 @@ struct Submap {
   Pose2 T_world_map;             ///< map frame (centroid, canonical axes) in the log's world frame
   Points2 points;                ///< points in the map frame [m]
   std::vector<double> scan_timestamps;  ///< timestamps of the scans that built it (relations check)
+  /// Where the laser was while the map was recorded, in the map frame: the scan origins thinned to one per
+  /// kOriginSpacing of travel. The free space the beams crossed is cast from them (core/matching/verification.h);
+  /// empty for a map made from bare points (no beams known).
+  Points2 origins;
 };
+
+/// Spacing of a submap's stored laser origins [m].
+inline constexpr double kOriginSpacing = 0.25;
 
 using Submaps = std::vector<Submap>;
 

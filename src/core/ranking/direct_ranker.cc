@@ -1,6 +1,7 @@
-// Direct matching as rankers (docs/DESIGN.md, "dMM"): `dmm` (exact branch-and-bound), `dmm-exhaustive` (the
-// reference) and `dmm-ransac` (the paper's baseline). They store the map's points (bits_per_point each) and
-// return the relative pose T_map_query of every candidate.
+// Direct matching as rankers (docs/DESIGN.md, "dMM"): `dmm` (Eq. 1's exact branch-and-bound finds the poses, the
+// verification scores them: core/matching/verification.h), `dmm:eq1` (the paper's Eq. 1 score), `dmm-exhaustive`
+// (Eq. 1, the reference) and `dmm-ransac` (the paper's baseline). They store the map's points (bits_per_point
+// each) and return the relative pose T_map_query of every candidate.
 #include "core/error.h"
 #include "core/timing.h"
 #include "core/ranking/ranking.h"
@@ -14,17 +15,30 @@ double mean_points(std::span<const MapView> maps) {
   return maps.empty() ? 0.0 : sum / static_cast<double>(maps.size());
 }
 
+const Points2 kNoOrigins;
+
+const Points2& origins_of(const MapView& m) { return m.origins != nullptr ? *m.origins : kNoOrigins; }
+
+enum class DmmScore { kVerified, kEq1, kExhaustive };
+
 class DmmRanker final : public Ranker {
  public:
-  DmmRanker(const RankingConfig& config, bool exhaustive)
-      : dmm_(config.dmm), bits_per_point_(config.bits_per_point), exhaustive_(exhaustive) {
+  DmmRanker(const RankingConfig& config, DmmScore score)
+      : dmm_(config.dmm), verify_(config.verify), bits_per_point_(config.bits_per_point), score_(score) {
     validate(dmm_);
+    validate(verify_);
   }
 
   void prepare(std::span<const MapView> maps, int num_threads, const Progress& progress) override {
     maps_ = prepare_from_points<PreparedMap>(maps, num_threads, progress, "dmm", "grids",
                                              [&](const Points2& points) { return prepare_map(points, dmm_); });
     mean_points_ = mean_points(maps);
+    if (score_ != DmmScore::kVerified) return;
+    verify_maps_.assign(maps.size(), {});
+    parallel_for(
+        maps.size(), num_threads,
+        [&](std::size_t i) { verify_maps_[i] = VerifyMap(*maps[i].points, origins_of(maps[i]), verify_); },
+        "free space", progress);
   }
 
   double bits_per_map() const override { return bits_per_point_ * mean_points_; }
@@ -38,7 +52,26 @@ class DmmRanker final : public Ranker {
     r.prep_ms = ms_since(t0);
     t0 = Clock::now();
     std::vector<DmmResult> results;
-    if (exhaustive_) {
+    if (score_ == DmmScore::kVerified) {
+      const VerifyMap query_verify(*query.points, origins_of(query), verify_);
+      results.resize(candidates.size());
+      r.probability.resize(candidates.size());
+      parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
+        const std::size_t c = candidates[j];
+        const VerifiedDmm v = verify_dmm(prepared, maps_.at(c), query_verify, verify_maps_.at(c), verify_);
+        DmmResult& d = results[j];
+        d = v.eq1;
+        d.T_map_query = v.best.T_map_query;
+        d.inlier_fraction = v.best.terms.query.occupied;
+        d.inliers = static_cast<int>(std::lround(d.inlier_fraction * prepared.num_points));
+        r.probability[j] = v.best.probability;
+      });
+      r.match_ms = ms_since(t0);
+      for (std::size_t j = 0; j < results.size(); ++j)
+        r.scores.push_back(*r.probability[j]), r.direct.emplace_back(results[j]);
+      return r;
+    }
+    if (score_ == DmmScore::kExhaustive) {
       results.resize(candidates.size());
       parallel_for(candidates.size(), options.num_threads,
                    [&](std::size_t j) { results[j] = match_exhaustive(prepared, maps_.at(candidates[j])); });
@@ -55,9 +88,11 @@ class DmmRanker final : public Ranker {
 
  private:
   DmmConfig dmm_;
+  VerifyConfig verify_;
   double bits_per_point_;
-  bool exhaustive_;
+  DmmScore score_;
   std::vector<PreparedMap> maps_;
+  std::vector<VerifyMap> verify_maps_;
   double mean_points_ = 0;
 };
 
@@ -111,11 +146,20 @@ void parse_direct(const std::string& text, const std::vector<std::string>& args,
 
 const MethodEntry& dmm_method() {
   static const MethodEntry entry{
-      "dmm", "dmm",
+      "dmm", "dmm[:eq1]",
       [](const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
+        if (args.size() == 1 && args[0] == "eq1") {  // the paper's score
+          parse_direct(text, {}, m, "dMM Eq. 1");
+          m.spec = "dmm:eq1";
+          return;
+        }
         parse_direct(text, args, m, "dMM");
+        m.traits.calibrated = true;
       },
-      [](const MethodSpec&, const RankingConfig& c) { return std::unique_ptr<Ranker>(new DmmRanker(c, false)); }};
+      [](const MethodSpec& m, const RankingConfig& c) {
+        return std::unique_ptr<Ranker>(
+            new DmmRanker(c, m.traits.calibrated ? DmmScore::kVerified : DmmScore::kEq1));
+      }};
   return entry;
 }
 
@@ -125,7 +169,7 @@ const MethodEntry& dmm_exhaustive_method() {
       [](const std::string& text, const std::vector<std::string>& args, MethodSpec& m) {
         parse_direct(text, args, m, "dMM-exhaustive");
       },
-      [](const MethodSpec&, const RankingConfig& c) { return std::unique_ptr<Ranker>(new DmmRanker(c, true)); }};
+      [](const MethodSpec&, const RankingConfig& c) { return std::unique_ptr<Ranker>(new DmmRanker(c, DmmScore::kExhaustive)); }};
   return entry;
 }
 

@@ -30,6 +30,9 @@ struct MethodTraits {
   bool needs_points = false;  ///< the stored form is built from every map's points at run time (direct matching)
   bool needs_parts = false;   ///< needs every map's CPD parts (a part descriptor)
   bool gives_pose = false;    ///< returns T_map_query (a dMM result) for the candidates it matches directly
+  /// its score of a directly matched candidate is the calibrated probability that the query is the same place
+  /// at that pose (Ranking::probability; the verified dMM and a rerank over it)
+  bool calibrated = false;
   /// The score of a stored map depends on that map and the query alone, so stored maps can be split between
   /// processes (mpirun); false when the method learns from all stored maps or shortlists among them.
   bool shardable = true;

@@ -24,6 +24,7 @@ int compare(const Ranking& r, std::size_t a, std::size_t b) {
 void validate(const RankingConfig& config) {
   validate(config.dmm);
   validate(config.ransac);
+  validate(config.verify);
   validate(config.parts);
   if (!(config.bits_per_point >= 0) || !std::isfinite(config.bits_per_point))
     throw InputError("ranking: bits_per_point must be a finite number >= 0");

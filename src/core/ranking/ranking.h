@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/matching/dmm.h"
 #include "core/matching/dmm_ransac.h"
+#include "core/matching/verification.h"
 #include "core/ranking/method_spec.h"
 #include "core/ranking/registry.h"
 #include "core/parallel.h"
@@ -32,10 +33,14 @@ namespace partslam {
 struct MapView {
   const Points2* points = nullptr;
   const std::vector<Part>* parts = nullptr;
+  /// Where the laser was while the map was recorded (Submap::origins): the verified dMM casts its free space
+  /// from them; none (nullptr or empty) for a map of bare points.
+  const Points2* origins = nullptr;
 };
 
 struct RankingConfig {
   DmmConfig dmm;               ///< dMM and the dMM stage of rerank
+  VerifyConfig verify;         ///< dMM's verification of its poses (not dmm:eq1)
   DmmRansacConfig ransac;      ///< dMM-RANSAC
   PartsConfig parts;           ///< iMM, hMM and their rerank
   double bits_per_point = 14;  ///< storage of a raw map point (7 + 7 bits at 0.1 m in a 12.8 m crop)
@@ -59,6 +64,9 @@ struct Ranking {
   /// score is the first stage's); empty: every candidate in tier 0.
   std::vector<int> tiers;
   std::vector<std::optional<DmmResult>> direct;  ///< per candidate where a direct match ran (pose, inliers)
+  /// Per candidate where the match was verified: the probability that it is the same place at the direct
+  /// match's pose (core/matching/verification.h); empty for methods that do not verify.
+  std::vector<std::optional<double>> probability;
   std::vector<double> shortlist_scores;          ///< rerank: the first stage's scores; empty otherwise
   double prep_ms = 0;   ///< the query's own preparation (not its CPD) [ms]
   double match_ms = 0;  ///< matching the candidates [ms]

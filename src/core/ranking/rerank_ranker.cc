@@ -41,11 +41,13 @@ class RerankRanker final : public Ranker {
     const Ranking d = direct_->rank(query, shortlist, {options.num_threads, 0});
     r.direct.assign(candidates.size(), std::nullopt);
     r.tiers.assign(candidates.size(), 0);
+    r.probability.assign(candidates.size(), std::nullopt);
     // The top R move above every other map (tier 1), ordered by dMM; the first stage breaks dMM ties.
     for (std::size_t j = 0; j < order.size(); ++j) {
       r.tiers[order[j]] = 1;
       r.scores[order[j]] = d.scores[j];
       r.direct[order[j]] = d.direct[j];
+      if (!d.probability.empty()) r.probability[order[j]] = d.probability[j];
     }
     r.prep_ms += d.prep_ms;
     r.match_ms += d.match_ms;
@@ -82,6 +84,7 @@ void parse_rerank(const std::string& text, const std::vector<std::string>& args,
   m.traits = first.traits;
   m.traits.needs_points = true;
   m.traits.gives_pose = true;
+  m.traits.calibrated = true;  // its dMM stage verifies
   m.traits.shardable = false;  // each process would shortlist its own slice
   m.options = std::move(o);
 }

@@ -1,0 +1,199 @@
+#include "core/matching/verification.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
+#include "core/slam/scan_matcher.h"
+
+namespace partslam {
+namespace {
+
+constexpr double kMaxCells = double(1 << 24);
+
+// Visits the cells of the segment from cell a to cell b (Amanatides & Woo on the cell centres), b excluded;
+// visit(x, y) returns false to stop early.
+template <typename Visit>
+void walk_cells(int ax, int ay, int bx, int by, Visit&& visit) {
+  const int dx = std::abs(bx - ax), dy = std::abs(by - ay);
+  const int sx = bx > ax ? 1 : -1, sy = by > ay ? 1 : -1;
+  int err = dx - dy, x = ax, y = ay;
+  while (x != bx || y != by) {
+    if (!visit(x, y)) return;
+    const int e2 = 2 * err;
+    if (e2 > -dy) err -= dy, x += sx;
+    if (e2 < dx) err += dx, y += sy;
+  }
+}
+
+SideTerms side_terms(const Points2& points, const VerifyMap& other, const Pose2& T_other_points) {
+  SideTerms t;
+  if (points.empty()) return t;
+  int occupied = 0, free = 0;
+  for (const Vec2& p : points) {
+    const std::uint8_t s = other.at(T_other_points * p);
+    occupied += s == VerifyMap::kOccupied;
+    free += s == VerifyMap::kFree;
+  }
+  const double n = static_cast<double>(points.size());
+  t.occupied = occupied / n;
+  t.free = free / n;
+  t.seen = (occupied + free) / n;
+  return t;
+}
+
+double logistic(double z) { return 1.0 / (1.0 + std::exp(-z)); }
+
+}  // namespace
+
+void validate(const VerifyConfig& c) {
+  if (!(c.resolution > 0.0) || !std::isfinite(c.resolution) || c.resolution > 10.0)
+    throw InputError("verify config: resolution must be in (0, 10] m");
+  if (c.dilation < 0 || c.dilation > 20) throw InputError("verify config: dilation must be in [0, 20] cells");
+  if (!(c.max_ray > 0.0) || c.max_ray > 1000.0) throw InputError("verify config: max_ray must be in (0, 1000] m");
+  if (!(c.refine_window >= 0.0) || c.refine_window > 5.0)
+    throw InputError("verify config: refine_window must be in [0, 5] m");
+  if (!(c.refine_angle >= 0.0) || c.refine_angle > 1.0)
+    throw InputError("verify config: refine_angle must be in [0, 1] rad");
+  if (c.alternatives < 0 || c.alternatives > 64) throw InputError("verify config: alternatives must be in [0, 64]");
+  if (!(c.alternative_bar >= 0.0) || c.alternative_bar > 1.0)
+    throw InputError("verify config: alternative_bar must be in [0, 1]");
+  if (!(c.alternative_distance >= 0.0) || c.alternative_distance > 100.0)
+    throw InputError("verify config: alternative_distance must be in [0, 100] m");
+  if (!(c.alternative_angle >= 0.0) || c.alternative_angle > 4.0)
+    throw InputError("verify config: alternative_angle must be in [0, 4] rad");
+}
+
+VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config)
+    : resolution_(config.resolution), inv_resolution_(1.0 / config.resolution), points_(points) {
+  validate(config);
+  for (const Points2* set : {&points, &origins})
+    for (const Vec2& p : *set)
+      if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
+  if (points.empty()) return;
+  has_beams_ = !origins.empty();
+  const auto cell = [&](const Vec2& p) {
+    return Eigen::Vector2i(static_cast<int>(std::floor(p.x() * inv_resolution_)),
+                           static_cast<int>(std::floor(p.y() * inv_resolution_)));
+  };
+  Eigen::Vector2i lo = cell(points.front()), hi = lo;
+  for (const Points2* set : {&points, &origins})
+    for (const Vec2& p : *set) lo = lo.cwiseMin(cell(p)), hi = hi.cwiseMax(cell(p));
+  const int d = config.dilation;
+  lo.array() -= d + 1, hi.array() += d + 1;
+  const double w = double(hi.x()) - lo.x() + 1, h = double(hi.y()) - lo.y() + 1;
+  if (!(w * h <= kMaxCells))
+    throw InputError("verify map: points and origins spread over " + std::to_string(w * resolution_) + " x " +
+                     std::to_string(h * resolution_) + " m, more than 2^24 cells");
+  x0_ = lo.x(), y0_ = lo.y(), width_ = static_cast<int>(w), height_ = static_cast<int>(h);
+  cells_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), kUnknown);
+  const auto index = [&](int x, int y) {
+    return static_cast<std::size_t>(y - y0_) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x - x0_);
+  };
+  // The points' own cells (for choosing each beam's origin), then the dilated occupied grid.
+  std::vector<std::uint8_t> hit(cells_.size(), 0);
+  std::vector<Eigen::Vector2i> point_cells;
+  point_cells.reserve(points.size());
+  for (const Vec2& p : points) point_cells.push_back(cell(p)), hit[index(point_cells.back().x(), point_cells.back().y())] = 1;
+  for (const Eigen::Vector2i& c : point_cells)
+    for (int dy = -d; dy <= d; ++dy)
+      for (int dx = -d; dx <= d; ++dx)
+        if (dx * dx + dy * dy <= d * d) cells_[index(c.x() + dx, c.y() + dy)] = kOccupied;
+  if (!has_beams_) return;
+  std::vector<Eigen::Vector2i> origin_cells;
+  for (const Vec2& o : origins) origin_cells.push_back(cell(o));
+  const double max_cells = config.max_ray * inv_resolution_;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector2i& b = point_cells[i];
+    int best = -1, best_blocked = std::numeric_limits<int>::max();
+    double best_distance = 0;
+    for (std::size_t k = 0; k < origin_cells.size(); ++k) {
+      const Eigen::Vector2i& a = origin_cells[k];
+      const double distance = (b - a).cast<double>().norm();
+      if (distance > max_cells) continue;
+      // Occupied cells the beam crosses before the last two (a wall grazed next to its endpoint is its own).
+      int blocked = 0, steps = 0;
+      const int length = std::max(std::abs(b.x() - a.x()), std::abs(b.y() - a.y()));
+      walk_cells(a.x(), a.y(), b.x(), b.y(), [&](int x, int y) {
+        if (++steps < length - 1 && hit[index(x, y)]) ++blocked;
+        return blocked <= best_blocked;
+      });
+      if (blocked < best_blocked || (blocked == best_blocked && distance < best_distance))
+        best = static_cast<int>(k), best_blocked = blocked, best_distance = distance;
+    }
+    if (best < 0) continue;
+    const Eigen::Vector2i& a = origin_cells[static_cast<std::size_t>(best)];
+    walk_cells(a.x(), a.y(), b.x(), b.y(), [&](int x, int y) {
+      std::uint8_t& s = cells_[index(x, y)];
+      if (s == kUnknown) s = kFree;
+      return true;
+    });
+  }
+}
+
+std::size_t VerifyMap::free_cells() const { return static_cast<std::size_t>(std::count(cells_.begin(), cells_.end(), kFree)); }
+
+MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query) {
+  MatchTerms t;
+  t.query = side_terms(query.points(), map, T_map_query);
+  t.map = side_terms(map.points(), query, T_map_query.inverse());
+  t.beams = query.has_beams() && map.has_beams();
+  return t;
+}
+
+double same_place_probability(const MatchTerms& t) {
+  // Placeholder weights until the fit (tools/fit_verification.py) is in.
+  if (t.beams) {
+    return logistic(-6.0 + 6.0 * t.query.occupied + 6.0 * t.map.occupied - 8.0 * t.query.free - 8.0 * t.map.free);
+  }
+  return logistic(-6.0 + 6.0 * t.query.occupied + 6.0 * t.map.occupied);
+}
+
+Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query, const VerifyConfig& config) {
+  validate(config);
+  if (query.points().empty() || map.points().empty()) return T_map_query;
+  const LikelihoodField field(map.points(), 0.05, 0.1);
+  ScanMatcherConfig matcher;
+  matcher.resolution = 0.05;
+  matcher.sigma = 0.1;
+  matcher.linear_window = config.refine_window;
+  matcher.angular_window = config.refine_angle;
+  return match_scan(field, query.points(), T_map_query, matcher).pose;
+}
+
+Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
+                      const VerifyConfig& config) {
+  Verified v;
+  v.T_map_query = T_map_query;
+  v.terms = match_terms(query, map, T_map_query);
+  v.probability = same_place_probability(v.terms);
+  const Pose2 refined = refine_match(query, map, T_map_query, config);
+  const MatchTerms terms = match_terms(query, map, refined);
+  const double probability = same_place_probability(terms);
+  if (probability >= v.probability) v = {refined, terms, probability};
+  return v;
+}
+
+VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
+                       const VerifyMap& map_verify, const VerifyConfig& config) {
+  VerifiedDmm out;
+  out.eq1 = match_dmm(query, map);
+  out.best = verify_match(query_verify, map_verify, out.eq1.T_map_query, config);
+  out.poses = 1;
+  std::vector<Pose2> avoid{out.eq1.T_map_query};
+  const int bar = static_cast<int>(config.alternative_bar * out.eq1.inliers);
+  for (int k = 0; k < config.alternatives && out.eq1.inliers > 0; ++k) {
+    const DmmResult alt =
+        match_dmm_elsewhere(query, map, avoid, config.alternative_distance, config.alternative_angle, bar);
+    if (!alt.exact || alt.inliers == 0) break;
+    avoid.push_back(alt.T_map_query);
+    const Verified v = verify_match(query_verify, map_verify, alt.T_map_query, config);
+    ++out.poses;
+    if (v.probability > out.best.probability) out.best = v;
+  }
+  return out;
+}
+
+}  // namespace partslam

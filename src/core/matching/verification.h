@@ -1,0 +1,121 @@
+// Verifying a match (docs/NOTES.md, "Verifying a match"): is the query the same place as a stored map at a given
+// pose? Eq. 1 only counts query points that land on the map's structure, so any cluttered map explains a query
+// well. The verification reads both directions and the free space the beams crossed:
+//   - each map is a grid of unknown / free / occupied cells: occupied as dMM's (dilated) grid, free where a beam
+//     from one of the map's laser origins (Submap::origins) passed on its way to a point;
+//   - at T_map_query the query's points are looked up in the map's grid and the map's points in the query's:
+//     the shares that land on structure, on free space (a beam of the other map passed through that wall) and
+//     on cells the other map saw at all (their common field of view);
+//   - a logistic model of those shares (fitted on the tuning split, docs/NOTES.md) turns them into the
+//     probability that the two maps show the same place at that pose.
+// refine_match moves a lattice pose to the smooth optimum (the front end's correlative + Gauss-Newton matcher on
+// a likelihood field of the map's points), below the lattice that limits Eq. 1.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/matching/dmm.h"
+#include "core/types.h"
+
+namespace partslam {
+
+struct VerifyConfig {
+  double resolution = kMapResolution;  ///< cell of the free-space grid [m] (dMM's lattice)
+  int dilation = 1;                    ///< occupied cells grown by this many cells, as dMM's grid [cells]
+  double max_ray = 12.0;               ///< beams longer than this are not cast [m]
+  double refine_window = 0.3;          ///< refine_match searches +- this around the pose [m]
+  double refine_angle = 0.05;          ///< and +- this in rotation [rad]
+  /// verify_dmm: besides Eq. 1's optimum, up to this many next-best distinct poses are verified (a Manhattan
+  /// building's quarter turns and a corridor's shifts score alike under Eq. 1)
+  int alternatives = 3;
+  double alternative_bar = 0.6;        ///< an alternative must reach this share of the optimum's Eq. 1 score
+  double alternative_distance = 1.0;   ///< distinct: translations this far apart [m]
+  double alternative_angle = 0.3;      ///< or rotations this far apart [rad]
+};
+
+/// Throws InputError naming the offending field.
+void validate(const VerifyConfig& config);
+
+/// A map as the verification reads it.
+class VerifyMap {
+ public:
+  static constexpr std::uint8_t kUnknown = 0, kFree = 1, kOccupied = 2;
+
+  VerifyMap() = default;
+  /// From the map's points and laser origins in its own frame (no origins: no free space, every cell not
+  /// occupied is unknown). Each point is cast from the origin whose beam to it crosses the fewest occupied
+  /// cells (the nearest among equals): a submap's origins lie along a short path, and the one that saw a point
+  /// has a clear line to it. Throws InputError for non-finite points or a grid of more than 2^24 cells.
+  VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config = {});
+
+  std::uint8_t at(const Vec2& p) const {
+    const int cx = static_cast<int>(std::floor(p.x() * inv_resolution_)) - x0_;
+    const int cy = static_cast<int>(std::floor(p.y() * inv_resolution_)) - y0_;
+    return static_cast<unsigned>(cx) < static_cast<unsigned>(width_) &&
+                   static_cast<unsigned>(cy) < static_cast<unsigned>(height_)
+               ? cells_[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(cx)]
+               : kUnknown;
+  }
+  const Points2& points() const { return points_; }
+  bool has_beams() const { return has_beams_; }
+  double resolution() const { return resolution_; }
+  std::size_t free_cells() const;
+
+ private:
+  double resolution_ = kMapResolution, inv_resolution_ = 1.0 / kMapResolution;
+  int x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
+  std::vector<std::uint8_t> cells_;
+  Points2 points_;
+  bool has_beams_ = false;
+};
+
+/// What one map says of the other at a pose: shares of its points that land on the other's occupied, free and
+/// seen (free or occupied) cells.
+struct SideTerms {
+  double occupied = 0, free = 0, seen = 0;
+};
+
+struct MatchTerms {
+  SideTerms query;  ///< the query's points in the map's grid (query.occupied is Eq. 1's inlier share)
+  SideTerms map;    ///< the map's points in the query's grid
+  bool beams = false;  ///< both maps had laser origins (the free and seen shares are meaningful)
+};
+
+/// The terms at T_map_query (maps query-frame points into the map frame). Empty maps give zero shares.
+MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query);
+
+/// The calibrated probability that the two maps show the same place at that pose (a logistic model of the
+/// terms, one for maps with beams and one for bare points; coefficients in verification.cc, fitted by
+/// tools/fit_verification.py on the tuning split).
+double same_place_probability(const MatchTerms& terms);
+
+/// The pose moved to the best fit of the query's points on a likelihood field of the map's points within
+/// +- refine_window / refine_angle (correlative search on 0.05 m cells, then Gauss-Newton); the input pose when
+/// either map has no points.
+Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
+                   const VerifyConfig& config = {});
+
+struct Verified {
+  Pose2 T_map_query;       ///< refined pose
+  MatchTerms terms;        ///< at that pose
+  double probability = 0;  ///< same_place_probability(terms)
+};
+
+/// refine_match, then the terms and probability at the refined pose (or at the input pose when refining lowers
+/// the probability).
+Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
+                      const VerifyConfig& config = {});
+
+/// Eq. 1's exact search (match_dmm) for its optimum and its alternatives, each verified; the one of highest
+/// probability. `eq1` is the optimum's Eq. 1 result (the search's statistics and the paper's score).
+struct VerifiedDmm {
+  DmmResult eq1;
+  Verified best;
+  int poses = 0;  ///< poses verified
+};
+VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
+                       const VerifyMap& map_verify, const VerifyConfig& config = {});
+
+}  // namespace partslam

@@ -1,0 +1,114 @@
+#include "core/matching/verification.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/testing/simulated_maps.h"
+
+namespace partslam {
+namespace {
+
+// A corridor 2 m wide along x (walls at y = -1 and y = +1, x in [-4, 4]) with a cross wall at x = 4, seen from
+// origins along its axis.
+Points2 corridor() {
+  Points2 p;
+  for (double x = -4.0; x <= 4.0; x += 0.1) p.emplace_back(x, -1.0), p.emplace_back(x, 1.0);
+  for (double y = -0.9; y <= 0.9; y += 0.1) p.emplace_back(4.0, y);
+  return p;
+}
+Points2 axis_origins() { return {{-1.0, 0.0}, {-0.5, 0.0}, {0.0, 0.0}, {0.5, 0.0}}; }
+
+TEST(VerifyMap, CastsFreeSpaceBetweenTheOriginsAndThePoints) {
+  const VerifyMap m(corridor(), axis_origins());
+  EXPECT_TRUE(m.has_beams());
+  EXPECT_EQ(m.at({0.0, 0.0}), VerifyMap::kFree);
+  EXPECT_EQ(m.at({2.0, 0.5}), VerifyMap::kFree);
+  EXPECT_EQ(m.at({1.0, 1.0}), VerifyMap::kOccupied);
+  EXPECT_EQ(m.at({1.0, 2.0}), VerifyMap::kUnknown);  // behind the wall
+  EXPECT_EQ(m.at({5.0, 0.0}), VerifyMap::kUnknown);  // behind the cross wall
+  EXPECT_GT(m.free_cells(), 500u);
+}
+
+TEST(VerifyMap, BarePointsHaveNoFreeSpace) {
+  const VerifyMap m(corridor(), {});
+  EXPECT_FALSE(m.has_beams());
+  EXPECT_EQ(m.free_cells(), 0u);
+  EXPECT_EQ(m.at({0.0, 0.0}), VerifyMap::kUnknown);
+  EXPECT_EQ(m.at({1.0, 1.0}), VerifyMap::kOccupied);
+}
+
+TEST(VerifyMap, RefusesNonFinitePointsAndBadConfig) {
+  Points2 bad = corridor();
+  bad.emplace_back(std::numeric_limits<double>::quiet_NaN(), 0.0);
+  EXPECT_THROW(VerifyMap(bad, axis_origins()), InputError);
+  EXPECT_THROW(VerifyMap(corridor(), {{std::numeric_limits<double>::infinity(), 0.0}}), InputError);
+  VerifyConfig c;
+  c.resolution = 0;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.alternatives = -1;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.alternative_bar = 2;
+  try {
+    validate(c);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("alternative_bar"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MatchTerms, AWallInTheOtherMapsFreeSpaceIsAContradiction) {
+  const VerifyMap a(corridor(), axis_origins());
+  const MatchTerms same = match_terms(a, a, Pose2{});
+  EXPECT_DOUBLE_EQ(same.query.occupied, 1.0);
+  EXPECT_DOUBLE_EQ(same.map.occupied, 1.0);
+  EXPECT_DOUBLE_EQ(same.query.free, 0.0);
+  EXPECT_TRUE(same.beams);
+  // Half a corridor sideways: the walls run down the other's free middle.
+  const MatchTerms shifted = match_terms(a, a, Pose2{0.0, 1.0, 0.0});
+  EXPECT_LT(shifted.query.occupied, 0.6);
+  EXPECT_GT(shifted.query.free + shifted.map.free, 0.3);
+  EXPECT_GT(same_place_probability(same), same_place_probability(shifted) + 0.3);
+  // Empty maps: zero shares, no crash.
+  const VerifyMap empty(Points2{}, Points2{});
+  const MatchTerms none = match_terms(empty, a, Pose2{});
+  EXPECT_DOUBLE_EQ(none.query.occupied, 0.0);
+  EXPECT_FALSE(none.beams);
+}
+
+TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {
+  const VerifyMap a(corridor(), axis_origins());
+  // A map with a corner (the cross wall) pins x and y; the pose is off by 0.07 m / 0.8 deg.
+  const Pose2 off{0.07, -0.06, 0.014};
+  const Pose2 refined = refine_match(a, a, off);
+  EXPECT_LT(refined.translation().norm(), 0.03);
+  EXPECT_LT(std::abs(refined.theta), 0.005);
+}
+
+TEST(VerifyDmm, FindsAndVerifiesTheTruePoseOfARealSubmap) {
+  const Submaps& maps = testing::simulated_maps();
+  ASSERT_GT(maps.size(), 10u);
+  const Submap& m = maps[maps.size() / 2];
+  ASSERT_FALSE(m.origins.empty());
+  // The same map, moved by a known pose, as the query.
+  const Pose2 T_map_query{0.33, -0.21, 0.02};
+  const Points2 query_points = transform(T_map_query.inverse(), m.points);
+  const Points2 query_origins = transform(T_map_query.inverse(), m.origins);
+  DmmConfig dmm;
+  const PreparedQuery q = prepare_query(query_points, dmm);
+  const PreparedMap pm = prepare_map(m.points, dmm);
+  const VerifyMap qv(query_points, query_origins), mv(m.points, m.origins);
+  const VerifiedDmm v = verify_dmm(q, pm, qv, mv);
+  EXPECT_GE(v.poses, 1);
+  EXPECT_LT((v.best.T_map_query.translation() - T_map_query.translation()).norm(), 0.05);
+  EXPECT_LT(std::abs(wrap_angle(v.best.T_map_query.theta - T_map_query.theta)), 0.01);
+  EXPECT_GT(v.best.probability, 0.5);
+  EXPECT_GT(v.best.terms.query.occupied, 0.9);
+}
+
+}  // namespace
+}  // namespace partslam

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Fits the same-place probability of core/matching/verification.cc and checks it (docs/NOTES.md, "Verifying a
+match").
+
+Input: the CSV rows of build/verify_features (one per (query, stored map) pair of the evaluation's tasks). The
+model is a logistic regression on the match terms at the refined pose; a pair is positive when the map is the
+task's relevant one and the refined pose is within 0.5 m / 0.2 rad of the truth. It is fitted on the tuning
+sets only; the validation sets report its expected calibration error (ECE, 10 equal-width bins over every pair)
+and the recall@1 / ANR of ranking by it, beside Eq. 1 and the oracle (the true overlap at the true pose).
+
+Usage: fit_verification.py --tuning A.csv B.csv ... --validation C.csv ... [--plot docs/reliability.png]
+Prints the coefficients as C++ for verification.cc and a Markdown table.
+"""
+import argparse
+import numpy as np
+
+FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms", "t"]
+
+
+def load(path):
+    return np.genfromtxt(path, delimiter=",", names=True)
+
+
+def features(a, prefix="r_"):
+    x = np.stack([a[prefix + "qo"], a[prefix + "mo"], a[prefix + "qf"], a[prefix + "mf"], a[prefix + "qs"],
+                  a[prefix + "ms"], np.minimum(a[prefix + "t"], 6.0) / 6.0], axis=1)
+    return x
+
+
+def labels(a):
+    return ((a["relevant"] == 1) & (a["r_dt"] < 0.5) & (a["r_da"] < 0.2)).astype(float)
+
+
+def fit_logistic(x, y, l2=1e-7, iterations=50):
+    """Newton's method (IRLS) with an L2 penalty on the weights (not the intercept)."""
+    X = np.hstack([np.ones((len(x), 1)), x])
+    w = np.zeros(X.shape[1])
+    reg = l2 * len(x) * np.eye(X.shape[1])
+    reg[0, 0] = 0
+    for _ in range(iterations):
+        p = 1 / (1 + np.exp(-X @ w))
+        g = X.T @ (p - y) + reg @ w
+        H = (X * (p * (1 - p))[:, None]).T @ X + reg
+        step = np.linalg.solve(H, g)
+        w -= step
+        if np.abs(step).max() < 1e-9:
+            break
+    return w
+
+
+def predict(w, x):
+    return 1 / (1 + np.exp(-(w[0] + x @ w[1:])))
+
+
+def ece(p, y, bins=10):
+    edges = np.linspace(0, 1, bins + 1)
+    idx = np.clip(np.digitize(p, edges) - 1, 0, bins - 1)
+    e = 0.0
+    rows = []
+    for b in range(bins):
+        m = idx == b
+        if m.any():
+            e += m.mean() * abs(p[m].mean() - y[m].mean())
+            rows.append((p[m].mean(), y[m].mean(), int(m.sum())))
+    return e, rows
+
+
+def pair_max(a, score):
+    """The best score over each pair's candidate poses (rows of the same task and map), one row per pair."""
+    key = a["task"].astype(np.int64) * 1000003 + a["map"].astype(np.int64)
+    order = np.lexsort((-score, key))
+    first = np.ones(len(order), bool)
+    first[1:] = key[order][1:] != key[order][:-1]
+    return order[first]
+
+
+def rank_figures(a, score):
+    keep = pair_max(a, score)
+    a, score = a[keep], score[keep]
+    tasks = a["task"].astype(int)
+    ranks = []
+    for t in np.unique(tasks):
+        m = tasks == t
+        s = score[m]
+        rel = a["relevant"][m] == 1
+        sr = s[rel][0]
+        ranks.append(((1 + (s > sr).sum() + ((s == sr).sum() - 1) / 2), m.sum()))
+    r = np.array(ranks)
+    return 100 * np.mean(r[:, 0] / r[:, 1]), np.mean(r[:, 0] <= 1.0)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--tuning", nargs="+", required=True)
+    ap.add_argument("--validation", nargs="+", required=True)
+    ap.add_argument("--plot")
+    o = ap.parse_args()
+    tuning = [load(p) for p in o.tuning]
+    x = np.vstack([features(a) for a in tuning])
+    y = np.concatenate([labels(a) for a in tuning])
+    w = fit_logistic(x, y)
+    print("// fitted by tools/fit_verification.py on", " ".join(p.split("/")[-1] for p in o.tuning))
+    print("constexpr double kIntercept = %.4f;" % w[0])
+    print("constexpr double kWeights[] = {%s};  // %s" % (", ".join("%.4f" % v for v in w[1:]), ", ".join(FEATURES)))
+    print()
+    print("| set | split | ANR Eq. 1 | ANR verified | ANR oracle | R@1 Eq. 1 | R@1 verified | R@1 oracle | ECE |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    all_p, all_y = [], []
+    for split, paths, sets in (("tuning", o.tuning, tuning), ("validation", o.validation, None)):
+        sets = sets or [load(p) for p in paths]
+        for path, a in zip(paths, sets):
+            p = predict(w, features(a))
+            e, _ = ece(p, labels(a))
+            eq1 = rank_figures(a, a["inliers"])
+            ver = rank_figures(a, p)
+            ora = rank_figures(a, a["t_qo"])
+            print("| %s | %s | %.1f | %.1f | %.1f | %.2f | %.2f | %.2f | %.3f |" % (
+                path.split("/")[-1].replace(".csv", ""), split, eq1[0], ver[0], ora[0], eq1[1], ver[1], ora[1], e))
+            if split == "validation":
+                all_p.append(p)
+                all_y.append(labels(a))
+    p, yv = np.concatenate(all_p), np.concatenate(all_y)
+    e, rows = ece(p, yv)
+    print("\nvalidation, all pairs: ECE %.4f over %d pairs" % (e, len(p)))
+    for mp, fy, n in rows:
+        print("  predicted %.3f  observed %.3f  pairs %d" % (mp, fy, n))
+    if o.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(4, 4))
+        ax.plot([0, 1], [0, 1], "k:", lw=1)
+        ax.plot([r[0] for r in rows], [r[1] for r in rows], "o-")
+        ax.set_xlabel("predicted probability")
+        ax.set_ylabel("observed share of same place")
+        ax.set_title("validation ECE %.3f" % e)
+        fig.tight_layout()
+        fig.savefig(o.plot, dpi=100)
+
+
+if __name__ == "__main__":
+    main()
