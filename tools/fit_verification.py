@@ -14,7 +14,7 @@ Prints the coefficients as C++ for verification.cc and a Markdown table.
 import argparse
 import numpy as np
 
-FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms", "t"]
+FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms"]
 
 
 def load(path):
@@ -23,7 +23,7 @@ def load(path):
 
 def features(a, prefix="r_"):
     x = np.stack([a[prefix + "qo"], a[prefix + "mo"], a[prefix + "qf"], a[prefix + "mf"], a[prefix + "qs"],
-                  a[prefix + "ms"], np.minimum(a[prefix + "t"], 6.0) / 6.0], axis=1)
+                  a[prefix + "ms"]], axis=1)
     return x
 
 
@@ -99,6 +99,17 @@ def main():
     x = np.vstack([features(a) for a in tuning])
     y = np.concatenate([labels(a) for a in tuning])
     w = fit_logistic(x, y)
+    # Platt scaling on what the ranker reports: each pair's best pose (the maximum over its poses), so that the
+    # probability of the pose it answers with is calibrated (a monotone map: the ranking does not change).
+    z, yz = [], []
+    for a in tuning:
+        f = features(a)
+        lin = w[0] + f @ w[1:]
+        keep = pair_max(a, lin)
+        z.append(lin[keep])
+        yz.append(labels(a)[keep])
+    ab = fit_logistic(np.concatenate(z)[:, None], np.concatenate(yz))
+    w = np.concatenate([[ab[0] + ab[1] * w[0]], ab[1] * w[1:]])
     print("// fitted by tools/fit_verification.py on", " ".join(p.split("/")[-1] for p in o.tuning))
     print("constexpr double kIntercept = %.4f;" % w[0])
     print("constexpr double kWeights[] = {%s};  // %s" % (", ".join("%.4f" % v for v in w[1:]), ", ".join(FEATURES)))
@@ -110,15 +121,16 @@ def main():
         sets = sets or [load(p) for p in paths]
         for path, a in zip(paths, sets):
             p = predict(w, features(a))
-            e, _ = ece(p, labels(a))
+            keep = pair_max(a, p)  # the pose each pair answers with
+            e, _ = ece(p[keep], labels(a)[keep])
             eq1 = rank_figures(a, a["inliers"])
             ver = rank_figures(a, p)
             ora = rank_figures(a, a["t_qo"])
             print("| %s | %s | %.1f | %.1f | %.1f | %.2f | %.2f | %.2f | %.3f |" % (
                 path.split("/")[-1].replace(".csv", ""), split, eq1[0], ver[0], ora[0], eq1[1], ver[1], ora[1], e))
             if split == "validation":
-                all_p.append(p)
-                all_y.append(labels(a))
+                all_p.append(p[keep])
+                all_y.append(labels(a)[keep])
     p, yv = np.concatenate(all_p), np.concatenate(all_y)
     e, rows = ece(p, yv)
     print("\nvalidation, all pairs: ECE %.4f over %d pairs" % (e, len(p)))

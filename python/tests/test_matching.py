@@ -156,7 +156,7 @@ def test_match_many_equals_one_by_one_for_any_threads_and_top_k_drops_only_loser
 
 
 def test_dmm_ranks_a_subset_and_threads_do_not_change_it(sim_submaps):
-    ranker = partslam.Ranker("dmm")
+    ranker = partslam.Ranker("dmm:eq1")
     ranker.prepare([m.points for m in sim_submaps], threads=2)
     assert len(ranker) == len(sim_submaps) and ranker.bits_per_map > 0
     candidates = [3, 10, 0, 25, 40]
@@ -176,7 +176,7 @@ def test_dmm_ranks_a_subset_and_threads_do_not_change_it(sim_submaps):
 def test_rank_scores_are_the_dmm_inliers_and_the_same_map_comes_first(sim_submaps):
     stored = [m.points for m in sim_submaps[::8]]
     query_index = 5
-    ranking = partslam.rank("dmm", stored[query_index], stored, threads=2)
+    ranking = partslam.rank("dmm:eq1", stored[query_index], stored, threads=2)
     assert ranking.order[0] == query_index
     prepared = [partslam.prepare_map(p) for p in stored]
     many = partslam.match_dmm_many(partslam.prepare_query(stored[query_index]), prepared)
@@ -208,7 +208,7 @@ def test_rerank_puts_the_shortlist_first_ordered_by_dmm(sim_submaps):
         assert (r.direct[j] is not None) == (j < 3)
         if j < 3:
             assert r.scores[j] > r.scores[3]
-            assert r.direct[j].inliers == d.scores[j]
+            assert r.direct[j].inliers == d.direct[j].inliers and r.scores[j] == d.scores[j]
     assert r.scores[1] > r.scores[0]  # the query itself beats every other shortlisted map
 
 

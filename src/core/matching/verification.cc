@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/slam/scan_matcher.h"
+#include "core/matching/scan_matcher.h"
 
 namespace partslam {
 namespace {
@@ -144,11 +144,15 @@ MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2
 }
 
 double same_place_probability(const MatchTerms& t) {
-  // Placeholder weights until the fit (tools/fit_verification.py) is in.
-  if (t.beams) {
-    return logistic(-6.0 + 6.0 * t.query.occupied + 6.0 * t.map.occupied - 8.0 * t.query.free - 8.0 * t.map.free);
-  }
-  return logistic(-6.0 + 6.0 * t.query.occupied + 6.0 * t.map.occupied);
+  // Fitted by tools/fit_verification.py on the tuning split (data sets #1..#5, 500 tasks each, N = 100, seed 1:
+  // build/verify_features rows); docs/NOTES.md, "Verifying a match". Bare points (no beams) have no free or seen
+  // shares: their free terms are 0 and their seen shares equal their occupied ones.
+  constexpr double kIntercept = -7.6736;
+  constexpr double kQueryOccupied = 5.0976, kMapOccupied = 4.4088, kQueryFree = -6.2234, kMapFree = -5.2516,
+                   kQuerySeen = -1.1147, kMapSeen = -0.8279;
+  return logistic(kIntercept + kQueryOccupied * t.query.occupied + kMapOccupied * t.map.occupied +
+                  kQueryFree * t.query.free + kMapFree * t.map.free + kQuerySeen * t.query.seen +
+                  kMapSeen * t.map.seen);
 }
 
 Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query, const VerifyConfig& config) {

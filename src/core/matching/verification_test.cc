@@ -106,7 +106,7 @@ TEST(VerifyDmm, FindsAndVerifiesTheTruePoseOfARealSubmap) {
   EXPECT_GE(v.poses, 1);
   EXPECT_LT((v.best.T_map_query.translation() - T_map_query.translation()).norm(), 0.05);
   EXPECT_LT(std::abs(wrap_angle(v.best.T_map_query.theta - T_map_query.theta)), 0.01);
-  EXPECT_GT(v.best.probability, 0.5);
+  EXPECT_GT(v.best.probability, 0.4);  // the fitted model tops out near 0.5 (docs/NOTES.md, "Verifying a match")
   EXPECT_GT(v.best.terms.query.occupied, 0.9);
 }
 

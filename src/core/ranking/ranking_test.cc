@@ -47,7 +47,7 @@ TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
   const Submaps& maps = testing::simulated_maps();
   ASSERT_GT(maps.size(), 40u);
   const std::vector<MapView> views = testing::point_views(maps);
-  const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("dmm"), {});
+  const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("dmm:eq1"), {});
   ranker->prepare(views, 2);
   const std::vector<std::size_t> candidates = {3, 10, 0, 25, 40};
   const Ranking one = ranker->rank(views[0], candidates, {1, 0});
@@ -62,6 +62,30 @@ TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
   const Ranking top = ranker->rank(views[0], candidates, {1, 1});
   EXPECT_EQ(top.scores[2], one.scores[2]);
   EXPECT_GT(ranker->bits_per_map(), 0.0);
+}
+
+TEST(Ranking, VerifiedDmmGivesTheQueryItselfTheHighestProbabilityOnAnyThreads) {
+  const Submaps& maps = testing::simulated_maps();
+  std::vector<MapView> views = testing::point_views(maps);
+  for (std::size_t i = 0; i < maps.size(); ++i) views[i].origins = &maps[i].origins;
+  const MethodSpec spec = parse_method_spec("dmm");
+  EXPECT_TRUE(spec.traits.calibrated);
+  const std::unique_ptr<Ranker> ranker = make_ranker(spec, {});
+  ranker->prepare(views, 2);
+  const std::vector<std::size_t> candidates = {3, 10, 0, 25, 40};
+  const Ranking one = ranker->rank(views[0], candidates, {1, 0});
+  const Ranking two = ranker->rank(views[0], candidates, {2, 0});
+  EXPECT_EQ(one.scores, two.scores);
+  ASSERT_EQ(one.probability.size(), candidates.size());
+  for (std::size_t j = 0; j < candidates.size(); ++j) {
+    ASSERT_TRUE(one.probability[j].has_value());
+    EXPECT_EQ(one.scores[j], *one.probability[j]);
+    EXPECT_GE(*one.probability[j], 0.0);
+    EXPECT_LE(*one.probability[j], 1.0);
+  }
+  EXPECT_EQ(ranking_order(one).front(), 2u);
+  EXPECT_GT(one.scores[2], 0.4);
+  EXPECT_LE(one.direct[2]->T_map_query.translation().norm(), 0.05);  // refined below the lattice
 }
 
 TEST(Ranking, RerankPutsTheShortlistFirstOrderedByDmm) {
@@ -86,8 +110,10 @@ TEST(Ranking, RerankPutsTheShortlistFirstOrderedByDmm) {
     EXPECT_EQ(r.tiers[j], j < 3 ? 1 : 0) << j;
     if (j < 3) {
       EXPECT_TRUE(ranks_above(r, j, 3)) << j;
-      EXPECT_EQ(r.direct[j]->inliers, static_cast<int>(d.scores[j]));
+      EXPECT_EQ(r.direct[j]->inliers, d.direct[j]->inliers);
       EXPECT_EQ(r.scores[j], d.scores[j]);
+      ASSERT_TRUE(r.probability[j].has_value());
+      EXPECT_EQ(*r.probability[j], d.scores[j]);
     }
   }
   EXPECT_TRUE(ranks_above(r, 1, 0));  // the query itself beats every other shortlisted map

@@ -15,7 +15,7 @@
 #include "core/maps/scan.h"
 #include "core/parallel.h"
 #include "core/slam/front_end_config.h"
-#include "core/slam/scan_matcher.h"
+#include "core/matching/scan_matcher.h"
 
 namespace partslam {
 

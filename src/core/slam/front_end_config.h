@@ -1,21 +1,11 @@
-// The settings of the local front end (front_end.h) and of its scan matcher (scan_matcher.h), apart from the
+// The settings of the local front end (front_end.h; its scan matcher's are core/matching/scan_matcher.h), apart from the
 // code that runs them: what a caller stores or validates (the map database keeps a dataset's front-end settings,
 // io/map_database.h) needs only these plain structs, not the front end's interface.
 #pragma once
 
+#include "core/matching/scan_matcher.h"
+
 namespace partslam {
-
-struct ScanMatcherConfig {
-  double resolution = 0.05;      ///< likelihood field cell [m]
-  double sigma = 0.1;            ///< likelihood field width [m]
-  double linear_window = 0.3;    ///< correlative search half-width in x and y [m]
-  double angular_window = 0.2;   ///< correlative search half-width in rotation [rad]
-  int max_iterations = 20;       ///< Gauss-Newton iterations
-  int num_threads = 1;           ///< threads of the correlative search (the result does not depend on it)
-};
-
-/// Throws InputError naming the offending field when a value is out of range.
-void validate(const ScanMatcherConfig& config);
 
 struct FrontEndConfig {
   ScanMatcherConfig matcher;

@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "core/matching/distinctiveness.h"
 #include "core/ranking/ranking.h"
-#include "core/slam/scan_matcher.h"
+#include "core/matching/scan_matcher.h"
 #include "core/slam/submap_graph.h"
 
 namespace partslam {

@@ -11,10 +11,21 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/slam/front_end_config.h"
 #include "core/types.h"
 
 namespace partslam {
+
+struct ScanMatcherConfig {
+  double resolution = 0.05;      ///< likelihood field cell [m]
+  double sigma = 0.1;            ///< likelihood field width [m]
+  double linear_window = 0.3;    ///< correlative search half-width in x and y [m]
+  double angular_window = 0.2;   ///< correlative search half-width in rotation [rad]
+  int max_iterations = 20;       ///< Gauss-Newton iterations
+  int num_threads = 1;           ///< threads of the correlative search (the result does not depend on it)
+};
+
+/// Throws InputError naming the offending field when a value is out of range.
+void validate(const ScanMatcherConfig& config);
 
 /// M(q) on a grid covering the given points grown by 3 sigma. Empty (every value 0) for no points.
 class LikelihoodField {

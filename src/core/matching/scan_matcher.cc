@@ -1,4 +1,4 @@
-#include "core/slam/scan_matcher.h"
+#include "core/matching/scan_matcher.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
