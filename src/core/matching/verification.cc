@@ -184,7 +184,14 @@ VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const
                        const VerifyMap& map_verify, const VerifyConfig& config) {
   VerifiedDmm out;
   out.eq1 = match_dmm(query, map);
-  out.best = verify_match(query_verify, map_verify, out.eq1.T_map_query, config);
+  // Every pose's terms at its lattice pose; only the most probable one is refined (refining costs a likelihood
+  // field of the map, ~10x a lattice verification).
+  const auto at = [&](const Pose2& T) {
+    Verified v{T, match_terms(query_verify, map_verify, T), 0.0};
+    v.probability = same_place_probability(v.terms);
+    return v;
+  };
+  out.best = at(out.eq1.T_map_query);
   out.poses = 1;
   std::vector<Pose2> avoid{out.eq1.T_map_query};
   const int bar = static_cast<int>(config.alternative_bar * out.eq1.inliers);
@@ -193,10 +200,12 @@ VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const
         match_dmm_elsewhere(query, map, avoid, config.alternative_distance, config.alternative_angle, bar);
     if (!alt.exact || alt.inliers == 0) break;
     avoid.push_back(alt.T_map_query);
-    const Verified v = verify_match(query_verify, map_verify, alt.T_map_query, config);
+    const Verified v = at(alt.T_map_query);
     ++out.poses;
     if (v.probability > out.best.probability) out.best = v;
   }
+  const Verified refined = at(refine_match(query_verify, map_verify, out.best.T_map_query, config));
+  if (refined.probability >= out.best.probability) out.best = refined;
   return out;
 }
 

@@ -108,8 +108,8 @@ struct Verified {
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                       const VerifyConfig& config = {});
 
-/// Eq. 1's exact search (match_dmm) for its optimum and its alternatives, each verified; the one of highest
-/// probability. `eq1` is the optimum's Eq. 1 result (the search's statistics and the paper's score).
+/// Eq. 1's exact search (match_dmm) for its optimum and its alternatives, each verified at its lattice pose; the
+/// most probable one refined (verify_match) and returned. `eq1` is the optimum's Eq. 1 result (the search's statistics and the paper's score).
 struct VerifiedDmm {
   DmmResult eq1;
   Verified best;
