@@ -86,9 +86,10 @@ struct MatchTerms {
 /// The terms at T_map_query (maps query-frame points into the map frame). Empty maps give zero shares.
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query);
 
-/// The calibrated probability that the two maps show the same place at that pose (a logistic model of the
-/// terms, one for maps with beams and one for bare points; coefficients in verification.cc, fitted by
-/// tools/fit_verification.py on the tuning split).
+/// The probability that the two maps show the same place at that pose: a logistic model of the terms,
+/// coefficients in verification.cc, fitted by tools/fit_verification.py on the tuning split with beams on both
+/// sides. Without beams (a map of bare points: terms.beams false) the free shares are 0 and it ranks by the two
+/// occupied shares, but it is not calibrated for that case.
 double same_place_probability(const MatchTerms& terms);
 
 /// The pose moved to the best fit of the query's points on a likelihood field of the map's points within
