@@ -158,7 +158,7 @@ const MethodEntry& dmm_method() {
       },
       [](const MethodSpec& m, const RankingConfig& c) {
         return std::unique_ptr<Ranker>(
-            new DmmRanker(c, m.traits.calibrated ? DmmScore::kVerified : DmmScore::kEq1));
+            new DmmRanker(c, m.traits.calibrated && c.verify_dmm ? DmmScore::kVerified : DmmScore::kEq1));
       }};
   return entry;
 }

@@ -41,6 +41,7 @@ struct MapView {
 struct RankingConfig {
   DmmConfig dmm;               ///< dMM and the dMM stage of rerank
   VerifyConfig verify;         ///< dMM's verification of its poses (not dmm:eq1)
+  bool verify_dmm = true;      ///< false: `dmm` and rerank's dMM stage score by Eq. 1 (as dmm:eq1)
   DmmRansacConfig ransac;      ///< dMM-RANSAC
   PartsConfig parts;           ///< iMM, hMM and their rerank
   double bits_per_point = 14;  ///< storage of a raw map point (7 + 7 bits at 0.1 m in a 12.8 m crop)
