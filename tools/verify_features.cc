@@ -1,8 +1,8 @@
 // verify_features LOG OUT.csv [TASKS=500] [DB=100] [SEED=1] [THREADS=2] [RADIUS=2]: the terms of the match
-// verification (core/matching/verification.h) for every (query, stored map) pair of the evaluation's tasks, at
-// Eq. 1's optimum (dMM), at that pose refined, and at the true pose; with the pose errors and whether the map
-// is the task's relevant one. tools/fit_verification.py fits the same-place probability on these rows (tuning
-// split) and checks its calibration (validation split).
+// verification (core/matching/verification.h) for every (query, stored map) pair of the evaluation's tasks,
+// at Eq. 1's optimum (dMM), at that pose refined, and at the true pose; with the pose errors and whether the
+// map is the task's relevant one. tools/fit_verification.py fits the same-place probability on these rows
+// (tuning split) and checks its calibration (validation split).
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -34,14 +34,12 @@ std::string pose_error_csv(const Pose2& a, const Pose2& truth) {
   return b;
 }
 
-constexpr int kAlternatives = 3;
-constexpr double kBar = 0.6, kMinDistance = 1.0, kMinAngle = 0.3;
-
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3 || argc > 8) {
-    std::fprintf(stderr, "usage: verify_features LOG OUT.csv [TASKS=500] [DB=100] [SEED=1] [THREADS=2] [RADIUS=2]\n");
+    std::fprintf(stderr,
+                 "usage: verify_features LOG OUT.csv [TASKS=500] [DB=100] [SEED=1] [THREADS=2] [RADIUS=2]\n");
     return 2;
   }
   try {
@@ -54,6 +52,7 @@ int main(int argc, char** argv) {
     tc.radius = argc > 7 ? std::atof(argv[7]) : 2.0;
     const std::vector<Task> tasks = make_tasks(maps, tc);
     const DmmConfig dmm;
+    const VerifyConfig verify_config;
     std::vector<PreparedMap> prepared(maps.size());
     std::vector<VerifyMap> verify(maps.size());
     parallel_for(maps.size(), threads, [&](std::size_t i) {
@@ -66,24 +65,15 @@ int main(int argc, char** argv) {
       const Submap& q = maps[task.query];
       const PreparedQuery pq = prepare_query(q.points, dmm);
       for (std::size_t m : task.database) {
-        // Eq. 1's optimum and up to kAlternatives next-best distinct poses scoring at least kBar of it.
-        std::vector<DmmResult> poses{match_dmm(pq, prepared[m])};
-        std::vector<Pose2> avoid{poses[0].T_map_query};
-        for (int k = 0; k < kAlternatives; ++k) {
-          const DmmResult alt = match_dmm_elsewhere(pq, prepared[m], avoid, kMinDistance, kMinAngle,
-                                                    static_cast<int>(kBar * poses[0].inliers));
-          if (!alt.exact || alt.inliers == 0) break;
-          poses.push_back(alt);
-          avoid.push_back(alt.T_map_query);
-        }
+        const std::vector<DmmResult> poses = dmm_poses(pq, prepared[m], verify_config);  // verify_dmm's poses
         const Pose2 truth = maps[m].T_world_map.inverse() * q.T_world_map;
         const std::string at_truth = terms_csv(match_terms(verify[task.query], verify[m], truth));
         for (std::size_t k = 0; k < poses.size(); ++k) {
           const DmmResult& d = poses[k];
           const Pose2 refined = refine_match(verify[task.query], verify[m], d.T_map_query);
           char head[160];
-          std::snprintf(head, sizeof head, "%zu,%zu,%zu,%d,%d,%zu,%zu,%.3f,", t, m, k, m == task.relevant ? 1 : 0,
-                        d.inliers, q.points.size(), maps[m].points.size(),
+          std::snprintf(head, sizeof head, "%zu,%zu,%zu,%d,%d,%zu,%zu,%.3f,", t, m, k,
+                        m == task.relevant ? 1 : 0, d.inliers, q.points.size(), maps[m].points.size(),
                         (maps[m].T_world_map.translation() - q.T_world_map.translation()).norm());
           rows[t] += head + terms_csv(match_terms(verify[task.query], verify[m], d.T_map_query)) + "," +
                      terms_csv(match_terms(verify[task.query], verify[m], refined)) + "," + at_truth + "," +
@@ -93,9 +83,10 @@ int main(int argc, char** argv) {
     });
     FILE* f = std::fopen(argv[2], "w");
     if (f == nullptr) throw std::runtime_error(std::string("cannot write ") + argv[2]);
-    std::fprintf(f,
-                 "task,map,k,relevant,inliers,nq,nm,dist,e_qo,e_qf,e_qs,e_mo,e_mf,e_ms,r_qo,r_qf,r_qs,r_mo,r_mf,r_ms,"
-                 "t_qo,t_qf,t_qs,t_mo,t_mf,t_ms,e_dt,e_da,e_t,r_dt,r_da,r_t\n");
+    std::fprintf(
+        f,
+        "task,map,k,relevant,inliers,nq,nm,dist,e_qo,e_qf,e_qs,e_mo,e_mf,e_ms,r_qo,r_qf,r_qs,r_mo,r_mf,r_ms,"
+        "t_qo,t_qf,t_qs,t_mo,t_mf,t_ms,e_dt,e_da,e_t,r_dt,r_da,r_t\n");
     for (const std::string& r : rows) std::fputs(r.c_str(), f);
     std::fclose(f);
     std::fprintf(stderr, "%zu maps, %zu tasks -> %s\n", maps.size(), tasks.size(), argv[2]);

@@ -48,10 +48,6 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
                                    const DescribedMaps& described, std::span<const Task> tasks,
                                    const EvalConfig& config, const Progress& progress) {
   const std::vector<MapView> views = map_views(maps, described);
-  // Is T_map_query of the relevant pair within tolerance of the truth T_map_world * T_world_query?
-  const auto truth = [&](const Task& task) {
-    return maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
-  };
   const PoseTolerance fine{0.1, std::numbers::pi / 180};
   std::vector<TaskOutcome> outcomes(tasks.size());
   parallel_for(
@@ -68,8 +64,10 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
         out.prep_ms = r.prep_ms + (method.traits.needs_parts ? described.cpd_ms.at(task.query) : 0.0);
         out.true_overlap = true_overlap(maps[task.query], maps[task.relevant]);
         if (!r.direct.empty() && r.direct[relevant]) {
-          out.pose = config.pose_tolerance.accepts(truth(task), r.direct[relevant]->T_map_query);
-          out.pose_fine = fine.accepts(truth(task), r.direct[relevant]->T_map_query);
+          // Is T_map_query of the relevant pair within tolerance of the truth T_map_world * T_world_query?
+          const Pose2 truth = maps[task.relevant].T_world_map.inverse() * maps[task.query].T_world_map;
+          out.pose = config.pose_tolerance.accepts(truth, r.direct[relevant]->T_map_query);
+          out.pose_fine = fine.accepts(truth, r.direct[relevant]->T_map_query);
         }
         for (std::size_t j = 0; j < r.probability.size(); ++j) {
           if (!r.probability[j]) continue;

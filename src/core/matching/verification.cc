@@ -46,18 +46,34 @@ SideTerms side_terms(const Points2& points, const VerifyMap& other, const Pose2&
 
 double logistic(double z) { return 1.0 / (1.0 + std::exp(-z)); }
 
+// The terms and probability at a pose.
+Verified verified_at(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query) {
+  Verified v{T_map_query, match_terms(query, map, T_map_query), 0.0};
+  v.probability = same_place_probability(v.terms);
+  return v;
+}
+
+// v's pose refined (refine_match) and verified there, when that is at least as probable as v; else v.
+Verified refined(const VerifyMap& query, const VerifyMap& map, const Verified& v,
+                 const VerifyConfig& config) {
+  const Verified r = verified_at(query, map, refine_match(query, map, v.T_map_query, config));
+  return r.probability >= v.probability ? r : v;
+}
+
 }  // namespace
 
 void validate(const VerifyConfig& c) {
   if (!(c.resolution > 0.0) || !std::isfinite(c.resolution) || c.resolution > 10.0)
     throw InputError("verify config: resolution must be in (0, 10] m");
   if (c.dilation < 0 || c.dilation > 20) throw InputError("verify config: dilation must be in [0, 20] cells");
-  if (!(c.max_ray > 0.0) || c.max_ray > 1000.0) throw InputError("verify config: max_ray must be in (0, 1000] m");
+  if (!(c.max_ray > 0.0) || c.max_ray > 1000.0)
+    throw InputError("verify config: max_ray must be in (0, 1000] m");
   if (!(c.refine_window >= 0.0) || c.refine_window > 5.0)
     throw InputError("verify config: refine_window must be in [0, 5] m");
   if (!(c.refine_angle >= 0.0) || c.refine_angle > 1.0)
     throw InputError("verify config: refine_angle must be in [0, 1] rad");
-  if (c.alternatives < 0 || c.alternatives > 64) throw InputError("verify config: alternatives must be in [0, 64]");
+  if (c.alternatives < 0 || c.alternatives > 64)
+    throw InputError("verify config: alternatives must be in [0, 64]");
   if (!(c.alternative_bar >= 0.0) || c.alternative_bar > 1.0)
     throw InputError("verify config: alternative_bar must be in [0, 1]");
   if (!(c.alternative_distance >= 0.0) || c.alternative_distance > 100.0)
@@ -90,13 +106,15 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
   x0_ = lo.x(), y0_ = lo.y(), width_ = static_cast<int>(w), height_ = static_cast<int>(h);
   cells_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), kUnknown);
   const auto index = [&](int x, int y) {
-    return static_cast<std::size_t>(y - y0_) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x - x0_);
+    return static_cast<std::size_t>(y - y0_) * static_cast<std::size_t>(width_) +
+           static_cast<std::size_t>(x - x0_);
   };
   // The points' own cells (for choosing each beam's origin), then the dilated occupied grid.
   std::vector<std::uint8_t> hit(cells_.size(), 0);
   std::vector<Eigen::Vector2i> point_cells;
   point_cells.reserve(points.size());
-  for (const Vec2& p : points) point_cells.push_back(cell(p)), hit[index(point_cells.back().x(), point_cells.back().y())] = 1;
+  for (const Vec2& p : points)
+    point_cells.push_back(cell(p)), hit[index(point_cells.back().x(), point_cells.back().y())] = 1;
   for (const Eigen::Vector2i& c : point_cells)
     for (int dy = -d; dy <= d; ++dy)
       for (int dx = -d; dx <= d; ++dx)
@@ -133,7 +151,9 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
   }
 }
 
-std::size_t VerifyMap::free_cells() const { return static_cast<std::size_t>(std::count(cells_.begin(), cells_.end(), kFree)); }
+std::size_t VerifyMap::free_cells() const {
+  return static_cast<std::size_t>(std::count(cells_.begin(), cells_.end(), kFree));
+}
 
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query) {
   MatchTerms t;
@@ -144,9 +164,9 @@ MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2
 }
 
 double same_place_probability(const MatchTerms& t) {
-  // Fitted by tools/fit_verification.py on the tuning split (data sets #1..#5, 500 tasks each, N = 100, seed 1:
-  // build/verify_features rows); docs/NOTES.md, "Verifying a match". Bare points (no beams) have no free or seen
-  // shares: their free terms are 0 and their seen shares equal their occupied ones.
+  // Fitted by tools/fit_verification.py on the tuning split (data sets #1..#5, 500 tasks each, N = 100, seed
+  // 1: build/verify_features rows); docs/NOTES.md, "Verifying a match". Bare points (no beams) have no free
+  // or seen shares: their free terms are 0 and their seen shares equal their occupied ones.
   constexpr double kIntercept = -7.6736;
   constexpr double kQueryOccupied = 5.0976, kMapOccupied = 4.4088, kQueryFree = -6.2234, kMapFree = -5.2516,
                    kQuerySeen = -1.1147, kMapSeen = -0.8279;
@@ -155,57 +175,51 @@ double same_place_probability(const MatchTerms& t) {
                   kMapSeen * t.map.seen);
 }
 
-Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query, const VerifyConfig& config) {
+Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
+                   const VerifyConfig& config) {
   validate(config);
   if (query.points().empty() || map.points().empty()) return T_map_query;
-  const LikelihoodField field(map.points(), 0.05, 0.1);
-  ScanMatcherConfig matcher;
-  matcher.resolution = 0.05;
-  matcher.sigma = 0.1;
+  ScanMatcherConfig matcher;  // the front end's field: 0.05 m cells, sigma 0.1 m
   matcher.linear_window = config.refine_window;
   matcher.angular_window = config.refine_angle;
+  const LikelihoodField field(map.points(), matcher.resolution, matcher.sigma);
   return match_scan(field, query.points(), T_map_query, matcher).pose;
 }
 
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                       const VerifyConfig& config) {
-  Verified v;
-  v.T_map_query = T_map_query;
-  v.terms = match_terms(query, map, T_map_query);
-  v.probability = same_place_probability(v.terms);
-  const Pose2 refined = refine_match(query, map, T_map_query, config);
-  const MatchTerms terms = match_terms(query, map, refined);
-  const double probability = same_place_probability(terms);
-  if (probability >= v.probability) v = {refined, terms, probability};
-  return v;
+  return refined(query, map, verified_at(query, map, T_map_query), config);
 }
 
-VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
-                       const VerifyMap& map_verify, const VerifyConfig& config) {
-  VerifiedDmm out;
-  out.eq1 = match_dmm(query, map);
-  // Every pose's terms at its lattice pose; only the most probable one is refined (refining costs a likelihood
-  // field of the map, ~10x a lattice verification).
-  const auto at = [&](const Pose2& T) {
-    Verified v{T, match_terms(query_verify, map_verify, T), 0.0};
-    v.probability = same_place_probability(v.terms);
-    return v;
-  };
-  out.best = at(out.eq1.T_map_query);
-  out.poses = 1;
-  std::vector<Pose2> avoid{out.eq1.T_map_query};
-  const int bar = static_cast<int>(config.alternative_bar * out.eq1.inliers);
-  for (int k = 0; k < config.alternatives && out.eq1.inliers > 0; ++k) {
+std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,
+                                 const VerifyConfig& config) {
+  std::vector<DmmResult> poses{match_dmm(query, map)};
+  std::vector<Pose2> avoid{poses[0].T_map_query};
+  const int bar = static_cast<int>(config.alternative_bar * poses[0].inliers);
+  for (int k = 0; k < config.alternatives && poses[0].inliers > 0; ++k) {
     const DmmResult alt =
         match_dmm_elsewhere(query, map, avoid, config.alternative_distance, config.alternative_angle, bar);
     if (!alt.exact || alt.inliers == 0) break;
     avoid.push_back(alt.T_map_query);
-    const Verified v = at(alt.T_map_query);
-    ++out.poses;
+    poses.push_back(alt);
+  }
+  return poses;
+}
+
+VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
+                       const VerifyMap& map_verify, const VerifyConfig& config) {
+  const std::vector<DmmResult> poses = dmm_poses(query, map, config);
+  VerifiedDmm out;
+  out.eq1 = poses[0];
+  out.poses = static_cast<int>(poses.size());
+  // Every pose's terms at its lattice pose; only the most probable one is refined (refining costs a
+  // likelihood field of the map, ~10x a lattice verification).
+  out.best = verified_at(query_verify, map_verify, poses[0].T_map_query);
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    const Verified v = verified_at(query_verify, map_verify, poses[k].T_map_query);
     if (v.probability > out.best.probability) out.best = v;
   }
-  const Verified refined = at(refine_match(query_verify, map_verify, out.best.T_map_query, config));
-  if (refined.probability >= out.best.probability) out.best = refined;
+  out.best = refined(query_verify, map_verify, out.best, config);
   return out;
 }
 

@@ -1,15 +1,16 @@
-// Verifying a match (docs/NOTES.md, "Verifying a match"): is the query the same place as a stored map at a given
-// pose? Eq. 1 only counts query points that land on the map's structure, so any cluttered map explains a query
-// well. The verification reads both directions and the free space the beams crossed:
-//   - each map is a grid of unknown / free / occupied cells: occupied as dMM's (dilated) grid, free where a beam
+// Verifying a match (docs/NOTES.md, "Verifying a match"): is the query the same place as a stored map at a
+// given pose? Eq. 1 only counts query points that land on the map's structure, so any cluttered map explains
+// a query well. The verification reads both directions and the free space the beams crossed:
+//   - each map is a grid of unknown / free / occupied cells: occupied as dMM's (dilated) grid, free where a
+//   beam
 //     from one of the map's laser origins (Submap::origins) passed on its way to a point;
 //   - at T_map_query the query's points are looked up in the map's grid and the map's points in the query's:
 //     the shares that land on structure, on free space (a beam of the other map passed through that wall) and
 //     on cells the other map saw at all (their common field of view);
 //   - a logistic model of those shares (fitted on the tuning split, docs/NOTES.md) turns them into the
 //     probability that the two maps show the same place at that pose.
-// refine_match moves a lattice pose to the smooth optimum (the front end's correlative + Gauss-Newton matcher on
-// a likelihood field of the map's points), below the lattice that limits Eq. 1.
+// refine_match moves a lattice pose to the smooth optimum (the front end's correlative + Gauss-Newton matcher
+// on a likelihood field of the map's points), below the lattice that limits Eq. 1.
 #pragma once
 
 #include <cstdint>
@@ -30,9 +31,9 @@ struct VerifyConfig {
   /// verify_dmm: besides Eq. 1's optimum, up to this many next-best distinct poses are verified (a Manhattan
   /// building's quarter turns and a corridor's shifts score alike under Eq. 1)
   int alternatives = 3;
-  double alternative_bar = 0.6;        ///< an alternative must reach this share of the optimum's Eq. 1 score
-  double alternative_distance = 1.0;   ///< distinct: translations this far apart [m]
-  double alternative_angle = 0.3;      ///< or rotations this far apart [rad]
+  double alternative_bar = 0.6;       ///< an alternative must reach this share of the optimum's Eq. 1 score
+  double alternative_distance = 1.0;  ///< distinct: translations this far apart [m]
+  double alternative_angle = 0.3;     ///< or rotations this far apart [rad]
 };
 
 /// Throws InputError naming the offending field.
@@ -46,8 +47,8 @@ class VerifyMap {
   VerifyMap() = default;
   /// From the map's points and laser origins in its own frame (no origins: no free space, every cell not
   /// occupied is unknown). Each point is cast from the origin whose beam to it crosses the fewest occupied
-  /// cells (the nearest among equals): a submap's origins lie along a short path, and the one that saw a point
-  /// has a clear line to it. Throws InputError for non-finite points or a grid of more than 2^24 cells.
+  /// cells (the nearest among equals): a submap's origins lie along a short path, and the one that saw a
+  /// point has a clear line to it. Throws InputError for non-finite points or a grid of more than 2^24 cells.
   VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config = {});
 
   std::uint8_t at(const Vec2& p) const {
@@ -55,7 +56,8 @@ class VerifyMap {
     const int cy = static_cast<int>(std::floor(p.y() * inv_resolution_)) - y0_;
     return static_cast<unsigned>(cx) < static_cast<unsigned>(width_) &&
                    static_cast<unsigned>(cy) < static_cast<unsigned>(height_)
-               ? cells_[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(cx)]
+               ? cells_[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) +
+                        static_cast<std::size_t>(cx)]
                : kUnknown;
   }
   const Points2& points() const { return points_; }
@@ -78,8 +80,8 @@ struct SideTerms {
 };
 
 struct MatchTerms {
-  SideTerms query;  ///< the query's points in the map's grid (query.occupied is Eq. 1's inlier share)
-  SideTerms map;    ///< the map's points in the query's grid
+  SideTerms query;     ///< the query's points in the map's grid (query.occupied is Eq. 1's inlier share)
+  SideTerms map;       ///< the map's points in the query's grid
   bool beams = false;  ///< both maps had laser origins (the free and seen shares are meaningful)
 };
 
@@ -87,14 +89,14 @@ struct MatchTerms {
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query);
 
 /// The probability that the two maps show the same place at that pose: a logistic model of the terms,
-/// coefficients in verification.cc, fitted by tools/fit_verification.py on the tuning split with beams on both
-/// sides. Without beams (a map of bare points: terms.beams false) the free shares are 0 and it ranks by the two
-/// occupied shares, but it is not calibrated for that case.
+/// coefficients in verification.cc, fitted by tools/fit_verification.py on the tuning split with beams on
+/// both sides. Without beams (a map of bare points: terms.beams false) the free shares are 0 and it ranks by
+/// the two occupied shares, but it is not calibrated for that case.
 double same_place_probability(const MatchTerms& terms);
 
 /// The pose moved to the best fit of the query's points on a likelihood field of the map's points within
-/// +- refine_window / refine_angle (correlative search on 0.05 m cells, then Gauss-Newton); the input pose when
-/// either map has no points.
+/// +- refine_window / refine_angle (correlative search on 0.05 m cells, then Gauss-Newton); the input pose
+/// when either map has no points.
 Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                    const VerifyConfig& config = {});
 
@@ -104,13 +106,18 @@ struct Verified {
   double probability = 0;  ///< same_place_probability(terms)
 };
 
-/// refine_match, then the terms and probability at the refined pose (or at the input pose when refining lowers
-/// the probability).
+/// refine_match, then the terms and probability at the refined pose (or at the input pose when refining
+/// lowers the probability).
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                       const VerifyConfig& config = {});
 
-/// Eq. 1's exact search (match_dmm) for its optimum and its alternatives, each verified at its lattice pose; the
-/// most probable one refined (verify_match) and returned. `eq1` is the optimum's Eq. 1 result (the search's statistics and the paper's score).
+/// The poses verify_dmm verifies: Eq. 1's exact optimum (match_dmm) first, then up to config.alternatives
+/// next-best distinct poses (match_dmm_elsewhere) scoring at least alternative_bar of it.
+std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,
+                                 const VerifyConfig& config = {});
+
+/// dmm_poses, each verified at its lattice pose; the most probable one refined (verify_match) and returned.
+/// `eq1` is the optimum's Eq. 1 result (the search's statistics and the paper's score).
 struct VerifiedDmm {
   DmmResult eq1;
   Verified best;

@@ -11,8 +11,8 @@
 namespace partslam {
 namespace {
 
-// A corridor 2 m wide along x (walls at y = -1 and y = +1, x in [-4, 4]) with a cross wall at x = 4, seen from
-// origins along its axis.
+// A corridor 2 m wide along x (walls at y = -1 and y = +1, x in [-4, 4]) with a cross wall at x = 4, seen
+// from origins along its axis.
 Points2 corridor() {
   Points2 p;
   for (double x = -4.0; x <= 4.0; x += 0.1) p.emplace_back(x, -1.0), p.emplace_back(x, 1.0);
@@ -106,7 +106,8 @@ TEST(VerifyDmm, FindsAndVerifiesTheTruePoseOfARealSubmap) {
   EXPECT_GE(v.poses, 1);
   EXPECT_LT((v.best.T_map_query.translation() - T_map_query.translation()).norm(), 0.05);
   EXPECT_LT(std::abs(wrap_angle(v.best.T_map_query.theta - T_map_query.theta)), 0.01);
-  EXPECT_GT(v.best.probability, 0.4);  // the fitted model tops out near 0.5 (docs/NOTES.md, "Verifying a match")
+  EXPECT_GT(v.best.probability,
+            0.4);  // the fitted model tops out near 0.5 (docs/NOTES.md, "Verifying a match")
   EXPECT_GT(v.best.terms.query.occupied, 0.9);
 }
 
