@@ -82,9 +82,9 @@ TEST_F(CliTest, InfoCountsSubmaps) {
 }
 
 TEST_F(CliTest, InfoOnSchemaVersionTwoCountsFromTheRowsAndUpgradeMigrates) {
-  // What partslam wrote before schema version 3: no counts tables or triggers.
+  // What partslam wrote before schema version 3: no counts tables or triggers (nor version 4's origins).
   io::sqlite::Connection::open(db_, io::sqlite::Connection::Access::kReadWrite)
-      .exec("DROP TRIGGER dataset_counted; DROP TRIGGER submap_added; DROP TRIGGER submap_removed;"
+      .exec("ALTER TABLE submaps DROP COLUMN origins; DROP TRIGGER dataset_counted; DROP TRIGGER submap_added; DROP TRIGGER submap_removed;"
             " DROP TRIGGER submap_changed; DROP TRIGGER descriptor_added; DROP TRIGGER descriptor_removed;"
             " DROP TRIGGER descriptor_changed; DROP TABLE dataset_counts; DROP TABLE descriptor_counts;"
             " PRAGMA user_version = 2");
@@ -92,7 +92,8 @@ TEST_F(CliTest, InfoOnSchemaVersionTwoCountsFromTheRowsAndUpgradeMigrates) {
   for (std::size_t i = 0; i < upgrade.size(); ++i) {
     const CliRun run = run_partslam("info " + quoted(db_) + upgrade[i]);
     const bool old = i == 0;  // only the first run sees version 2: --upgrade migrated it
-    EXPECT_THAT(run.output, HasSubstr(old ? "schema version 2," : "schema version 3,"));
+    EXPECT_THAT(run.output, HasSubstr(old ? std::string("schema version 2,")
+                                           : "schema version " + std::to_string(io::kMapDatabaseSchemaVersion) + ","));
     EXPECT_EQ(run.exit_code, 0) << run.output;
     EXPECT_THAT(run.output, HasSubstr("sim-loop: 7 submaps, mean 23.0 points, map ids 1..7"));
     EXPECT_THAT(run.output, HasSubstr("total: 9 submaps, 161 points"));

@@ -63,6 +63,8 @@ constexpr const char* kPoseColumns =
     "x, y, th: T_map_query, the query's frame in the stored map's frame (dMM's relative pose); dx, dy, dth: where "
     "that puts the query in the dataset's world frame (T_world_map * T_map_query) minus the query's own stored pose "
     "(0 for a correct match of a stored query)";
+constexpr const char* kProbabilityColumn =
+    "prob: the probability that the query and the map show the same place at that pose (the verified dMM)";
 constexpr const char* kDistColumn =
     "dist: the stored distance between the query's and the map's centres in the dataset's world frame";
 constexpr const char* kNewMapDash =
@@ -79,7 +81,7 @@ struct Candidate {
 };
 
 void print_row(std::size_t rank, const QueryRow& row, const Candidate& c, const Submap& query,
-               const std::string& dataset, bool all, bool pose) {
+               const std::string& dataset, bool all, bool pose, bool calibrated) {
   char buf[400];
   int len = std::snprintf(buf, sizeof buf, "%5zu %7lld", rank, static_cast<long long>(c.map->id));
   auto add = [&](const char* fmt, auto... v) {
@@ -87,6 +89,11 @@ void print_row(std::size_t rank, const QueryRow& row, const Candidate& c, const 
   };
   if (all) add(" %12.12s", c.dataset.c_str());
   if (row.stage_score) add(" %10.4f", *row.stage_score);
+  if (calibrated && row.probability) {
+    add(" %6.3f", *row.probability);
+  } else if (calibrated) {
+    add(" %6s", "-");
+  }
   const bool same_world = c.dataset == dataset;
   if (row.pose) {
     const DmmResult& r = *row.pose;
@@ -200,7 +207,7 @@ std::vector<QueryCandidate> query_candidates(const Query& q, const io::RankingPa
   for (std::size_t i = 0; i < q.candidates.size(); ++i) {
     const Candidate& c = q.candidates[i];
     const auto dataset = std::find_if(q.loaded.begin(), q.loaded.end(), [&](const auto& d) { return d.first == c.dataset; });
-    out.push_back({{&c.map->points, parts.stored.empty() ? nullptr : &parts.stored[i]},
+    out.push_back({{&c.map->points, parts.stored.empty() ? nullptr : &parts.stored[i], &c.map->origins},
                    static_cast<int>(dataset - q.loaded.begin()), c.map->T_world_map});
   }
   return out;
@@ -208,13 +215,17 @@ std::vector<QueryCandidate> query_candidates(const Query& q, const io::RankingPa
 
 nlohmann::json ranking_json(const Query& q, const MethodSpec& method, const QueryAnswer& answer) {
   nlohmann::json out = {{"query", q.label}, {"method", method.spec}, {"candidates", q.candidates.size()}};
-  if (answer.confidence) out["confidence"] = *answer.confidence;
+  if (answer.confidence) {
+    out["confidence"] = *answer.confidence;
+    out["confidence_kind"] = answer.calibrated ? "probability" : "margin";
+  }
   out["ranking"] = nlohmann::json::array();
   for (std::size_t r = 0; r < answer.rows.size(); ++r) {
     const QueryRow& row = answer.rows[r];
     const Candidate& c = q.candidates[row.candidate];
     nlohmann::json j = {{"rank", r + 1}, {"map", c.map->id}, {"dataset", c.dataset}};
     if (row.stage_score) j["descriptor_score"] = *row.stage_score;
+    if (row.probability) j["probability"] = *row.probability;
     if (row.pose) {
       const Pose2& T = row.pose->T_map_query;
       j["inliers"] = row.pose->inliers;
@@ -238,7 +249,8 @@ void write_match_plot(const std::string& path, const Query& q, const QueryAnswer
     panel.title = "#" + std::to_string(r + 1) + ": map " + std::to_string(c.map->id) + " (" + c.dataset + ")";
     char text[120];
     if (row.pose) {
-      const bool sure = r == 0 && answer.confidence && *answer.confidence >= kConfidentLocalization;
+      const bool sure = r == 0 && answer.confidence &&
+                        *answer.confidence >= (answer.calibrated ? kConfidentProbability : kConfidentLocalization);
       panel.layers.push_back({plot::transformed(q.map.points, row.pose->T_map_query),
                               sure ? plot::kGood : plot::kDoubtful, 1.5});
       std::snprintf(text, sizeof text, ", %.0f %% inliers", 100 * row.pose->inlier_fraction);
@@ -267,6 +279,7 @@ void print_table(const Query& q, const MethodSpec& method, const QueryAnswer& an
     std::snprintf(text, sizeof text, " %10s", method.traits.stage_score.c_str());
     header += text;
   }
+  if (method.traits.calibrated) header += "   prob";
   std::snprintf(text, sizeof text, " %7s %5s  %7s %7s %8s  %7s %7s %8s", "inliers", "inl%", "x [m]", "y [m]",
                 "th [deg]", "dx [m]", "dy [m]", "dth[deg]");
   if (pose) header += text;
@@ -274,17 +287,23 @@ void print_table(const Query& q, const MethodSpec& method, const QueryAnswer& an
   bool other_world = false, below_rerank = false;
   for (std::size_t r = 0; r < answer.rows.size(); ++r) {
     const Candidate& c = q.candidates[answer.rows[r].candidate];
-    print_row(r + 1, answer.rows[r], c, q.map, q.where.dataset_name, all, pose);
+    print_row(r + 1, answer.rows[r], c, q.map, q.where.dataset_name, all, pose, method.traits.calibrated);
     other_world |= q.new_map || c.dataset != q.where.dataset_name;
     below_rerank |= pose && !answer.rows[r].pose;
   }
+  if (method.traits.calibrated) std::cout << kProbabilityColumn << "\n";
   if (pose) std::cout << kPoseColumns << "\n";
   std::cout << kDistColumn << "\n";
   if (other_world) std::cout << (q.new_map ? kNewMapDash : kOtherDatasetDash) << "\n";
   if (below_rerank) std::cout << kRerankDash << "\n";
-  if (answer.confidence)
+  if (answer.confidence && answer.calibrated) {
+    std::printf("confidence %.3f (the probability that the best map is the same place and the best one more than "
+                "%.0f m away is not)\n",
+                *answer.confidence, OtherPlace{}.distance);
+  } else if (answer.confidence) {
     std::printf("confidence %.3f (the best dMM inlier share minus the best one more than %.0f m away)\n",
                 *answer.confidence, OtherPlace{}.distance);
+  }
 }
 
 void run_match(const MatchOptions& o) {
@@ -318,7 +337,7 @@ void run_match(const MatchOptions& o) {
   config.parts.origin_gate = o.gate;
   config.parts.hmm_query_parts = std::max<int>(1, static_cast<int>(parts.query.size()));
   const std::vector<QueryCandidate> candidates = query_candidates(q, parts);
-  const QueryAnswer answer = rank_query(method, config, candidates, {&q.map.points, &parts.query},
+  const QueryAnswer answer = rank_query(method, config, candidates, {&q.map.points, &parts.query, &q.map.origins},
                                         {static_cast<std::size_t>(o.top), o.threads, OtherPlace{}}, world_split());
   if (!is_reporting_process()) return;  // rank 0 prints and writes
   char buf[240];

@@ -49,6 +49,7 @@ CREATE TABLE submaps (
   point_count INTEGER NOT NULL,
   points BLOB NOT NULL,
   scan_timestamps BLOB NOT NULL,
+  origins BLOB NOT NULL DEFAULT x'',
   UNIQUE (dataset_id, idx)
 ) STRICT;
 CREATE TABLE dictionaries (

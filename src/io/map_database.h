@@ -1,12 +1,13 @@
 // The map database: one SQLite file holding datasets of submaps, dictionary maps and packed part
 // descriptors (docs/DESIGN.md, data flow "... ──► packed descriptor ──► map database").
 //
-// Schema (version 3; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 3; STRICT tables):
+// Schema (version 4; PRAGMA application_id = 0x50534C4D "PSLM", PRAGMA user_version = 4; STRICT tables):
 //   datasets     (id, name UNIQUE, source, kind 'submaps'|'dictionary', config JSON of SubmapConfig and
 //                 scan_matched, created)
 //   submaps      (id = global map id, dataset_id, idx within dataset, anchor_scan, anchor_timestamp, travel,
 //                 alignment_angle, world_x/world_y/world_theta = T_world_map, point_count, points BLOB,
-//                 scan_timestamps BLOB)
+//                 scan_timestamps BLOB, origins BLOB = Submap::origins, the laser positions (version 4; the
+//                 verified dMM casts free space from them))
 //   dictionaries (id, name UNIQUE, source, resolution, alignment_angle, world_x/y/theta, point_count,
 //                 points BLOB, metadata JSON, created)
 //   descriptors  (dictionary, k, map_id, bits, data BLOB), primary key (dictionary, k, map_id)
@@ -29,7 +30,8 @@
 // newer schema version all throw InputError naming the file and the problem. An older file opened for writing
 // is migrated to the current version in one transaction: from version 1 (no stored codecs) each descriptor set
 // gets the codec version 1 implied (descriptor_codec_config_v1 of its dictionary's points); from version 1 or 2
-// the counts tables are created and filled by one pass over the rows. Opened read-only an older file is left as
+// the counts tables are created and filled by one pass over the rows; from version 1 to 3 the origins column is
+// added empty (those maps rank as bare points: no free space to verify against). Opened read-only an older file is left as
 // it is: the codec is derived on read, and the counts are computed from every row (slow on a large file;
 // keeps_counts() says which). SQLite errors met later
 // (e.g. corruption found while reading) are InputError naming the file too.
@@ -51,7 +53,7 @@
 namespace partslam::io {
 
 inline constexpr std::int32_t kMapDatabaseApplicationId = 0x50534C4D;  // "PSLM"
-inline constexpr int kMapDatabaseSchemaVersion = 3;
+inline constexpr int kMapDatabaseSchemaVersion = 4;
 
 /// What a dataset's submaps are for: maps to match, or the submaps of a dictionary log.
 enum class DatasetKind { kSubmaps, kDictionary };

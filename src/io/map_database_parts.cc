@@ -313,6 +313,9 @@ void migrate_to_current(sqlite::Connection& db) {
     if (version == 1 || version == 2) {  // version 3: counts kept by triggers, filled once here
       db.exec(kCountsSchema);
       db.exec(kFillCounts);
+    }
+    if (version >= 1 && version <= 3) {  // version 4: the laser origins, none for the maps already stored
+      db.exec("ALTER TABLE submaps ADD COLUMN origins BLOB NOT NULL DEFAULT x''");
       db.exec("PRAGMA user_version = " + std::to_string(kMapDatabaseSchemaVersion));
     }
     db.exec("COMMIT");

@@ -96,9 +96,12 @@ void require_finite_numbers(const Submap& m, const std::string& context) {
   require_finite(m.T_world_map.theta, context, "T_world_map.theta");
 }
 
-constexpr const char* kSubmapColumns =
-    "id, anchor_scan, anchor_timestamp, travel, alignment_angle, world_x, world_y, world_theta, point_count,"
-    " points, scan_timestamps";
+// The columns read_submap reads; a file before schema version 4 has no origins (read as none).
+std::string submap_columns(int schema_version) {
+  return std::string("id, anchor_scan, anchor_timestamp, travel, alignment_angle, world_x, world_y, world_theta,"
+                     " point_count, points, scan_timestamps, ") +
+         (schema_version >= 4 ? "origins" : "x''");
+}
 
 Submap read_submap(const Statement& q, const std::string& file) {
   Submap m;
@@ -119,6 +122,13 @@ Submap read_submap(const Statement& q, const std::string& file) {
   m.points = decode_points_f32(q.blob(9), static_cast<std::size_t>(count), context);
   internal::require_plausible(m.points, context);
   m.scan_timestamps = decode_f64(q.blob(10), context + " scan_timestamps");
+  const auto origins = q.blob(11);
+  if (origins.size() % 8 != 0) {
+    throw InputError(context + ": origins blob holds " + std::to_string(origins.size()) +
+                     " bytes, not whole points (corrupt database)");
+  }
+  m.origins = decode_points_f32(origins, origins.size() / 8, context + " origins");
+  internal::require_plausible(m.origins, context + " origins");
   return m;
 }
 
@@ -156,8 +166,8 @@ std::vector<std::int64_t> MapDatabase::add_submaps(std::int64_t dataset_id, cons
   Statement insert(
       impl_->db,
       "INSERT INTO submaps (dataset_id, idx, anchor_scan, anchor_timestamp, travel, alignment_angle,"
-      " world_x, world_y, world_theta, point_count, points, scan_timestamps)"
-      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12) RETURNING id");
+      " world_x, world_y, world_theta, point_count, points, scan_timestamps, origins)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13) RETURNING id");
   std::vector<std::int64_t> ids;
   ids.reserve(submaps.size());
   for (std::size_t i = 0; i < submaps.size(); ++i) {
@@ -171,6 +181,7 @@ std::vector<std::int64_t> MapDatabase::add_submaps(std::int64_t dataset_id, cons
     insert.bind_int(10, static_cast<std::int64_t>(m.points.size()));
     insert.bind_blob(11, encode_points_f32(m.points, context));
     insert.bind_blob(12, encode_f64(m.scan_timestamps));
+    insert.bind_blob(13, encode_points_f32(m.origins, context + " origins"));
     insert.step();
     ids.push_back(insert.int64(0));
     insert.run();
@@ -227,7 +238,7 @@ std::vector<std::int64_t> MapDatabase::map_ids(std::int64_t dataset_id) const {
 Submaps MapDatabase::load_submaps(std::int64_t dataset_id) const {
   dataset(dataset_id);  // throws when missing
   Statement q(impl_->db,
-              std::string("SELECT ") + kSubmapColumns + " FROM submaps WHERE dataset_id = ?1 ORDER BY idx");
+              "SELECT " + submap_columns(impl_->schema_version) + " FROM submaps WHERE dataset_id = ?1 ORDER BY idx");
   q.bind_int(1, dataset_id);
   Submaps out;
   while (q.step()) out.push_back(read_submap(q, path().string()));
@@ -235,7 +246,7 @@ Submaps MapDatabase::load_submaps(std::int64_t dataset_id) const {
 }
 
 Submap MapDatabase::load_submap(std::int64_t map_id) const {
-  Statement q(impl_->db, std::string("SELECT ") + kSubmapColumns + " FROM submaps WHERE id = ?1");
+  Statement q(impl_->db, "SELECT " + submap_columns(impl_->schema_version) + " FROM submaps WHERE id = ?1");
   if (!q.bind_int(1, map_id).step()) {
     throw InputError(path().string() + ": no map with id " + std::to_string(map_id));
   }

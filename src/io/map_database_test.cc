@@ -43,6 +43,7 @@ Submaps make_submaps(int count, int points_each, unsigned seed) {
     m.T_world_map = Pose2{1.5 * i, -2.25 * i + 1.0 / 3.0, 0.3 - 0.02 * i};
     for (int j = 0; j < points_each; ++j) m.points.emplace_back(coord(rng), coord(rng));
     for (int j = 0; j < 4; ++j) m.scan_timestamps.push_back(m.anchor_timestamp + 0.0251 * j);
+    for (int j = 0; j < i % 3; ++j) m.origins.emplace_back(0.25 * j + 1.0 / 3.0, -0.1 * j);  // none for some
     submaps.push_back(std::move(m));
   }
   return submaps;
@@ -54,10 +55,15 @@ Points2 rounded_to_float(const Points2& points) {
   return out;
 }
 
-// Turns a current file into what an older partslam wrote: version 2 kept no counts (tables and triggers of
-// schema version 3), version 1 no codecs either.
+// Turns a current file into what an older partslam wrote: version 3 kept no laser origins, version 2 no counts
+// (tables and triggers of schema version 3) either, version 1 no codecs either.
 void make_older(const fs::path& path, int version) {
   const sqlite::Connection db = sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite);
+  db.exec("ALTER TABLE submaps DROP COLUMN origins");
+  if (version == 3) {
+    db.exec("PRAGMA user_version = 3");
+    return;
+  }
   db.exec("DROP TRIGGER dataset_counted; DROP TRIGGER submap_added; DROP TRIGGER submap_removed;"
           " DROP TRIGGER submap_changed; DROP TRIGGER descriptor_added; DROP TRIGGER descriptor_removed;"
           " DROP TRIGGER descriptor_changed; DROP TABLE dataset_counts; DROP TABLE descriptor_counts");
@@ -159,6 +165,7 @@ TEST_F(MapDatabaseTest, SubmapsRoundTripExactlyUpToFloat32Points) {
     EXPECT_EQ(b.T_world_map.theta, a.T_world_map.theta);
     EXPECT_EQ(b.scan_timestamps, a.scan_timestamps);
     EXPECT_EQ(b.points, rounded_to_float(a.points));
+    EXPECT_EQ(b.origins, rounded_to_float(a.origins));
     for (std::size_t j = 0; j < a.points.size(); ++j) {
       ASSERT_LT((b.points[j] - a.points[j]).cwiseAbs().maxCoeff(), 6.4 * std::ldexp(1.0, -24));
     }
@@ -451,6 +458,34 @@ TEST_F(MapDatabaseTest, SchemaVersionTwoIsSummarisedFromTheRowsReadOnlyAndMigrat
   }
 }
 
+TEST_F(MapDatabaseTest, SchemaVersionThreeHasNoOriginsReadOnlyAndGetsAnEmptyColumnForWriting) {
+  const fs::path path = dir_ / "maps.db";
+  const Submaps submaps = make_submaps(3, 20, 4);
+  ASSERT_FALSE(submaps[2].origins.empty());
+  std::int64_t a = 0;
+  {
+    MapDatabase db = MapDatabase::open(path, Mode::kCreate);
+    a = db.store_dataset({"a", "a.log", DatasetKind::kSubmaps, {}}, submaps);
+  }
+  make_older(path, 3);
+  {  // Read-only: left at version 3, its maps read without origins.
+    const MapDatabase db = MapDatabase::open(path, Mode::kReadOnly);
+    EXPECT_EQ(db.summary().schema_version, 3);
+    const Submaps loaded = db.load_submaps(a);
+    ASSERT_EQ(loaded.size(), 3u);
+    EXPECT_EQ(loaded[2].points, rounded_to_float(submaps[2].points));
+    for (const Submap& m : loaded) EXPECT_TRUE(m.origins.empty());
+  }
+  {  // Read-write: migrated; the old maps have none, new ones keep theirs.
+    MapDatabase db = MapDatabase::open(path, Mode::kReadWrite);
+    EXPECT_EQ(db.summary().schema_version, kMapDatabaseSchemaVersion);
+    const std::int64_t b = db.store_dataset({"b", "b.log", DatasetKind::kSubmaps, {}}, submaps);
+    EXPECT_TRUE(db.load_submaps(a)[2].origins.empty());
+    EXPECT_EQ(db.load_submaps(b)[2].origins, rounded_to_float(submaps[2].origins));
+  }
+  EXPECT_THAT(open_error(path), ::testing::IsEmpty());
+}
+
 TEST_F(MapDatabaseTest, DictionariesRoundTrip) {
   MapDatabase db = MapDatabase::open(dir_ / "maps.db", Mode::kCreate);
   Dictionary d;
@@ -696,10 +731,10 @@ TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
 TEST_F(MapDatabaseTest, RefusesNewerSchemaVersion) {
   const fs::path path = dir_ / "maps.db";
   MapDatabase::open(path, Mode::kCreate);
-  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 4");
+  sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite).exec("PRAGMA user_version = 5");
   const std::string error = open_error(path, Mode::kReadWrite);
   EXPECT_THAT(error, HasSubstr(path.string()));
-  EXPECT_THAT(error, HasSubstr("schema version 4 is newer"));
+  EXPECT_THAT(error, HasSubstr("schema version 5 is newer"));
 }
 
 TEST_F(MapDatabaseTest, RefusesForeignSqliteDatabase) {
@@ -754,6 +789,21 @@ TEST_F(MapDatabaseTest, CorruptContentGivesInputError) {
   }
   EXPECT_THROW(db.load_submaps(1), InputError);
   EXPECT_NO_THROW(db.load_submap(1));
+  // An origins blob that is not whole points, and one with a point beyond the coordinate limit.
+  {
+    sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
+        .exec("UPDATE submaps SET origins = x'0102030405' WHERE id = 3");
+    const MapDatabase edited = MapDatabase::open(path, Mode::kReadOnly);
+    try {
+      edited.load_submap(3);
+      FAIL() << "ragged origins accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("map 3: origins blob holds 5 bytes"));
+    }
+    sqlite::Connection::open(path, sqlite::Connection::Access::kReadWrite)
+        .exec("UPDATE submaps SET origins = x'0000807f00000000' WHERE id = 3");  // +inf, 0
+    EXPECT_THROW(MapDatabase::open(path, Mode::kReadOnly).load_submap(3), InputError);
+  }
 
   // Overwritten b-tree pages: SQLite's own errors come back as InputError naming the file.
   {

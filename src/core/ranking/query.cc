@@ -29,6 +29,7 @@ std::vector<QueryRow> rows_of(const Ranking& r, std::size_t first) {
     row.tier = r.tiers.empty() ? 0 : r.tiers[i];
     row.score = r.scores[i];
     if (!r.direct.empty()) row.pose = r.direct[i];
+    if (!r.probability.empty()) row.probability = r.probability[i];
     if (!r.shortlist_scores.empty()) {
       row.stage_score = r.shortlist_scores[i];
     } else if (r.direct.empty()) {
@@ -39,12 +40,12 @@ std::vector<QueryRow> rows_of(const Ranking& r, std::size_t first) {
   return rows;
 }
 
-// The best inlier share among this process's candidates that are in another place than `best`: the rows it
-// ranked with an exact direct match, and the ones a top-k ranking only bounded (scored again here, exactly,
-// for their best one).
+// The best value among this process's candidates that are in another place than `best`: their verified
+// probability (calibrated), else their inlier share: the rows it ranked with an exact direct match, and the
+// ones a top-k ranking only bounded (scored again here, exactly, for their best one).
 double best_elsewhere_here(const std::vector<QueryRow>& scored, std::span<const QueryCandidate> candidates,
                            const QueryCandidate& best, std::size_t first, const Ranker& ranker,
-                           const MapView& query, const QueryRankOptions& o) {
+                           const MapView& query, const QueryRankOptions& o, bool calibrated) {
   const auto elsewhere = [&](const QueryCandidate& c) {
     return c.dataset != best.dataset || o.other_place.apart(c.T_world_map.translation(), best.T_world_map.translation());
   };
@@ -52,7 +53,9 @@ double best_elsewhere_here(const std::vector<QueryRow>& scored, std::span<const 
   std::vector<std::size_t> bounded;  // positions in this process's slice
   for (const QueryRow& r : scored) {
     if (!r.pose || !elsewhere(candidates[r.candidate])) continue;
-    if (r.pose->exact) {
+    if (calibrated) {
+      if (r.probability) out = std::max(out, *r.probability);  // rows rerank left unverified say nothing
+    } else if (r.pose->exact) {
       out = std::max(out, r.pose->inlier_fraction);
     } else {
       bounded.push_back(r.candidate - first);
@@ -98,10 +101,14 @@ QueryAnswer rank_query(const MethodSpec& method, const RankingConfig& config,
   answer.rows.resize(std::min(o.top, answer.rows.size()));
   if (answer.rows.empty() || !answer.rows.front().pose) return answer;
   const QueryRow& best = answer.rows.front();
-  const double here = best_elsewhere_here(scored, candidates, candidates[best.candidate], first, *ranker, query, o);
-  std::vector<double> shares = {best.pose->inlier_fraction};
-  for (double e : all_gather<double>(split, {&here, 1})) shares.push_back(e);
-  answer.confidence = distinctiveness(shares, 0, [](std::size_t) { return true; });
+  answer.calibrated = best.probability.has_value();
+  const double here =
+      best_elsewhere_here(scored, candidates, candidates[best.candidate], first, *ranker, query, o, answer.calibrated);
+  std::vector<double> values = {answer.calibrated ? *best.probability : best.pose->inlier_fraction};
+  for (double e : all_gather<double>(split, {&here, 1})) values.push_back(e);
+  const auto everyone_elsewhere = [](std::size_t) { return true; };
+  answer.confidence = answer.calibrated ? decision_probability(values, 0, everyone_elsewhere)
+                                        : distinctiveness(values, 0, everyone_elsewhere);
   return answer;
 }
 

@@ -1,9 +1,10 @@
 // One query map against a database: the query entry point of `partslam match` and of any caller that ranks
 // stored maps for one map. It ranks the candidates with any registered method (under mpirun each process
 // prepares and ranks its slice of the candidates and the best rows are merged in the serial order), keeps the
-// best rows, and says how sure the answer is: where the method gives a direct match, the confidence is the best
-// match's inlier share minus the best one in another place (another dataset, or a frame more than
-// OtherPlace::distance away: core/matching/distinctiveness.h).
+// best rows, and says how sure the answer is against the best answer in another place (another dataset, or a
+// frame more than OtherPlace::distance away: core/matching/distinctiveness.h): for a verified dMM (`dmm`,
+// rerank over it) the probability that the best row is the same place and that one is not; for other methods
+// with a direct match the best inlier share minus that one's.
 #pragma once
 
 #include <cstddef>
@@ -31,11 +32,13 @@ struct QueryRow {
   double score = 0;                     ///< the method's score
   std::optional<double> stage_score;    ///< a succinct method's score (its own, or rerank's first stage)
   std::optional<DmmResult> pose;        ///< the direct match, where one ran
+  std::optional<double> probability;    ///< the verified same-place probability, where the match was verified
 };
 
 struct QueryAnswer {
   std::vector<QueryRow> rows;        ///< best first, at most QueryRankOptions::top
   std::optional<double> confidence;  ///< how sure the best row is; none when the method gives no pose
+  bool calibrated = false;           ///< confidence is a probability (decision_probability), else a margin
   double prepare_ms = 0;             ///< preparing this process's candidates (offline work) [ms]
   double prep_ms = 0;                ///< the query's own preparation [ms]
   double match_ms = 0;               ///< ranking this process's candidates [ms]
