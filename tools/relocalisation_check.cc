@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
       if (name == "candidates") config.localizer.candidates = static_cast<int>(value);
       else if (name == "turns") config.localizer.dmm.canonical_turns = static_cast<int>(value);
       else if (name == "free_weight") config.localizer.free_weight = value;
+      else if (name == "neighbourhood") config.localizer.neighbourhood = value;
+      else if (name == "confidence") config.min_confidence = value;
       else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
@@ -61,8 +63,12 @@ int main(int argc, char** argv) {
                 100 * config.min_overlap, r.outside, r.outside_confident, share(r.outside_confident, r.outside));
     std::printf("time per query (one core): median %.1f ms, p95 %.1f ms\n", r.median_ms, r.p95_ms);
     for (const RelocalisationOutcome& o : r.outcomes) {
-      std::printf("  %7.1f m  overlap %.2f  conf %.3f  score %.3f  inl %.3f  free %d  else %.3f  err %.2f m %.1f deg  %.1f ms%s\n", o.travel,
-                  o.overlap, o.result.confidence, o.result.score, o.result.inlier_fraction, o.result.free_conflicts, o.result.elsewhere_score,
+      const MatchTerms& t = o.result.terms;
+      std::printf("  %7.1f m  overlap %.2f  conf %.3f  score %.3f  inl %.3f  free %d  else %.3f  p %.3f  qo %.3f "
+                  "qf %.3f qs %.3f mo %.3f mf %.3f ms %.3f  err %.2f m %.1f deg  %.1f ms%s\n",
+                  o.travel, o.overlap, o.result.confidence, o.result.score, o.result.inlier_fraction,
+                  o.result.free_conflicts, o.result.elsewhere_score, o.result.probability, t.query.occupied, t.query.free, t.query.seen, t.map.occupied, t.map.free,
+                  t.map.seen,
                   o.translation_error, o.rotation_error * 180 / std::numbers::pi, o.result.time_ms,
                   o.correct ? "" : "  WRONG");
     }

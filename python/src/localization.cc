@@ -97,15 +97,19 @@ void define_localization(py::module_& m) {
       .def_readwrite("elsewhere_distance", &LocalizerConfig::elsewhere_distance, "[m]")
       .def_readwrite("elsewhere_angle", &LocalizerConfig::elsewhere_angle, "[rad]")
       .def_readwrite("candidates", &LocalizerConfig::candidates)
-      .def_readwrite("free_weight", &LocalizerConfig::free_weight);
+      .def_readwrite("free_weight", &LocalizerConfig::free_weight)
+      .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]");
   def_keyword_init(config);
   py::class_<Localization>(m, "Localization", "Where a local map lies in the building map, and how surely")
       .def_readonly("T_map_query", &Localization::T_map_query)
       .def_readonly("inliers", &Localization::inliers)
       .def_readonly("inlier_fraction", &Localization::inlier_fraction)
+      .def_readonly("T_map_lattice", &Localization::T_map_lattice)
       .def_readonly("free_conflicts", &Localization::free_conflicts)
       .def_readonly("score", &Localization::score)
       .def_readonly("elsewhere_score", &Localization::elsewhere_score)
+      .def_readonly("probability", &Localization::probability, "verified same-place probability at T_map_query")
+      .def_readonly("calibrated", &Localization::calibrated)
       .def_readonly("T_map_elsewhere", &Localization::T_map_elsewhere)
       .def_readonly("confidence", &Localization::confidence)
       .def_readonly("candidates", &Localization::candidates)
@@ -118,8 +122,9 @@ void define_localization(py::module_& m) {
       .def(py::init<const GridMap&, const LocalizerConfig&>(), "map"_a, "config"_a = LocalizerConfig{}, release_gil())
       .def(py::init<const Points2&, const LocalizerConfig&>(), "points"_a, "config"_a = LocalizerConfig{},
            release_gil())
-      .def("locate", &Localizer::locate, "query_points"_a, release_gil(),
-           "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives).")
+      .def("locate", &Localizer::locate, "query_points"_a, "query_origins"_a = Points2{}, release_gil(),
+           "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives; "
+           "query_origins: its laser positions, Submap.origins, for a calibrated probability).")
       .def_property_readonly("prepare_ms", &Localizer::prepare_ms)
       .def_property_readonly("alignment_angle", &Localizer::alignment_angle);
 }

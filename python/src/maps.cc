@@ -72,6 +72,8 @@ void define_submaps(py::module_& m) {
                      "rotation applied to enter the canonical frame [rad]")
       .def_readwrite("T_world_map", &Submap::T_world_map)
       .def_readwrite("points", &Submap::points, "(n, 2) array in the map frame [m], a copy")
+      .def_readwrite("origins", &Submap::origins,
+                     "(k, 2) array: where the laser was, one position per 0.25 m of travel, in the map frame [m]")
       .def_property(
           "scan_timestamps", [](const Submap& s) { return to_array(s.scan_timestamps); },
           [](Submap& s, std::vector<double> t) { s.scan_timestamps = std::move(t); },

@@ -153,7 +153,7 @@ def test_submaps_dictionary_and_descriptors_round_trip_through_the_database(tmp_
             [(x.keypoint_box, x.descriptor_box, x.rotation) for x in expected]
     assert partslam.load_descriptor(db, "sim-2", 3, ids[1]) is None
     summary = db.summary()
-    assert summary.schema_version == 3 and summary.counts_kept and summary.submap_count == len(sim_submaps)
+    assert summary.schema_version == 4 and summary.counts_kept and summary.submap_count == len(sim_submaps)
     assert [(s.dictionary, s.k, s.count) for s in summary.descriptor_sets] == [("sim-2", 3, len(maps))]
     db.check_integrity()
 

@@ -25,11 +25,13 @@ def test_grid_map_of_the_simulator_round_trips_through_map_server_files(sim_scan
 def test_a_stretch_of_the_log_is_found_in_its_own_map(sim_scans):
     localizer = partslam.Localizer(partslam.build_grid_map(sim_scans))
     local = partslam.build_local_map(sim_scans, 30.0, 32.0)
-    found = localizer.locate(local.points)
+    found = localizer.locate(local.points, local.origins)
     truth = local.T_world_map
-    assert math.hypot(found.T_map_query[0] - truth[0], found.T_map_query[1] - truth[1]) < 0.3
-    assert abs(partslam.wrap_angle(found.T_map_query[2] - truth[2])) < 3 * math.pi / 180
+    assert math.hypot(found.T_map_query[0] - truth[0], found.T_map_query[1] - truth[1]) < 0.1
+    assert abs(partslam.wrap_angle(found.T_map_query[2] - truth[2])) < 1 * math.pi / 180
     assert found.confidence == pytest.approx(found.score - found.elsewhere_score)
+    assert found.calibrated and 0 < found.probability <= 1
+    assert not localizer.locate(local.points).calibrated  # bare points
     assert found.candidates >= 2
 
 

@@ -3,7 +3,8 @@
 // PGM, thresholds, negate and origin honoured); the local map is built from a stretch of a log as submaps are, or
 // read from a point file. Prints, per local map, its pose in the map frame, where that puts the robot (the
 // first scan of the stretch) or the point file's frame, the inlier share, the confidence (score minus the best
-// other candidate's; >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate") and the time; --json writes the
+// other candidate's; >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate"), the verified same-place
+// probability at the refined pose and the time; --json writes the
 // same; --plot draws it. --every M locates a local map every M of travel along the whole log, with a progress bar.
 // --config FILE.yaml sets the local map's and the localizer's settings (io/config_file.h, LocateConfig; flags given
 // override it), --print-config shows them all.
@@ -59,10 +60,10 @@ void print(const Located& l) {
   const Localization& r = l.result;
   const Pose2& p = l.robot ? *l.robot : l.T_map_source;
   std::printf("%s\n  %s in the map: x %.2f m, y %.2f m, theta %.1f deg; inliers %.1f %%, %d on free space; "
-              "confidence %.3f%s; %.1f ms\n",
+              "confidence %.3f%s; same-place probability %.3f%s; %.1f ms\n",
               l.label.c_str(), l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
               100 * r.inlier_fraction, r.free_conflicts, r.confidence, r.confidence >= kConfident ? "" : " (low)",
-              r.time_ms);
+              r.probability, r.calibrated ? "" : " (bare points: no laser origins)", r.time_ms);
 }
 
 nlohmann::json located_json(const Located& l) {
@@ -72,8 +73,17 @@ nlohmann::json located_json(const Located& l) {
                       {"T_map_source", pose_json(l.T_map_source)},
                       {"inliers", r.inliers},
                       {"inlier_fraction", r.inlier_fraction},
+                      {"terms", {{"query_occupied", r.terms.query.occupied},
+                                 {"query_free", r.terms.query.free},
+                                 {"query_seen", r.terms.query.seen},
+                                 {"map_occupied", r.terms.map.occupied},
+                                 {"map_free", r.terms.map.free},
+                                 {"map_seen", r.terms.map.seen}}},
+                      {"T_map_lattice", pose_json(r.T_map_lattice)},
                       {"free_conflicts", r.free_conflicts},
                       {"score", r.score},
+                      {"probability", r.probability},
+                      {"calibrated", r.calibrated},
                       {"confidence", r.confidence},
                       {"confident", r.confidence >= kConfident},
                       {"elsewhere", {{"score", r.elsewhere_score}, {"T_map_query", pose_json(r.T_map_elsewhere)}}},
@@ -87,7 +97,7 @@ Located locate_one(const Localizer& localizer, const Submap& query, const Scans&
                    bool keep_points) {
   Located l;
   l.label = std::move(label);
-  l.result = localizer.locate(query.points);
+  l.result = localizer.locate(query.points, query.origins);
   if (keep_points) l.points_in_map = plot::transformed(query.points, l.result.T_map_query);
   l.T_map_source = l.result.T_map_query * query.T_world_map.inverse();
   if (!scans.empty()) l.robot = l.T_map_source * scans[static_cast<std::size_t>(query.anchor_scan)].T_world_laser;

@@ -129,12 +129,27 @@ void visit(V& v, DmmConfig& c) {
 }
 
 template <class V>
+void visit(V& v, VerifyConfig& c) {
+  v.field("resolution", c.resolution);
+  v.field("dilation", c.dilation);
+  v.field("max_ray", c.max_ray);
+  v.field("refine_window", c.refine_window);
+  v.field("refine_angle", c.refine_angle);
+  v.field("alternatives", c.alternatives);
+  v.field("alternative_bar", c.alternative_bar);
+  v.field("alternative_distance", c.alternative_distance);
+  v.field("alternative_angle", c.alternative_angle);
+}
+
+template <class V>
 void visit(V& v, LocalizerConfig& c) {
   v.section("dmm", c.dmm);
+  v.section("verify", c.verify);
   v.field("elsewhere_distance", c.elsewhere_distance);
   v.field("elsewhere_angle", c.elsewhere_angle);
   v.field("candidates", c.candidates);
   v.field("free_weight", c.free_weight);
+  v.field("neighbourhood", c.neighbourhood);
 }
 
 template <class V>

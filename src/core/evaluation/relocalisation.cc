@@ -51,7 +51,7 @@ RelocalisationReport evaluate_relocalisation(const GridMap& map, const Scans& sc
     o.travel = s;
     o.truth = query.T_world_map;
     o.overlap = static_cast<double>(count_inliers(query.points, seen, o.truth)) / query.points.size();
-    o.result = localizer.locate(query.points);
+    o.result = localizer.locate(query.points, query.origins);
     const Pose2 error = o.truth.inverse() * o.result.T_map_query;
     o.translation_error = std::hypot(error.x, error.y);
     o.rotation_error = std::abs(error.theta);

@@ -19,19 +19,42 @@ DmmConfig localizer_dmm_config() {
 
 void validate(const LocalizerConfig& c) {
   validate(c.dmm);
+  validate(c.verify);
   if (!(c.elsewhere_distance >= 0.0 && c.elsewhere_distance <= 100.0))
     throw InputError("localizer: elsewhere_distance must be in [0, 100] m");
   if (!(c.elsewhere_angle >= 0.0 && c.elsewhere_angle <= std::numbers::pi))
     throw InputError("localizer: elsewhere_angle must be in [0, pi] rad");
   if (c.candidates < 2 || c.candidates > 100) throw InputError("localizer: candidates must be in [2, 100]");
   if (!(c.free_weight >= 0.0 && c.free_weight <= 100.0)) throw InputError("localizer: free_weight must be in [0, 100]");
+  if (!(c.neighbourhood >= 0.0 && c.neighbourhood <= 100.0))
+    throw InputError("localizer: neighbourhood must be in [0, 100] m");
 }
 
-Localizer::Localizer(const GridMap& map, const LocalizerConfig& config) : Localizer(occupied_points(map), config) {
+namespace {
+
+// Centres of the map's free cells, one per verification cell at most (every k-th cell along each axis when
+// the map's cells are finer).
+Points2 free_points(const GridMap& map, double resolution) {
+  const int step = std::max(1, static_cast<int>(std::lround(resolution / map.resolution)));
+  Points2 out;
+  for (int row = 0; row < map.height; row += step)
+    for (int column = 0; column < map.width; column += step)
+      if (map.at(column, row) == CellState::kFree) out.push_back(map.cell_centre(column, row));
+  return out;
+}
+
+}  // namespace
+
+Localizer::Localizer(const GridMap& map, const LocalizerConfig& config)
+    : Localizer(occupied_points(map), free_points(map, config.verify.resolution), config) {
   free_space_ = map;
 }
 
-Localizer::Localizer(const Points2& map_points, const LocalizerConfig& config) : config_(config) {
+Localizer::Localizer(const Points2& map_points, const LocalizerConfig& config)
+    : Localizer(map_points, Points2{}, config) {}
+
+Localizer::Localizer(const Points2& map_points, const Points2& free, const LocalizerConfig& config)
+    : config_(config) {
   validate(config_);
   if (map_points.empty()) throw InputError("localizer: the building map has no occupied cell");
   const auto t0 = Clock::now();
@@ -41,6 +64,7 @@ Localizer::Localizer(const Points2& map_points, const LocalizerConfig& config) :
   }
   if (config_.dmm.canonical) T_canonical_map_ = {0.0, 0.0, manhattan_angle(map_points)};
   map_ = prepare_map(transform(T_canonical_map_, map_points), config_.dmm);
+  verify_ = VerifyMap::with_free_space(map_points, free, config_.verify);
   prepare_ms_ = ms_since(t0);
 }
 
@@ -62,7 +86,7 @@ int Localizer::free_conflicts(const Points2& query_points, const Pose2& T_map_qu
   return conflicts;
 }
 
-Localization Localizer::locate(const Points2& query_points) const {
+Localization Localizer::locate(const Points2& query_points, const Points2& query_origins) const {
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
   const auto t0 = Clock::now();
   const PreparedQuery query = prepare_query(query_points, config_.dmm);
@@ -101,7 +125,7 @@ Localization Localizer::locate(const Points2& query_points) const {
   std::stable_sort(found.begin(), found.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
   Localization out;
   const Scored& best = found.front();
-  out.T_map_query = best.T_map_query;
+  out.T_map_lattice = best.T_map_query;
   out.inliers = best.dmm.inliers;
   out.inlier_fraction = best.dmm.inlier_fraction;
   out.free_conflicts = best.conflicts;
@@ -115,6 +139,20 @@ Localization Localizer::locate(const Points2& query_points) const {
   // Every other candidate is another place: each search avoided the poses found before it.
   out.confidence = std::max(0.0, distinctiveness(scores, 0, [](std::size_t) { return true; }));
   out.candidates = static_cast<int>(found.size());
+  // The answer verified against the building map around it: refined below the lattice, with its probability.
+  Vec2 lo = query_points.front(), hi = lo;
+  for (const Points2* set : {&query_points, &query_origins})
+    for (const Vec2& p : *set) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  Vec2 a = best.T_map_query * lo, b = a;
+  for (const Vec2& c : {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())})
+    a = a.cwiseMin(best.T_map_query * c), b = b.cwiseMax(best.T_map_query * c);
+  const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
+  const Verified v =
+      verify_match(VerifyMap(query_points, query_origins, config_.verify), around, best.T_map_query, config_.verify);
+  out.T_map_query = v.T_map_query;
+  out.terms = v.terms;
+  out.probability = v.probability;
+  out.calibrated = v.terms.beams;
   out.time_ms = ms_since(t0);
   return out;
 }

@@ -26,16 +26,21 @@ TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
   double confidence_correct = 0;
   for (double s = 5.0; s + 2.0 < travel.back(); s += 0.2 * travel.back()) {
     const Submap query = build_local_map(scans, s, s + 2.0);
-    const Localization l = localizer.locate(query.points);
+    const Localization l = localizer.locate(query.points, query.origins);
     const Pose2 error = query.T_world_map.inverse() * l.T_map_query;  // map frame = the log's world frame
     ++tried;
-    if (std::hypot(error.x, error.y) < 0.3 && std::abs(error.theta) < 3 * kDeg) {
+    // Refined below the lattice: within 0.1 m / 1 degree.
+    if (std::hypot(error.x, error.y) < 0.1 && std::abs(error.theta) < 1 * kDeg) {
       ++correct;
       confidence_correct += l.confidence;
     }
+    EXPECT_TRUE(l.calibrated);  // the building map's free cells, the local map's beams
     EXPECT_GE(l.score, l.elsewhere_score);
     EXPECT_NEAR(l.confidence, l.score - l.elsewhere_score, 1e-12);
     EXPECT_NEAR(l.score, (l.inliers - l.free_conflicts) / static_cast<double>(query.points.size()), 1e-12);
+    EXPECT_GE(l.terms.query.occupied, l.terms.query.free);
+    // Refining moves the lattice pose by less than the refinement window.
+    EXPECT_LE((l.T_map_query.translation() - l.T_map_lattice.translation()).norm(), 0.3 * std::sqrt(2.0) + 1e-9);
     EXPECT_GT((l.T_map_elsewhere.translation() - l.T_map_query.translation()).norm() +
                   (std::abs(wrap_angle(l.T_map_elsewhere.theta - l.T_map_query.theta)) > 10 * kDeg ? 10.0 : 0.0),
               2.0 - 1e-9);
@@ -43,6 +48,20 @@ TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
   EXPECT_EQ(tried, 5);
   EXPECT_GE(correct, 4);
   EXPECT_GT(confidence_correct / correct, 0.1);
+}
+
+// Bare points (a point file): the same search, no calibrated probability.
+TEST(Localizer, BarePointsAreLocatedButNotCalibrated) {
+  const Scans& scans = building_scans();
+  const Localizer localizer(build_grid_map(scans));
+  const Submap query = build_local_map(scans, 10.0, 12.0);
+  const Localization bare = localizer.locate(query.points);
+  const Localization beams = localizer.locate(query.points, query.origins);
+  EXPECT_FALSE(bare.calibrated);
+  EXPECT_TRUE(beams.calibrated);
+  const Pose2 error = query.T_world_map.inverse() * bare.T_map_query;
+  EXPECT_LT(std::hypot(error.x, error.y), 0.1);
+  EXPECT_LT(std::abs(error.theta), 1 * kDeg);
 }
 
 // A local map of another building fits nowhere in particular: its confidence is below the true matches'.
@@ -53,7 +72,8 @@ TEST(Localizer, AQueryFromElsewhereHasLowConfidence) {
   const Scans other_scans = simulate(other).scans;
   const Submap stranger = build_local_map(other_scans, 10.0, 12.0);
   const Submap own = build_local_map(building_scans(), 10.0, 12.0);
-  EXPECT_LT(localizer.locate(stranger.points).confidence, localizer.locate(own.points).confidence);
+  EXPECT_LT(localizer.locate(stranger.points, stranger.origins).confidence,
+            localizer.locate(own.points, own.origins).confidence);
 }
 
 TEST(Localizer, RefusesEmptyOrBadInput) {

@@ -46,17 +46,10 @@ SideTerms side_terms(const Points2& points, const VerifyMap& other, const Pose2&
 
 double logistic(double z) { return 1.0 / (1.0 + std::exp(-z)); }
 
-// The terms and probability at a pose.
-Verified verified_at(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query) {
-  Verified v{T_map_query, match_terms(query, map, T_map_query), 0.0};
-  v.probability = same_place_probability(v.terms);
-  return v;
-}
-
 // v's pose refined (refine_match) and verified there, when that is at least as probable as v; else v.
 Verified refined(const VerifyMap& query, const VerifyMap& map, const Verified& v,
                  const VerifyConfig& config) {
-  const Verified r = verified_at(query, map, refine_match(query, map, v.T_map_query, config));
+  const Verified r = verify_at(query, map, refine_match(query, map, v.T_map_query, config));
   return r.probability >= v.probability ? r : v;
 }
 
@@ -151,6 +144,56 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
   }
 }
 
+VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_points, const VerifyConfig& config) {
+  for (const Vec2& p : free_points)
+    if (!p.allFinite()) throw InputError("verify map: a free point is not finite");
+  // The grid spans the free points too: build it over both (free points as the map's points, no origins),
+  // then mark the free cells that are not occupied.
+  Points2 all = points;
+  all.insert(all.end(), free_points.begin(), free_points.end());
+  VerifyMap m(all, {}, config);
+  std::fill(m.cells_.begin(), m.cells_.end(), kUnknown);
+  m.points_ = points;
+  const int d = config.dilation;
+  const auto mark = [&](const Vec2& p, std::uint8_t state, int radius) {
+    const int cx = static_cast<int>(std::floor(p.x() * m.inv_resolution_)) - m.x0_;
+    const int cy = static_cast<int>(std::floor(p.y() * m.inv_resolution_)) - m.y0_;
+    for (int dy = -radius; dy <= radius; ++dy)
+      for (int dx = -radius; dx <= radius; ++dx) {
+        if (dx * dx + dy * dy > radius * radius) continue;
+        std::uint8_t& s = m.cells_[static_cast<std::size_t>(cy + dy) * static_cast<std::size_t>(m.width_) +
+                                   static_cast<std::size_t>(cx + dx)];
+        if (state == kOccupied || s == kUnknown) s = state;
+      }
+  };
+  for (const Vec2& p : points) mark(p, kOccupied, d);
+  for (const Vec2& p : free_points) mark(p, kFree, 0);
+  m.has_beams_ = !free_points.empty();
+  return m;
+}
+
+VerifyMap VerifyMap::cropped(const Vec2& lo, const Vec2& hi) const {
+  VerifyMap out;
+  out.resolution_ = resolution_, out.inv_resolution_ = inv_resolution_, out.has_beams_ = has_beams_;
+  const int x0 = std::max(x0_, static_cast<int>(std::floor(lo.x() * inv_resolution_)));
+  const int y0 = std::max(y0_, static_cast<int>(std::floor(lo.y() * inv_resolution_)));
+  const int x1 = std::min(x0_ + width_ - 1, static_cast<int>(std::floor(hi.x() * inv_resolution_)));
+  const int y1 = std::min(y0_ + height_ - 1, static_cast<int>(std::floor(hi.y() * inv_resolution_)));
+  if (x1 < x0 || y1 < y0) return out;
+  out.x0_ = x0, out.y0_ = y0, out.width_ = x1 - x0 + 1, out.height_ = y1 - y0 + 1;
+  out.cells_.resize(static_cast<std::size_t>(out.width_) * static_cast<std::size_t>(out.height_));
+  for (int y = y0; y <= y1; ++y) {
+    const auto row = cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0_) * width_ + (x0 - x0_));
+    std::copy(row, row + out.width_, out.cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0) * out.width_));
+  }
+  for (const Vec2& p : points_) {
+    const int cx = static_cast<int>(std::floor(p.x() * inv_resolution_));
+    const int cy = static_cast<int>(std::floor(p.y() * inv_resolution_));
+    if (cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1) out.points_.push_back(p);
+  }
+  return out;
+}
+
 std::size_t VerifyMap::free_cells() const {
   return static_cast<std::size_t>(std::count(cells_.begin(), cells_.end(), kFree));
 }
@@ -175,6 +218,12 @@ double same_place_probability(const MatchTerms& t) {
                   kMapSeen * t.map.seen);
 }
 
+Verified verify_at(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query) {
+  Verified v{T_map_query, match_terms(query, map, T_map_query), 0.0};
+  v.probability = same_place_probability(v.terms);
+  return v;
+}
+
 Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                    const VerifyConfig& config) {
   validate(config);
@@ -188,7 +237,7 @@ Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_
 
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                       const VerifyConfig& config) {
-  return refined(query, map, verified_at(query, map, T_map_query), config);
+  return refined(query, map, verify_at(query, map, T_map_query), config);
 }
 
 std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,
@@ -214,9 +263,9 @@ VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const
   out.poses = static_cast<int>(poses.size());
   // Every pose's terms at its lattice pose; only the most probable one is refined (refining costs a
   // likelihood field of the map, ~10x a lattice verification).
-  out.best = verified_at(query_verify, map_verify, poses[0].T_map_query);
+  out.best = verify_at(query_verify, map_verify, poses[0].T_map_query);
   for (std::size_t k = 1; k < poses.size(); ++k) {
-    const Verified v = verified_at(query_verify, map_verify, poses[k].T_map_query);
+    const Verified v = verify_at(query_verify, map_verify, poses[k].T_map_query);
     if (v.probability > out.best.probability) out.best = v;
   }
   out.best = refined(query_verify, map_verify, out.best, config);

@@ -50,6 +50,13 @@ class VerifyMap {
   /// cells (the nearest among equals): a submap's origins lie along a short path, and the one that saw a
   /// point has a clear line to it. Throws InputError for non-finite points or a grid of more than 2^24 cells.
   VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config = {});
+  /// A map that knows its free space already (a building map's free cells, e.g. a map_server map): occupied
+  /// cells from `points` (dilated), free ones under `free_points` where not occupied. Throws as the above.
+  static VerifyMap with_free_space(const Points2& points, const Points2& free_points, const VerifyConfig& config = {});
+
+  /// The part of the map inside the box [lo, hi] (its frame): the cells there and the points in them, as if
+  /// the map had only seen that much (a building map cut to the neighbourhood of a local map).
+  VerifyMap cropped(const Vec2& lo, const Vec2& hi) const;
 
   std::uint8_t at(const Vec2& p) const {
     const int cx = static_cast<int>(std::floor(p.x() * inv_resolution_)) - x0_;
@@ -105,6 +112,9 @@ struct Verified {
   MatchTerms terms;        ///< at that pose
   double probability = 0;  ///< same_place_probability(terms)
 };
+
+/// The terms and probability at T_map_query as it is (no refinement).
+Verified verify_at(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query);
 
 /// refine_match, then the terms and probability at the refined pose (or at the input pose when refining
 /// lowers the probability).
