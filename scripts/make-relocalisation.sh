@@ -16,7 +16,7 @@ logs=("$DATA/fr079/fr079-corrected.log.gz" "$DATA/intel/intel-corrected.log.gz")
 for b in acapulco belgioioso edmonton fhw freiburg-campus infinite-corridor orebro seattle; do
   logs+=("$DATA/corrected/$b-corrected.log.gz")
 done
-printf '| log | queries | in the map (overlap >= 30 %%) | pose within 0.3 m / 3 deg | confident wrong | outside, confident | median / p95 ms |\n|---|---|---|---|---|---|---|\n'
+printf '| log | queries | in the map (overlap >= 30 %%) | pose within 0.3 m / 3 deg | within 0.1 m / 1 deg | confident wrong | outside, confident | median / p95 ms |\n|---|---|---|---|---|---|---|---|\n'
 for log in "${logs[@]}"; do
   name=$(basename "$log" -corrected.log.gz)
   build/relocalisation_check "$log" "$TMP" | sed "s|$DATA/||" > "$OUT/relocalisation_$name.txt"
@@ -28,6 +28,10 @@ inmap, correct, share = re.search(r"overlap >= 30 %\): (\d+), pose within [^:]*:
 conf, wrong = re.search(r"confident \(>= [\d.]+\): (\d+), wrong among them: (\d+)", t).groups()
 out, outc = re.search(r"outside the map \(overlap < 30 %\): (\d+), reported confidently: (\d+)", t).groups()
 med, p95 = re.search(r"median ([\d.]+) ms, p95 ([\d.]+) ms", t).groups()
-print(f"| {sys.argv[1]} | {q} | {inmap} | {correct} ({share} %) | {wrong} of {conf} | {outc} of {out} | {med} / {p95} |")
+# Per-query lines: in the map and within 0.1 m / 1 deg (the refined pose).
+fine = sum(1 for o, e, a in re.findall(r"overlap ([\d.]+) .* err ([\d.]+) m ([\d.]+) deg", t)
+           if float(o) >= 0.3 and float(e) < 0.1 and float(a) < 1.0)
+fine_share = 100.0 * fine / max(1, int(inmap))
+print(f"| {sys.argv[1]} | {q} | {inmap} | {correct} ({share} %) | {fine} ({fine_share:.1f} %) | {wrong} of {conf} | {outc} of {out} | {med} / {p95} |")
 PY
 done
