@@ -123,12 +123,16 @@ TEST_F(CliPartsTest, DmmRanksARevisitFirstWithItsPose) {
   EXPECT_THAT(run.output, HasSubstr("dMM over"));
   EXPECT_THAT(run.output, HasSubstr("th [deg]"));
   const std::vector<std::string> first = ranking_row(run.output, 1);
-  ASSERT_EQ(first.size(), 11u) << run.output;  // rank map inliers inl% x y th dx dy dth dist
+  ASSERT_EQ(first.size(), 12u) << run.output;  // rank map prob inliers inl% x y th dx dy dth dist
   EXPECT_TRUE(revisits.count(std::stoll(first[1]))) << run.output;
+  EXPECT_GT(std::stod(first[2]), 0.0) << run.output;  // the verified probability
+  EXPECT_LE(std::stod(first[2]), 1.0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("prob: the probability that the query and the map show the same place"));
+  EXPECT_THAT(run.output, HasSubstr("confidence")) << run.output;
   // The match puts the query where its own (exact, simulated) pose says it is.
-  EXPECT_LT(std::abs(std::stod(first[7])), 0.3) << run.output;
   EXPECT_LT(std::abs(std::stod(first[8])), 0.3) << run.output;
-  EXPECT_LT(std::abs(std::stod(first[9])), 3.0) << run.output;
+  EXPECT_LT(std::abs(std::stod(first[9])), 0.3) << run.output;
+  EXPECT_LT(std::abs(std::stod(first[10])), 3.0) << run.output;
 }
 
 TEST_F(CliPartsTest, SuccinctAndItsRerankNeedNoDescribe) {
@@ -141,11 +145,14 @@ TEST_F(CliPartsTest, SuccinctAndItsRerankNeedNoDescribe) {
   const CliRun rerank = run_partslam("match " + quoted(db_) + " --query 40 --method rerank:5 --top 6");
   ASSERT_EQ(rerank.exit_code, 0) << rerank.output;
   EXPECT_THAT(rerank.output, HasSubstr("rerank5 succinct over"));
-  // The top 5 carry a dMM pose (rank map score inliers inl% x y th dx dy dth dist), the sixth does not.
-  ASSERT_EQ(ranking_row(rerank.output, 5).size(), 12u) << rerank.output;
-  ASSERT_EQ(ranking_row(rerank.output, 6).size(), 12u) << rerank.output;
+  // The top 5 carry a verified dMM pose (rank map score prob inliers inl% x y th dx dy dth dist), the sixth
+  // does not.
+  ASSERT_EQ(ranking_row(rerank.output, 5).size(), 13u) << rerank.output;
+  ASSERT_EQ(ranking_row(rerank.output, 6).size(), 13u) << rerank.output;
   EXPECT_NE(ranking_row(rerank.output, 5).at(3), "-") << rerank.output;
+  EXPECT_NE(ranking_row(rerank.output, 5).at(4), "-") << rerank.output;
   EXPECT_EQ(ranking_row(rerank.output, 6).at(3), "-") << rerank.output;
+  EXPECT_EQ(ranking_row(rerank.output, 6).at(4), "-") << rerank.output;
 }
 
 TEST_F(CliPartsTest, HmmNeedsDescribeFirst) {
@@ -173,8 +180,8 @@ TEST_F(CliPartsTest, HmmNeedsDescribeFirst) {
 
   const CliRun rerank = run_partslam("match " + quoted(db_) + " --query 40 --method rerank:5:3 --top 6");
   ASSERT_EQ(rerank.exit_code, 0) << rerank.output;
-  EXPECT_EQ(ranking_row(rerank.output, 5).size(), 12u) << rerank.output;  // reranked: with a pose
-  EXPECT_EQ(ranking_row(rerank.output, 6).size(), 12u) << rerank.output;  // below the top R: dashes
+  EXPECT_EQ(ranking_row(rerank.output, 5).size(), 13u) << rerank.output;  // reranked: with a pose
+  EXPECT_EQ(ranking_row(rerank.output, 6).size(), 13u) << rerank.output;  // below the top R: dashes
   EXPECT_THAT(ranking_row(rerank.output, 6)[3], "-");
 }
 
