@@ -75,6 +75,25 @@ void validate(const VerifyConfig& c) {
     throw InputError("verify config: alternative_angle must be in [0, 4] rad");
 }
 
+void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin) {
+  Eigen::Vector2i lo(std::numeric_limits<int>::max(), std::numeric_limits<int>::max()), hi = -lo;
+  for (const Points2* set : sets)
+    for (const Vec2& p : *set) lo = lo.cwiseMin(cell_of(p)), hi = hi.cwiseMax(cell_of(p));
+  lo.array() -= margin, hi.array() += margin;
+  const double w = double(hi.x()) - lo.x() + 1, h = double(hi.y()) - lo.y() + 1;
+  if (!(w * h <= kMaxCells))
+    throw InputError("verify map: points and origins spread over " + std::to_string(w * resolution_) + " x " +
+                     std::to_string(h * resolution_) + " m, more than 2^24 cells");
+  x0_ = lo.x(), y0_ = lo.y(), width_ = static_cast<int>(w), height_ = static_cast<int>(h);
+  cells_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), kUnknown);
+}
+
+void VerifyMap::mark_occupied(const Eigen::Vector2i& c, int d) {
+  for (int dy = -d; dy <= d; ++dy)
+    for (int dx = -d; dx <= d; ++dx)
+      if (dx * dx + dy * dy <= d * d) cells_[index_of(c.x() + dx, c.y() + dy)] = kOccupied;
+}
+
 VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config)
     : resolution_(config.resolution), inv_resolution_(1.0 / config.resolution), points_(points) {
   validate(config);
@@ -83,38 +102,18 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
       if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
   if (points.empty()) return;
   has_beams_ = !origins.empty();
-  const auto cell = [&](const Vec2& p) {
-    return Eigen::Vector2i(static_cast<int>(std::floor(p.x() * inv_resolution_)),
-                           static_cast<int>(std::floor(p.y() * inv_resolution_)));
-  };
-  Eigen::Vector2i lo = cell(points.front()), hi = lo;
-  for (const Points2* set : {&points, &origins})
-    for (const Vec2& p : *set) lo = lo.cwiseMin(cell(p)), hi = hi.cwiseMax(cell(p));
   const int d = config.dilation;
-  lo.array() -= d + 1, hi.array() += d + 1;
-  const double w = double(hi.x()) - lo.x() + 1, h = double(hi.y()) - lo.y() + 1;
-  if (!(w * h <= kMaxCells))
-    throw InputError("verify map: points and origins spread over " + std::to_string(w * resolution_) + " x " +
-                     std::to_string(h * resolution_) + " m, more than 2^24 cells");
-  x0_ = lo.x(), y0_ = lo.y(), width_ = static_cast<int>(w), height_ = static_cast<int>(h);
-  cells_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), kUnknown);
-  const auto index = [&](int x, int y) {
-    return static_cast<std::size_t>(y - y0_) * static_cast<std::size_t>(width_) +
-           static_cast<std::size_t>(x - x0_);
-  };
+  allocate({&points, &origins}, d + 1);
   // The points' own cells (for choosing each beam's origin), then the dilated occupied grid.
   std::vector<std::uint8_t> hit(cells_.size(), 0);
   std::vector<Eigen::Vector2i> point_cells;
   point_cells.reserve(points.size());
   for (const Vec2& p : points)
-    point_cells.push_back(cell(p)), hit[index(point_cells.back().x(), point_cells.back().y())] = 1;
-  for (const Eigen::Vector2i& c : point_cells)
-    for (int dy = -d; dy <= d; ++dy)
-      for (int dx = -d; dx <= d; ++dx)
-        if (dx * dx + dy * dy <= d * d) cells_[index(c.x() + dx, c.y() + dy)] = kOccupied;
+    point_cells.push_back(cell_of(p)), hit[index_of(point_cells.back().x(), point_cells.back().y())] = 1;
+  for (const Eigen::Vector2i& c : point_cells) mark_occupied(c, d);
   if (!has_beams_) return;
   std::vector<Eigen::Vector2i> origin_cells;
-  for (const Vec2& o : origins) origin_cells.push_back(cell(o));
+  for (const Vec2& o : origins) origin_cells.push_back(cell_of(o));
   const double max_cells = config.max_ray * inv_resolution_;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector2i& b = point_cells[i];
@@ -128,7 +127,7 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
       int blocked = 0, steps = 0;
       const int length = std::max(std::abs(b.x() - a.x()), std::abs(b.y() - a.y()));
       walk_cells(a.x(), a.y(), b.x(), b.y(), [&](int x, int y) {
-        if (++steps < length - 1 && hit[index(x, y)]) ++blocked;
+        if (++steps < length - 1 && hit[index_of(x, y)]) ++blocked;
         return blocked <= best_blocked;
       });
       if (blocked < best_blocked || (blocked == best_blocked && distance < best_distance))
@@ -137,37 +136,29 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
     if (best < 0) continue;
     const Eigen::Vector2i& a = origin_cells[static_cast<std::size_t>(best)];
     walk_cells(a.x(), a.y(), b.x(), b.y(), [&](int x, int y) {
-      std::uint8_t& s = cells_[index(x, y)];
+      std::uint8_t& s = cells_[index_of(x, y)];
       if (s == kUnknown) s = kFree;
       return true;
     });
   }
 }
 
-VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_points, const VerifyConfig& config) {
+VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_points,
+                                     const VerifyConfig& config) {
   for (const Vec2& p : free_points)
     if (!p.allFinite()) throw InputError("verify map: a free point is not finite");
-  // The grid spans the free points too: build it over both (free points as the map's points, no origins),
-  // then mark the free cells that are not occupied.
-  Points2 all = points;
-  all.insert(all.end(), free_points.begin(), free_points.end());
-  VerifyMap m(all, {}, config);
-  std::fill(m.cells_.begin(), m.cells_.end(), kUnknown);
+  VerifyMap m({}, {}, config);  // validates the config
+  for (const Vec2& p : points)
+    if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
+  if (points.empty() && free_points.empty()) return m;
   m.points_ = points;
-  const int d = config.dilation;
-  const auto mark = [&](const Vec2& p, std::uint8_t state, int radius) {
-    const int cx = static_cast<int>(std::floor(p.x() * m.inv_resolution_)) - m.x0_;
-    const int cy = static_cast<int>(std::floor(p.y() * m.inv_resolution_)) - m.y0_;
-    for (int dy = -radius; dy <= radius; ++dy)
-      for (int dx = -radius; dx <= radius; ++dx) {
-        if (dx * dx + dy * dy > radius * radius) continue;
-        std::uint8_t& s = m.cells_[static_cast<std::size_t>(cy + dy) * static_cast<std::size_t>(m.width_) +
-                                   static_cast<std::size_t>(cx + dx)];
-        if (state == kOccupied || s == kUnknown) s = state;
-      }
-  };
-  for (const Vec2& p : points) mark(p, kOccupied, d);
-  for (const Vec2& p : free_points) mark(p, kFree, 0);
+  m.allocate({&points, &free_points}, config.dilation + 1);
+  for (const Vec2& p : points) m.mark_occupied(m.cell_of(p), config.dilation);
+  for (const Vec2& p : free_points) {
+    const Eigen::Vector2i c = m.cell_of(p);
+    std::uint8_t& s = m.cells_[m.index_of(c.x(), c.y())];
+    if (s == kUnknown) s = kFree;
+  }
   m.has_beams_ = !free_points.empty();
   return m;
 }
@@ -183,13 +174,15 @@ VerifyMap VerifyMap::cropped(const Vec2& lo, const Vec2& hi) const {
   out.x0_ = x0, out.y0_ = y0, out.width_ = x1 - x0 + 1, out.height_ = y1 - y0 + 1;
   out.cells_.resize(static_cast<std::size_t>(out.width_) * static_cast<std::size_t>(out.height_));
   for (int y = y0; y <= y1; ++y) {
-    const auto row = cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0_) * width_ + (x0 - x0_));
-    std::copy(row, row + out.width_, out.cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0) * out.width_));
+    const auto row =
+        cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0_) * width_ + (x0 - x0_));
+    std::copy(
+        row, row + out.width_,
+        out.cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0) * out.width_));
   }
   for (const Vec2& p : points_) {
-    const int cx = static_cast<int>(std::floor(p.x() * inv_resolution_));
-    const int cy = static_cast<int>(std::floor(p.y() * inv_resolution_));
-    if (cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1) out.points_.push_back(p);
+    const Eigen::Vector2i c = cell_of(p);
+    if (c.x() >= x0 && c.x() <= x1 && c.y() >= y0 && c.y() <= y1) out.points_.push_back(p);
   }
   return out;
 }

@@ -13,7 +13,9 @@
 // on a likelihood field of the map's points), below the lattice that limits Eq. 1.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <vector>
 
@@ -52,7 +54,8 @@ class VerifyMap {
   VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config = {});
   /// A map that knows its free space already (a building map's free cells, e.g. a map_server map): occupied
   /// cells from `points` (dilated), free ones under `free_points` where not occupied. Throws as the above.
-  static VerifyMap with_free_space(const Points2& points, const Points2& free_points, const VerifyConfig& config = {});
+  static VerifyMap with_free_space(const Points2& points, const Points2& free_points,
+                                   const VerifyConfig& config = {});
 
   /// The part of the map inside the box [lo, hi] (its frame): the cells there and the points in them, as if
   /// the map had only seen that much (a building map cut to the neighbourhood of a local map).
@@ -73,6 +76,20 @@ class VerifyMap {
   std::size_t free_cells() const;
 
  private:
+  /// An unknown grid over the cells of every point in `sets`, grown by `margin` cells (the map's points are
+  /// set by the caller). Throws InputError for more than 2^24 cells.
+  void allocate(std::initializer_list<const Points2*> sets, int margin);
+  Eigen::Vector2i cell_of(const Vec2& p) const {
+    return {static_cast<int>(std::floor(p.x() * inv_resolution_)),
+            static_cast<int>(std::floor(p.y() * inv_resolution_))};
+  }
+  std::size_t index_of(int x, int y) const {
+    return static_cast<std::size_t>(y - y0_) * static_cast<std::size_t>(width_) +
+           static_cast<std::size_t>(x - x0_);
+  }
+  /// The cells within `dilation` of `cell` (a disc) become occupied.
+  void mark_occupied(const Eigen::Vector2i& cell, int dilation);
+
   double resolution_ = kMapResolution, inv_resolution_ = 1.0 / kMapResolution;
   int x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> cells_;
