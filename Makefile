@@ -22,7 +22,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation slam-bench readme-usage clean
+.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench readme-usage clean
 
 all: build
 
@@ -59,6 +59,9 @@ raw-logs: build
 
 relocalisation: build
 	bash scripts/make-relocalisation.sh
+
+locate-check: build
+	bash scripts/check-locate-stored.sh
 
 slam-bench: build
 	bash scripts/slam-bench.sh

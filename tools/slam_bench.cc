@@ -182,6 +182,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_FINE")) config.front_end.fine_sigma = std::atof(v);
     if (const char* v = std::getenv("FE_RES")) config.front_end.point_resolution = config.front_end.matcher.resolution = std::atof(v);
     if (const char* v = std::getenv("FE_KEY")) config.front_end.key_translation = std::atof(v);
+    if (const char* v = std::getenv("LOOPS_VERIFY_DMM")) config.loops.verify_dmm = std::atoi(v) != 0;
     const auto t0 = std::chrono::steady_clock::now();
     SlamResult r = run_slam(b.raw, config, {}, [&](const Submaps& maps, std::vector<LoopClosure>& accepted) {
       if (inject <= 0) return;

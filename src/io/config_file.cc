@@ -64,6 +64,7 @@ void visit(V& v, LoopClosureConfig& c) {
   v.field("drift_turn", c.drift_turn);
   v.field("drift_turn_rate", c.drift_turn_rate);
   v.field("graph_check", c.graph_check);
+  v.field("verify_dmm", c.verify_dmm);
   v.field("num_threads", c.num_threads);
 }
 

@@ -25,6 +25,7 @@ nlohmann::json closures_json(const Submaps& maps, const std::vector<LoopClosure>
                    {"score", c.score},
                    {"context_score", c.context_score},
                    {"confidence", c.confidence},
+                   {"probability", c.probability},
                    {"accepted", c.confidence >= min_confidence}});
   }
   return out;

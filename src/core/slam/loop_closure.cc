@@ -45,7 +45,8 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
   for (std::size_t j = 0; j < candidates.size(); ++j) {
     if (!r.direct.at(j) || r.direct[j]->inlier_fraction < c.min_score) continue;
     if (!within_drift(maps, q, candidates[j], r.direct[j]->T_map_query, c)) continue;
-    out.push_back({q, candidates[j], r.direct[j]->T_map_query, r.direct[j]->inlier_fraction, 0.0, 0.0});
+    const double p = j < r.probability.size() && r.probability[j] ? *r.probability[j] : -1.0;
+    out.push_back({q, candidates[j], r.direct[j]->T_map_query, r.direct[j]->inlier_fraction, 0.0, 0.0, p});
   }
   std::stable_sort(out.begin(), out.end(), [](const LoopClosure& a, const LoopClosure& b) { return a.score > b.score; });
   if (c.context > 0 && !out.empty()) {
@@ -122,13 +123,13 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
     throw InputError("loop closures: method '" + config.method + "' gives no dMM pose: use rerank:R[:SPEC] or dmm");
   if (method.traits.needs_parts)
     throw InputError("loop closures: method '" + config.method + "' needs CPD parts; use a point-based shortlist");
-  // Loop acceptance stays on Eq. 1's poses and inlier shares until the SLAM bench is rerun with the verified
-  // score (docs/NOTES.md, "Verifying a match").
+  // Off by default: verifying dMM's candidates doubles the time of `slam` and the SLAM bench measured no gain
+  // (docs/NOTES.md, "Verifying a match", loops).
   RankingConfig ranking;
-  ranking.verify_dmm = false;
+  ranking.verify_dmm = config.verify_dmm;
   const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
   std::vector<MapView> views;
-  for (const Submap& m : maps) views.push_back({&m.points, nullptr});
+  for (const Submap& m : maps) views.push_back({&m.points, nullptr, &m.origins});
   ranker->prepare(views, config.num_threads, progress);
   std::vector<std::vector<LoopClosure>> per_query(maps.size());
   std::vector<std::size_t> mine;  // this process's queries: every size-th one

@@ -42,6 +42,9 @@ struct LoopClosureConfig {
   /// Consistency among hypotheses: those that disagree with a robust pose graph of all of them lose 1 of
   /// confidence (see loop_closure.cc).
   bool graph_check = true;
+  /// dMM's candidates are verified (RankingConfig::verify_dmm: Eq. 1's best poses re-scored by the same-place
+  /// probability, the most probable one refined) before the context stage; false: Eq. 1's optimum.
+  bool verify_dmm = false;
   int num_threads = 1;               ///< results do not depend on it
 };
 
@@ -55,6 +58,9 @@ struct LoopClosure {
   double score = 0.0;     ///< dMM inlier fraction
   double context_score = 0.0;  ///< mean likelihood of the match's context on the query's (0 without context)
   double confidence = 0.0;  ///< context score (dMM score without context) minus the best one at another place
+  /// Same-place probability of the two submaps at dMM's verified pose (before the context stage refines it);
+  /// -1 when dMM was not verified (LoopClosureConfig::verify_dmm false).
+  double probability = -1.0;
 };
 
 /// Hypotheses of every query, in query order, each query's by decreasing score. Over a split of several

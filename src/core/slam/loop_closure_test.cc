@@ -88,6 +88,37 @@ TEST(LoopClosure, SplitOverTwoProcessesGivesTheSameHypotheses) {
   EXPECT_GT(values[1], 0u);
 }
 
+// dMM verified (verify_dmm) and not: the verified hypotheses carry the same-place probability of their pair,
+// higher for the correct ones; Eq. 1's carry none.
+TEST(LoopClosure, VerifiedDmmGivesEachHypothesisItsProbability) {
+  const Submaps& maps = two_laps();
+  for (const bool verify : {false, true}) {
+    LoopClosureConfig config;
+    config.verify_dmm = verify;
+    config.num_threads = 2;
+    const std::vector<LoopClosure> closures = find_loop_closures(maps, config);
+    ASSERT_FALSE(closures.empty());
+    const LoopEvaluation e = evaluate_loop_closures(closures, maps, exact_frames(maps));
+    double right = 0, wrong = 0;
+    std::size_t n_right = 0, n_wrong = 0;
+    for (std::size_t i = 0; i < closures.size(); ++i) {
+      if (!verify) {
+        EXPECT_EQ(closures[i].probability, -1.0);
+        continue;
+      }
+      EXPECT_GE(closures[i].probability, 0.0);
+      EXPECT_LE(closures[i].probability, 1.0);
+      (e.verdicts[i] == 1 ? right : wrong) += closures[i].probability;
+      (e.verdicts[i] == 1 ? n_right : n_wrong) += 1;
+    }
+    if (!verify) continue;
+    EXPECT_GT(e.max_f1, 0.5) << e.max_f1;
+    if (n_wrong > 0 && n_right > 0) {
+      EXPECT_GT(right / static_cast<double>(n_right), wrong / static_cast<double>(n_wrong));
+    }
+  }
+}
+
 TEST(LoopClosure, RefusesMethodsWithoutAPoseAndAbsurdConfigs) {
   LoopClosureConfig c;
   c.method = "succinct";
