@@ -38,8 +38,18 @@ struct MapView {
   const Points2* origins = nullptr;
 };
 
+/// dMM's search for ranking: canonical frames with eight rotation families (multiples of 45 degrees, as the
+/// localizer's): a 2 m submap's own Manhattan alignment can be off by half a quarter turn from another submap's
+/// of the same place, and four families never find that pose (aces: dMM's ANR 11.3 -> 3.3, docs/NOTES.md,
+/// "Verifying a match").
+inline DmmConfig ranking_dmm_config() {
+  DmmConfig config;
+  config.canonical_turns = 8;
+  return config;
+}
+
 struct RankingConfig {
-  DmmConfig dmm;               ///< dMM and the dMM stage of rerank
+  DmmConfig dmm = ranking_dmm_config();  ///< dMM and the dMM stage of rerank
   VerifyConfig verify;         ///< dMM's verification of its poses (not dmm:eq1)
   bool verify_dmm = true;      ///< false: `dmm` and rerank's dMM stage score by Eq. 1 (as dmm:eq1)
   DmmRansacConfig ransac;      ///< dMM-RANSAC

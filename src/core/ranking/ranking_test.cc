@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <set>
 
 #include "core/error.h"
@@ -62,6 +64,35 @@ TEST(Ranking, DmmRanksASubsetAndThreadsDoNotChangeIt) {
   const Ranking top = ranker->rank(views[0], candidates, {1, 1});
   EXPECT_EQ(top.scores[2], one.scores[2]);
   EXPECT_GT(ranker->bits_per_map(), 0.0);
+}
+
+// A stored map whose canonical frame is half a quarter turn from the query's (its Manhattan alignment picked
+// the other wall direction): the ranking's dMM searches eight rotation families and finds it whole; four
+// families (the multiples of 90 degrees only) cannot.
+TEST(Ranking, DmmFindsAMapTurnedByHalfAQuarterTurn) {
+  const Submaps& maps = testing::simulated_maps();
+  const Pose2 turn{0.0, 0.0, std::numbers::pi / 4};
+  const Points2 turned = transform(turn, maps[5].points);
+  std::vector<MapView> views = testing::point_views(maps);
+  views.push_back({&turned, nullptr});
+  const std::vector<std::size_t> candidates = {5};
+  double share[2] = {0, 0};
+  for (const int turns : {4, 8}) {
+    RankingConfig config;
+    EXPECT_EQ(config.dmm.canonical_turns, 8);  // the default
+    config.dmm.canonical_turns = turns;
+    const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("dmm:eq1"), config);
+    ranker->prepare(views, 2);
+    const Ranking r = ranker->rank(views.back(), candidates, {1, 0});
+    ASSERT_TRUE(r.direct[0].has_value());
+    share[turns == 8] = r.direct[0]->inlier_fraction;
+    if (turns == 8) {
+      // -45 degrees, or a quarter turn from it when the map is that symmetric
+      EXPECT_NEAR(std::remainder(r.direct[0]->T_map_query.theta + std::numbers::pi / 4, std::numbers::pi / 2), 0.0, 0.03);
+      EXPECT_GT(r.direct[0]->inlier_fraction, 0.95);
+    }
+  }
+  EXPECT_LT(share[0], share[1] - 0.2) << share[0] << " vs " << share[1];
 }
 
 TEST(Ranking, VerifiedDmmGivesTheQueryItselfTheHighestProbabilityOnAnyThreads) {

@@ -127,6 +127,8 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
   // (docs/NOTES.md, "Verifying a match", loops).
   RankingConfig ranking;
   ranking.verify_dmm = config.verify_dmm;
+  // Four rotation families, as the SLAM bench was measured with (the drift gate bounds a closure's turn anyway).
+  ranking.dmm.canonical_turns = 4;
   const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
   std::vector<MapView> views;
   for (const Submap& m : maps) views.push_back({&m.points, nullptr, &m.origins});
