@@ -88,7 +88,8 @@ TEST(Ranking, DmmFindsAMapTurnedByHalfAQuarterTurn) {
     share[turns == 8] = r.direct[0]->inlier_fraction;
     if (turns == 8) {
       // -45 degrees, or a quarter turn from it when the map is that symmetric
-      EXPECT_NEAR(std::remainder(r.direct[0]->T_map_query.theta + std::numbers::pi / 4, std::numbers::pi / 2), 0.0, 0.03);
+      const double theta = r.direct[0]->T_map_query.theta;
+      EXPECT_NEAR(std::remainder(theta + std::numbers::pi / 4, std::numbers::pi / 2), 0.0, 0.03);
       EXPECT_GT(r.direct[0]->inlier_fraction, 0.95);
     }
   }
