@@ -61,6 +61,7 @@ TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
   EXPECT_GT(j["mean_points"].get<double>(), 0);
   EXPECT_EQ(j["parameters"]["origin_gate"], 2.0);
   EXPECT_EQ(j["parameters"]["cpd"]["candidates"], "corners");
+  EXPECT_EQ(j["parameters"]["dmm"]["canonical_turns"], 8);  // the ranking's default
   ASSERT_EQ(j["methods"].size(), 4u);
   const char* labels[] = {"dMM", "iMM cpd:2", "Max-Max hMM cpd:3", "rerank5 hMM cpd:3"};
   for (std::size_t i = 0; i < 4; ++i) {
@@ -106,6 +107,7 @@ TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
       {"--methods hmm:3 --cpd-candidates circles", "--cpd-candidates: expected partitions or corners"},
       {"--methods hmm:3 --cpd-box-sizes 0", "box size"},
       {"--methods dmm --radius -1", "radius (R) must be > 0"},
+      {"--methods dmm --dmm-turns 5", "canonical_turns must be 4 or 8"},
   };
   for (const auto& [args, message] : cases) {
     const CliRun run = run_partslam(kEval + args + " --json " + quoted(json));

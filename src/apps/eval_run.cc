@@ -51,6 +51,10 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_option("--dmm-dilation", o.config.ranking.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
       ->capture_default_str();
+  cmd.add_option("--dmm-turns", o.config.ranking.dmm.canonical_turns,
+                 "dMM: rotation families searched about the canonical frame, 4 (quarter turns) or 8 (multiples of 45 "
+                 "deg)")
+      ->capture_default_str();
   cmd.add_flag("--scan-match", o.scan_match, "input poses from scan matching seeded by odometry (raw logs)");
   cmd.add_option("--truth", o.truth,
                  "ground truth for submaps of a raw log: its corrected twin (scans associated by content) or its "
@@ -171,7 +175,10 @@ nlohmann::json to_json(const EvalRun& run) {
         {"gc", c.cpd.geometric_consistency},
         {"seed", c.cpd.seed},
         {"dilation", c.cpd.dmm.dilation}}},
-      {"dmm", {{"dilation", c.ranking.dmm.dilation}, {"angular_window_deg", run.options.dmm_angular_window_deg}}}};
+      {"dmm",
+       {{"dilation", c.ranking.dmm.dilation},
+        {"angular_window_deg", run.options.dmm_angular_window_deg},
+        {"canonical_turns", c.ranking.dmm.canonical_turns}}}};
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {
     j["methods"].push_back({{"spec", m.method.spec},
