@@ -7,24 +7,25 @@
 // Counters: ns_per_map = time per stored map (= per map pair), ms = time per query, bytes_per_map.
 // score_all runs with the origin gate the CLI uses (kDefaultOriginGate) unless its gate argument is 0.
 //
-// The succinct matcher at fleet scale (BM_Succinct*; --benchmark_filter=Succinct; the last argument is the number of
-// stored maps): the exact scan (AVX-512 kernels; BM_SuccinctScalarScan: the scalar scan_top_k it replaces) and
-// the cascade of core/matching/grid_cascade.h, top 100, on a database of real-looking maps (large_grid_db below:
-// real submaps of the other buildings turned, moved and thinned, with the real relevant maps of 60 queries
-// planted). They report ms per query, ns per stored map, bytes per map and in_top100: the queries whose
-// relevant map the top 100 holds; the cascade also its stages' ms and the queries both it and the scan found.
+// The succinct matcher at fleet scale (BM_Succinct*; --benchmark_filter=Succinct; the last argument is the
+// number of stored maps): the exact scan (AVX-512 kernels; BM_SuccinctScalarScan: the scalar scan_top_k it
+// replaces) and the cascade of core/matching/grid_cascade.h, top 100, on a database of real-looking maps
+// (large_grid_db below: real submaps of the other buildings turned, moved and thinned, with the real relevant
+// maps of 60 queries planted). They report ms per query, ns per stored map, bytes per map and in_top100: the
+// queries whose relevant map the top 100 holds; the cascade also its stages' ms and the queries both it and
+// the scan found.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <numbers>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <random>
 
-#include "core/maps/submap.h"
 #include "core/evaluation/tasks.h"
+#include "core/maps/submap.h"
 #include "core/matching/grid_cascade.h"
 #include "core/parallel.h"
 #include "core/parts/descriptor_database.h"
@@ -113,7 +114,8 @@ void set_counters(benchmark::State& state, std::size_t maps, std::size_t bytes =
 }
 
 ScoreOptions options(const benchmark::State& state) {
-  return {.num_threads = static_cast<int>(state.range(2)), .origin_gate = state.range(4) ? kDefaultOriginGate : 0.0};
+  return {.num_threads = static_cast<int>(state.range(2)),
+          .origin_gate = state.range(4) ? kDefaultOriginGate : 0.0};
 }
 
 // args: K, spatial order (1/0), threads, tight scenario (1/0), origin gate (1/0)
@@ -124,9 +126,7 @@ void BM_ScoreAll_iMM(benchmark::State& state) {
   const DescriptorDatabase& db = state.range(1) ? *d.sorted : *d.unsorted;
   std::mt19937 rng(7);
   const MapDescriptor query = random_map(rng, k, tight ? kTight : kRoomy);
-  for (auto _ : state)
-    benchmark::DoNotOptimize(
-        db.score_all(query, Matcher::kSumMax, options(state)));
+  for (auto _ : state) benchmark::DoNotOptimize(db.score_all(query, Matcher::kSumMax, options(state)));
   set_counters(state, kMaps, db.memory_bytes());
 }
 
@@ -152,8 +152,7 @@ void BM_ScoreAll_hMM(benchmark::State& state) {
   std::mt19937 rng(11);
   const MapDescriptor query = hmm_query(rng, state.range(0) != 0, tight ? kTight : kRoomy);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(
-        db.score_all(query, Matcher::kSumMaxWeighted, options(state)));
+    benchmark::DoNotOptimize(db.score_all(query, Matcher::kSumMaxWeighted, options(state)));
   }
   set_counters(state, kMaps, db.memory_bytes());
 }
@@ -215,12 +214,20 @@ BENCHMARK(BM_ScoreAll_iMM)->Args({1, 0, 1, 0, 1})->Args({1, 1, 1, 0, 1})->Apply(
 BENCHMARK(BM_Naive_iMM)->Arg(2)->Apply(single);
 BENCHMARK(BM_ScoreAll_iMM)->Args({2, 0, 1, 0, 1})->Args({2, 1, 1, 0, 1})->Apply(single);
 BENCHMARK(BM_Naive_iMM)->Arg(3)->Apply(single);
-BENCHMARK(BM_ScoreAll_iMM)->Args({3, 0, 1, 0, 1})->Args({3, 1, 1, 0, 1})->Args({3, 1, 1, 0, 0})->Apply(single);
+BENCHMARK(BM_ScoreAll_iMM)
+    ->Args({3, 0, 1, 0, 1})
+    ->Args({3, 1, 1, 0, 1})
+    ->Args({3, 1, 1, 0, 0})
+    ->Apply(single);
 BENCHMARK(BM_ScoreAll_iMM)->Args({3, 1, 2, 0, 1})->Apply(threaded);
 BENCHMARK(BM_ScoreAll_Matchers)->DenseRange(0, 2)->Apply(single);
 BENCHMARK(BM_Build)->Apply(single);
 BENCHMARK(BM_Naive_hMM)->Arg(1)->Apply(single);
-BENCHMARK(BM_ScoreAll_hMM)->Args({1, 0, 1, 0, 1})->Args({1, 1, 1, 0, 1})->Args({0, 1, 1, 0, 1})->Args({1, 1, 1, 0, 0})
+BENCHMARK(BM_ScoreAll_hMM)
+    ->Args({1, 0, 1, 0, 1})
+    ->Args({1, 1, 1, 0, 1})
+    ->Args({0, 1, 1, 0, 1})
+    ->Args({1, 1, 1, 0, 0})
     ->Apply(single);
 BENCHMARK(BM_ScoreAll_hMM)->Args({1, 1, 2, 0, 1})->Apply(threaded);
 BENCHMARK(BM_ScoreAll_iMM)->Args({3, 1, 1, 1, 1})->Apply(single);
@@ -240,13 +247,18 @@ struct Building {
   std::vector<GridBits> grids;
   std::vector<double> mu;
 };
-constexpr const char* kLogs[] = {
-    "fr079/fr079-corrected.log.gz",  "intel/intel-corrected.log.gz",
-    "aces/aces-corrected.log.gz",    "fr101/fr101-corrected.log.gz",
-    "corrected/acapulco-corrected.log.gz",   "corrected/belgioioso-corrected.log.gz",
-    "corrected/edmonton-corrected.log.gz",   "corrected/fhw-corrected.log.gz",
-    "corrected/freiburg-campus-corrected.log.gz", "corrected/infinite-corridor-corrected.log.gz",
-    "corrected/orebro-corrected.log.gz",     "corrected/seattle-corrected.log.gz"};
+constexpr const char* kLogs[] = {"fr079/fr079-corrected.log.gz",
+                                 "intel/intel-corrected.log.gz",
+                                 "aces/aces-corrected.log.gz",
+                                 "fr101/fr101-corrected.log.gz",
+                                 "corrected/acapulco-corrected.log.gz",
+                                 "corrected/belgioioso-corrected.log.gz",
+                                 "corrected/edmonton-corrected.log.gz",
+                                 "corrected/fhw-corrected.log.gz",
+                                 "corrected/freiburg-campus-corrected.log.gz",
+                                 "corrected/infinite-corridor-corrected.log.gz",
+                                 "corrected/orebro-corrected.log.gz",
+                                 "corrected/seattle-corrected.log.gz"};
 constexpr std::size_t kQueryBuildings = 3;  // the queries' buildings: the first three logs (the tuning sets)
 constexpr int kQueriesPerBuilding = 20;
 
@@ -293,7 +305,8 @@ struct LargeGridDb {
 
 Points2 perturbed(const Points2& points, std::mt19937_64& rng) {
   const int turn = std::uniform_int_distribution<int>(0, 3)(rng);
-  const double a = turn * std::numbers::pi / 2 + std::uniform_real_distribution<double>(-3, 3)(rng) * std::numbers::pi / 180;
+  const double a = turn * std::numbers::pi / 2 +
+                   std::uniform_real_distribution<double>(-3, 3)(rng) * std::numbers::pi / 180;
   std::uniform_real_distribution<double> shift(-0.75, 0.75);
   const Vec2 d{shift(rng), shift(rng)};
   std::bernoulli_distribution kept(0.8);
@@ -319,7 +332,8 @@ LargeGridDb& large_grid_db(std::size_t n) {
       auto far = [&](std::size_t i, std::size_t j) {
         return (maps[i].T_world_map.translation() - maps[j].T_world_map.translation()).norm() > 4.0;
       };
-      if (std::all_of(chosen.begin(), chosen.end(), [&](const Task& c) { return far(c.query, t.relevant) && far(t.query, c.relevant); }))
+      if (std::all_of(chosen.begin(), chosen.end(),
+                      [&](const Task& c) { return far(c.query, t.relevant) && far(t.query, c.relevant); }))
         chosen.push_back(t);
       if (chosen.size() == kQueriesPerBuilding) break;
     }
@@ -362,7 +376,8 @@ std::vector<char> top100_hits(const LargeGridDb& db, TopK top_k) {
   std::vector<char> hit;
   for (std::size_t q = 0; q < db.queries.size(); ++q) {
     const std::vector<GridMatch> top = top_k(db.queries[q]);
-    hit.push_back(std::any_of(top.begin(), top.end(), [&](const GridMatch& m) { return m.index == db.relevant[q]; }));
+    hit.push_back(
+        std::any_of(top.begin(), top.end(), [&](const GridMatch& m) { return m.index == db.relevant[q]; }));
   }
   return hit;
 }
@@ -392,15 +407,17 @@ void BM_SuccinctScalarScan(benchmark::State& state) {
   const GridConfig config = succinct_grid_config();
   std::size_t q = 0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(scan_top_k(db.queries[q++ % db.queries.size()], db.grids, db.mu, config.hub_weight, kGridTop));
+    benchmark::DoNotOptimize(
+        scan_top_k(db.queries[q++ % db.queries.size()], db.grids, db.mu, config.hub_weight, kGridTop));
   set_counters(state, db.grids.size(), db.grids.size() * sizeof(GridBits) + db.mu.size());  // mu: 7 bits
 }
 
-// The cascade (grid_cascade.h, default configuration). arg: stored maps. in_top100 against the scan's: run after
-// BM_SuccinctScan of the same size (both_top100: queries both put in their top 100).
+// The cascade (grid_cascade.h, default configuration). arg: stored maps. in_top100 against the scan's: run
+// after BM_SuccinctScan of the same size (both_top100: queries both put in their top 100).
 void BM_SuccinctFast(benchmark::State& state) {
   const LargeGridDb& db = large_grid_db(static_cast<std::size_t>(state.range(0)));
-  const std::vector<char> hit = top100_hits(db, [&](const std::vector<GridBits>& q) { return db.cascade->top_k(q, kGridTop); });
+  const std::vector<char> hit =
+      top100_hits(db, [&](const std::vector<GridBits>& q) { return db.cascade->top_k(q, kGridTop); });
   GridCascadeStats stats, sum;
   std::size_t q = 0;
   for (auto _ : state) {
@@ -412,7 +429,8 @@ void BM_SuccinctFast(benchmark::State& state) {
   if (db.scan_hit.size() == hit.size()) {
     std::size_t both = 0;
     for (std::size_t i = 0; i < hit.size(); ++i) both += hit[i] && db.scan_hit[i];
-    state.counters["scan_in_top100"] = static_cast<double>(std::count(db.scan_hit.begin(), db.scan_hit.end(), 1));
+    state.counters["scan_in_top100"] =
+        static_cast<double>(std::count(db.scan_hit.begin(), db.scan_hit.end(), 1));
     state.counters["both_top100"] = static_cast<double>(both);
   }
   state.counters["signature_ms"] = sum.signature_ms / static_cast<double>(q);
