@@ -261,6 +261,7 @@ constexpr const char* kLogs[] = {"fr079/fr079-corrected.log.gz",
                                  "corrected/seattle-corrected.log.gz"};
 constexpr std::size_t kQueryBuildings = 3;  // the queries' buildings: the first three logs (the tuning sets)
 constexpr int kQueriesPerBuilding = 20;
+constexpr std::size_t kHubProbes = 32;  // probes of the large database's mu (the ranker's default: 256)
 
 Building building(std::string name, Submaps maps) {
   const GridConfig config = succinct_grid_config();
@@ -324,7 +325,7 @@ LargeGridDb& large_grid_db(std::size_t n) {
   const std::vector<Building>& all = buildings();
   const GridConfig config = succinct_grid_config();
   LargeGridDb db;
-  std::vector<std::pair<GridBits, double>> planted;
+  std::vector<GridBits> planted;
   for (std::size_t b = 0; b < kQueryBuildings; ++b) {
     const Submaps& maps = all[b].maps;
     std::vector<Task> chosen;
@@ -339,29 +340,45 @@ LargeGridDb& large_grid_db(std::size_t n) {
     }
     for (const Task& t : chosen) {
       db.queries.push_back(make_query_grids(maps[t.query].points, config));
-      planted.emplace_back(all[b].grids[t.relevant], all[b].mu[t.relevant]);
+      planted.push_back(all[b].grids[t.relevant]);
     }
   }
-  std::vector<std::pair<const Submap*, double>> sources;
+  std::vector<const Submap*> sources;
   for (std::size_t b = kQueryBuildings; b < all.size(); ++b)
-    for (std::size_t i = 0; i < all[b].maps.size(); ++i) sources.emplace_back(&all[b].maps[i], all[b].mu[i]);
+    for (std::size_t i = 0; i < all[b].maps.size(); ++i) sources.push_back(&all[b].maps[i]);
   db.grids.resize(n);
-  db.mu.resize(n);
   constexpr std::size_t kChunk = 65536;  // one seed a chunk: the same maps for any thread count
   parallel_for((n + kChunk - 1) / kChunk, 2, [&](std::size_t chunk) {
     std::mt19937_64 rng(chunk + 1);
     std::uniform_int_distribution<std::size_t> pick(0, sources.size() - 1);
     for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
-      const auto& [map, mu] = sources[pick(rng)];
-      db.grids[i] = make_grid(perturbed(map->points, rng), config);
-      db.mu[i] = mu;
+      db.grids[i] = make_grid(perturbed(sources[pick(rng)]->points, rng), config);
     }
   });
   for (std::size_t j = 0; j < planted.size() && j < n; ++j) {
     db.relevant.push_back(j * (n / planted.size()) + n / (2 * planted.size()));
-    std::tie(db.grids[db.relevant.back()], db.mu[db.relevant.back()]) = planted[j];
+    db.grids[db.relevant.back()] = planted[j];
   }
   db.queries.resize(db.relevant.size());
+  // Every map's mu from its own grid, as the ranker computes it (grid_hubness: the mean best-pose similarity
+  // of probe queries), over kHubProbes probes spread over the distractors' buildings, on the exact-scan
+  // kernels.
+  std::vector<const Points2*> probes;
+  for (std::size_t k = 0; k < kHubProbes; ++k)
+    probes.push_back(&sources[k * sources.size() / kHubProbes]->points);
+  const GridCascade plain(db.grids, {}, config, {.coarse_min = n});
+  std::vector<double> sum(n, 0.0);
+  for (std::size_t k = 0; k < probes.size(); k += 2) {
+    std::array<std::vector<double>, 2> s;
+    parallel_for(std::min<std::size_t>(2, probes.size() - k), 2,
+                 [&](std::size_t j) { s[j] = plain.scores(make_query_grids(*probes[k + j], config)); });
+    for (const std::vector<double>& one : s)
+      for (std::size_t i = 0; i < one.size(); ++i) sum[i] += one[i];
+  }
+  const double levels = std::ldexp(1.0, config.hub_bits) - 1;
+  db.mu.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    db.mu[i] = std::round(sum[i] / static_cast<double>(probes.size()) * levels) / levels;
   const auto t0 = std::chrono::steady_clock::now();
   db.cascade = std::make_unique<GridCascade>(db.grids, db.mu, config);
   db.build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

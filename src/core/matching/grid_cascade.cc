@@ -27,8 +27,10 @@ __extension__ typedef unsigned __int128 u128;
 constexpr int kLagReach = 3;         // signature lags |dx|, |dy| <= 3
 constexpr int kSignatureBytes = 15;  // bytes 0..14 hold lags; byte 15 of a record is mu's level
 
+}  // namespace
+
 // The query's grids on a set of poses, as the kernels read them.
-struct Poses {
+struct GridCascade::Poses {
   std::vector<std::uint64_t> w0, w1;
   std::vector<int> count;
   void add(const GridBits& g) {
@@ -37,6 +39,9 @@ struct Poses {
     count.push_back(g.count());
   }
 };
+
+namespace {
+using Poses = GridCascade::Poses;
 
 // Best Jaccard (as both / either) of each of 8 maps over the poses: the pose order and the strict comparison
 // of grid_similarity, so the fraction is the one the scan finds.
@@ -255,13 +260,51 @@ std::size_t GridCascade::memory_bytes() const {
   return blocks_.size() * sizeof(Block) + records_.size() * sizeof(GridSignature);
 }
 
-std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, std::size_t k,
-                                          GridCascadeStats* stats) const {
-  const int reach = grid_.max_shift * grid_.substeps, side = 2 * reach + 1;
+// The scores of the listed maps over a set of poses, 8 at a time.
+std::vector<GridMatch> GridCascade::score(const std::vector<std::uint32_t>& maps, const Poses& poses) const {
+  std::vector<GridMatch> out(maps.size());
+  std::array<std::uint64_t, 8> w0{}, w1{};
+  std::array<int, 8> both{}, either{};
+  for (std::size_t j = 0; j < maps.size(); j += 8) {
+    const std::size_t m = std::min<std::size_t>(8, maps.size() - j);
+    for (std::size_t i = 0; i < 8; ++i) {
+      const std::uint32_t id = maps[j + std::min(i, m - 1)];
+      w0[i] = blocks_[id / 8].w0[id % 8];
+      w1[i] = blocks_[id / 8].w1[id % 8];
+    }
+    (simd_ ? best8_avx512 : best8_portable)(w0.data(), w1.data(), poses, both.data(), either.data());
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::uint32_t id = maps[j + i];
+      out[j + i] = {id, static_cast<double>(both[i]) / either[i] -
+                            grid_.hub_weight * (records_[id][kSignatureBytes] / levels_)};
+    }
+  }
+  return out;
+}
+
+std::vector<double> GridCascade::scores(const std::vector<GridBits>& query) const {
+  check_query(query);
+  Poses all;
+  for (const GridBits& g : query) all.add(g);
+  std::vector<std::uint32_t> maps(size_);
+  std::iota(maps.begin(), maps.end(), std::uint32_t{0});
+  std::vector<double> out(size_);
+  for (const GridMatch& m : score(maps, all)) out[m.index] = m.score;
+  return out;
+}
+
+void GridCascade::check_query(const std::vector<GridBits>& query) const {
+  const int side = 2 * grid_.max_shift * grid_.substeps + 1;
   if (query.size() != static_cast<std::size_t>(4 * side * side))
     throw InputError("grid cascade: " + std::to_string(query.size()) + " query grids, expected " +
                      std::to_string(4 * side * side) +
                      " (make_query_grids under the cascade's configuration)");
+}
+
+std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, std::size_t k,
+                                          GridCascadeStats* stats) const {
+  check_query(query);
+  const int reach = grid_.max_shift * grid_.substeps, side = 2 * reach + 1;
   GridCascadeStats st;
   const std::size_t n = size_;
   const auto [coarse_n, signature_n] = keep(k);
@@ -304,28 +347,6 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
   }
   st.signature_kept = list.size();
   st.signature_ms = ms_since(t0);
-
-  // Scores of the listed maps over a set of poses, 8 at a time.
-  auto score = [&](const std::vector<std::uint32_t>& maps, const Poses& poses) {
-    std::vector<GridMatch> out(maps.size());
-    std::array<std::uint64_t, 8> w0{}, w1{};
-    std::array<int, 8> both{}, either{};
-    for (std::size_t j = 0; j < maps.size(); j += 8) {
-      const std::size_t m = std::min<std::size_t>(8, maps.size() - j);
-      for (std::size_t i = 0; i < 8; ++i) {
-        const std::uint32_t id = maps[j + std::min(i, m - 1)];
-        w0[i] = blocks_[id / 8].w0[id % 8];
-        w1[i] = blocks_[id / 8].w1[id % 8];
-      }
-      (simd_ ? best8_avx512 : best8_portable)(w0.data(), w1.data(), poses, both.data(), either.data());
-      for (std::size_t i = 0; i < m; ++i) {
-        const std::uint32_t id = maps[j + i];
-        out[j + i] = {id, static_cast<double>(both[i]) / either[i] -
-                              grid_.hub_weight * (records_[id][kSignatureBytes] / levels_)};
-      }
-    }
-    return out;
-  };
 
   // 2. coarse poses: whole cells within +-coarse_reach, every turn.
   t0 = Clock::now();

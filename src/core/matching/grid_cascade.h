@@ -62,6 +62,8 @@ struct GridCascadeStats {
 
 class GridCascade {
  public:
+  struct Poses;  // the query's grids on a set of poses, as the kernels read them (grid_cascade.cc)
+
   /// grids[i] and mu[i] are stored map i's grid and hubness (mu empty: all 0); every mu must lie on the
   /// hub_bits lattice (grid_hubness's quantisation). Throws InputError on mismatched sizes or a bad
   /// configuration.
@@ -72,6 +74,9 @@ class GridCascade {
   /// then index ascending).
   std::vector<GridMatch> top_k(const std::vector<GridBits>& query, std::size_t k,
                                GridCascadeStats* stats = nullptr) const;
+
+  /// Every stored map's score s(m) for a query (the scan without the selection), in index order.
+  std::vector<double> scores(const std::vector<GridBits>& query) const;
 
   std::size_t size() const { return size_; }
   /// Bytes held per the stored maps (grids and records).
@@ -85,6 +90,11 @@ class GridCascade {
     std::size_t coarse = 0, signature = 0;
   };
   Keep keep(std::size_t k) const;
+
+  /// Throws InputError unless the query has the 4 x side^2 grids of the cascade's configuration.
+  void check_query(const std::vector<GridBits>& query) const;
+  /// The listed maps' scores over a set of poses (grid_cascade.cc), in list order.
+  std::vector<GridMatch> score(const std::vector<std::uint32_t>& maps, const Poses& poses) const;
 
   struct Block {  // 8 maps' grids, word 0 then word 1
     std::array<std::uint64_t, 8> w0{}, w1{};

@@ -104,6 +104,21 @@ TEST(GridCascade, EqualsTheScanWhenTheShortListsCoverTheDatabase) {
   }
 }
 
+TEST(GridCascade, ScoresEveryStoredMapAsTheScanDoes) {
+  const GridConfig config = succinct_grid_config();
+  const Synthetic db = synthetic(300, 20, 17, config);
+  std::mt19937_64 rng(8);
+  const std::vector<GridBits> q = make_query_grids(visit(db.places[3], rng), config);
+  const std::vector<GridMatch> scan = scan_top_k(q, db.grids, db.mu, config.hub_weight, db.grids.size());
+  for (bool simd : {false, true}) {
+    const std::vector<double> scores = GridCascade(db.grids, db.mu, config, {.use_simd = simd}).scores(q);
+    ASSERT_EQ(scores.size(), db.grids.size());
+    for (const GridMatch& m : scan)
+      EXPECT_EQ(scores[m.index], m.score) << "map " << m.index << " simd " << simd;
+  }
+  EXPECT_THROW(GridCascade(db.grids, db.mu, config).scores(std::vector<GridBits>(5)), InputError);
+}
+
 TEST(GridCascade, StagesKeepTheirShareAndScoreExactly) {
   const GridConfig config = succinct_grid_config();
   const Synthetic db = synthetic(4000, 60, 3, config);
