@@ -22,10 +22,7 @@ namespace partslam {
 
 namespace {
 
-__extension__ typedef unsigned __int128 u128;
-
-constexpr int kLagReach = 3;         // signature lags |dx|, |dy| <= 3
-constexpr int kSignatureBytes = 15;  // bytes 0..14 hold lags; byte 15 of a record is mu's level
+constexpr int kBins = 257;  // the turns stage's score bins: floor(128 s) + 128, clamped to [0, 256]
 
 }  // namespace
 
@@ -79,66 +76,41 @@ __attribute__((target("avx512f,avx512vpopcntdq"))) void best8_avx512(const std::
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(either), _mm512_cvtepi64_epi32(be));
 }
 
-// L1 distance between two signatures' lags.
-int signature_distance(const GridSignature& a, const GridSignature& b) {
-  int d = 0;
-  for (int i = 0; i < kSignatureBytes; ++i)
-    d += std::abs((a[i] & 15) - (b[i] & 15)) + std::abs((a[i] >> 4) - (b[i] >> 4));
-  return d;
+// The turns stage's bin of a score both / either - mu_term: floor(128 s) + 128, clamped to [0, 256]. The
+// AVX-512 kernel performs the same IEEE operations in the same order, so both paths give the same bins.
+std::uint16_t score_bin(int both, int either, double mu_term) {
+  const double bin = std::floor((static_cast<double>(both) / static_cast<double>(either) - mu_term) * 128.0);
+  return static_cast<std::uint16_t>(std::clamp(bin + 128.0, 0.0, static_cast<double>(kBins - 1)));
 }
 
-// The distances of n records (a multiple of 8) to the query's signatures (min over them).
-void distances_portable(const GridSignature* r, std::size_t n, const std::array<GridSignature, 2>& q,
-                        std::uint16_t* out) {
-  for (std::size_t j = 0; j < n; ++j)
-    out[j] =
-        static_cast<std::uint16_t>(std::min(signature_distance(r[j], q[0]), signature_distance(r[j], q[1])));
+// The bins of a block's 8 maps over the poses (their levels: mu's, looked up in mu_term).
+void bins8_portable(const std::uint64_t* w0, const std::uint64_t* w1, const std::uint8_t* level,
+                    const Poses& p, const double* mu_term, std::uint16_t* out) {
+  std::array<int, 8> both{}, either{};
+  best8_portable(w0, w1, p, both.data(), either.data());
+  for (int j = 0; j < 8; ++j) out[j] = score_bin(both[j], either[j], mu_term[level[j]]);
 }
 
-// The 16 bytes at p in each 128-bit lane.
-__attribute__((target("avx512f"), always_inline)) inline __m512i broadcast16(const void* p) {
-  const __m512i x = _mm512_zextsi128_si512(_mm_loadu_si128(static_cast<const __m128i*>(p)));
-  return _mm512_shuffle_i32x4(x, x, 0);
-}
-
-__attribute__((target("avx512f,avx512bw"), always_inline)) inline __m512i distances4_avx512(
-    __m512i x, const __m512i* qlo, const __m512i* qhi) {
-  const __m512i nibble = _mm512_set1_epi8(15);
-  static constexpr std::array<std::uint8_t, 16> kLags{255, 255, 255, 255, 255, 255, 255, 255,
-                                                      255, 255, 255, 255, 255, 255, 255, 0};
-  const __m512i lags = broadcast16(kLags.data());
-  x = _mm512_and_si512(x, lags);
-  const __m512i lo = _mm512_and_si512(x, nibble), hi = _mm512_and_si512(_mm512_srli_epi16(x, 4), nibble);
-  __m512i best = _mm512_set1_epi64(-1);
-  for (int t = 0; t < 2; ++t) {
-    __m512i s = _mm512_add_epi64(_mm512_sad_epu8(lo, qlo[t]), _mm512_sad_epu8(hi, qhi[t]));
-    s = _mm512_add_epi64(s, _mm512_shuffle_epi32(s, _MM_PERM_BADC));  // both halves of a record
-    best = _mm512_min_epu64(best, s);
-  }
-  return best;
-}
-
-__attribute__((target("avx512f,avx512bw"))) void distances_avx512(const GridSignature* r, std::size_t n,
-                                                                  const std::array<GridSignature, 2>& q,
-                                                                  std::uint16_t* out) {
-  __m512i qlo[2], qhi[2];
-  for (int t = 0; t < 2; ++t) {
-    const __m512i x = broadcast16(q[t].data());
-    qlo[t] = _mm512_and_si512(x, _mm512_set1_epi8(15));
-    qhi[t] = _mm512_and_si512(_mm512_srli_epi16(x, 4), _mm512_set1_epi8(15));
-  }
-  const __m512i even = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
-  for (std::size_t j = 0; j < n; j += 8) {
-    const __m512i a = distances4_avx512(_mm512_loadu_si512(r + j), qlo, qhi);
-    const __m512i b = distances4_avx512(_mm512_loadu_si512(r + j + 4), qlo, qhi);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + j),
-                     _mm512_cvtepi64_epi16(_mm512_permutex2var_epi64(a, even, b)));
-  }
+__attribute__((target("avx512f,avx512vl,avx512vpopcntdq"))) void bins8_avx512(
+    const std::uint64_t* w0, const std::uint64_t* w1, const std::uint8_t* level, const Poses& p,
+    const double* mu_term, std::uint16_t* out) {
+  std::array<int, 8> both{}, either{};
+  best8_avx512(w0, w1, p, both.data(), either.data());
+  const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(both.data()));
+  const __m256i e = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(either.data()));
+  const __m512i l = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(level)));
+  const __m512d m = _mm512_i64gather_pd(l, mu_term, 8);
+  const __m512d x = _mm512_div_pd(_mm512_cvtepi32_pd(b), _mm512_cvtepi32_pd(e));
+  __m512d bin = _mm512_roundscale_pd(_mm512_mul_pd(_mm512_sub_pd(x, m), _mm512_set1_pd(128.0)),
+                                     _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  bin = _mm512_min_pd(_mm512_max_pd(_mm512_add_pd(bin, _mm512_set1_pd(128.0)), _mm512_setzero_pd()),
+                      _mm512_set1_pd(kBins - 1));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_cvtepi32_epi16(_mm512_cvtpd_epi32(bin)));
 }
 
 bool cpu_has_avx512() {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
          __builtin_cpu_supports("avx512vpopcntdq");
 }
 
@@ -164,62 +136,14 @@ std::size_t keep_count(double share, std::size_t least, std::size_t n) {
 }  // namespace
 
 void validate(const GridCascadeConfig& c) {
-  if (!(c.signature_keep > 0 && c.signature_keep <= 1))
-    throw InputError("grid cascade: signature_keep must be in (0, 1]");
+  if (!(c.turns_keep > 0 && c.turns_keep <= 1))
+    throw InputError("grid cascade: turns_keep must be in (0, 1]");
   if (!(c.coarse_keep > 0 && c.coarse_keep <= 1))
     throw InputError("grid cascade: coarse_keep must be in (0, 1]");
-  if (c.signature_min < 1) throw InputError("grid cascade: signature_min must be >= 1");
+  if (c.turns_min < 1) throw InputError("grid cascade: turns_min must be >= 1");
   if (c.coarse_min < 1) throw InputError("grid cascade: coarse_min must be >= 1");
   if (c.coarse_reach < 0 || c.coarse_reach > 11)
     throw InputError("grid cascade: coarse_reach must be in [0, 11]");
-}
-
-namespace {
-
-// One signature lag: the bit shift that takes cell (x + dx, y + dy) to cell (x, y), and the cells (x, y)
-// whose (x + dx, y + dy) lies on the grid (empty when none does, e.g. on grids narrower than the lag).
-struct Lag {
-  int shift = 0;
-  u128 cells = 0;
-};
-
-// The 24 lags of a grid of S cells a side, in signature order (dy 0: dx 1..3; then dy 1..3: dx -3..3).
-std::array<Lag, 24> lags_of(int side) {
-  std::array<Lag, 24> out{};
-  std::size_t lag = 0;
-  for (int dy = 0; dy <= kLagReach; ++dy)
-    for (int dx = -kLagReach; dx <= kLagReach; ++dx) {
-      if (dy == 0 && dx <= 0) continue;
-      Lag& l = out[lag++];
-      l.shift = dx + side * dy;
-      for (int y = 0; y + dy < side; ++y)
-        for (int x = std::max(0, -dx); x < side && x + dx < side; ++x)
-          l.cells |= static_cast<u128>(1) << (x + side * y);
-    }
-  return out;
-}
-
-}  // namespace
-
-GridSignature grid_signature(const GridBits& grid, int cells) {
-  if (cells < 1 || cells > 11) throw InputError("grid signature: cells must be in [1, 11]");
-  static const std::array<std::array<Lag, 24>, 12> kLags = [] {
-    std::array<std::array<Lag, 24>, 12> t{};
-    for (int side = 1; side <= 11; ++side) t[static_cast<std::size_t>(side)] = lags_of(side);
-    return t;
-  }();
-  const u128 g = (static_cast<u128>(grid.words[1]) << 64) | grid.words[0];
-  GridSignature out{};
-  for (std::size_t lag = 0; lag < 24; ++lag) {
-    const Lag& l = kLags[static_cast<std::size_t>(cells)][lag];
-    if (l.cells == 0) continue;  // no pair at this lag (and its shift may not be positive)
-    const u128 pairs = g & (g >> l.shift) & l.cells;
-    const int c = std::popcount(static_cast<std::uint64_t>(pairs)) +
-                  std::popcount(static_cast<std::uint64_t>(pairs >> 64));
-    const auto value = static_cast<std::uint8_t>(std::min(15, c / 2));
-    out[lag / 2] |= static_cast<std::uint8_t>(lag % 2 == 0 ? value : value << 4);
-  }
-  return out;
 }
 
 GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double> mu, const GridConfig& grid,
@@ -234,31 +158,29 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
   levels_ = std::ldexp(1.0, grid_.hub_bits) - 1;
   simd_ = config_.use_simd && cpu_has_avx512();
   blocks_.resize((size_ + 7) / 8);
-  records_.resize(blocks_.size() * 8);
-  const bool signatures = size_ > keep(0).signature;  // a larger k only keeps more
+  level_.resize(blocks_.size() * 8);
   for (std::size_t i = 0; i < size_; ++i) {
     blocks_[i / 8].w0[i % 8] = grids[i].words[0];
     blocks_[i / 8].w1[i % 8] = grids[i].words[1];
-    if (signatures) records_[i] = grid_signature(grids[i], grid_.cells);
     const double m = mu.empty() ? 0.0 : mu[i];
     const double level = std::round(m * levels_);
     if (!(level >= 0 && level <= levels_) || level / levels_ != m)
       throw InputError("grid cascade: hubness of map " + std::to_string(i) +
                        " is not on the hub_bits lattice");
-    records_[i][kSignatureBytes] = static_cast<std::uint8_t>(level);
+    level_[i] = static_cast<std::uint8_t>(level);
   }
+  for (std::size_t l = 0; l < mu_term_.size(); ++l)
+    mu_term_[l] = grid_.hub_weight * (static_cast<double>(l) / levels_);
 }
 
 GridCascade::Keep GridCascade::keep(std::size_t k) const {
   Keep out;
   out.coarse = std::max(keep_count(config_.coarse_keep, config_.coarse_min, size_), k);
-  out.signature = std::max(keep_count(config_.signature_keep, config_.signature_min, size_), out.coarse);
+  out.turns = std::max(keep_count(config_.turns_keep, config_.turns_min, size_), out.coarse);
   return out;
 }
 
-std::size_t GridCascade::memory_bytes() const {
-  return blocks_.size() * sizeof(Block) + records_.size() * sizeof(GridSignature);
-}
+std::size_t GridCascade::memory_bytes() const { return blocks_.size() * sizeof(Block) + level_.size(); }
 
 // The scores of the listed maps over a set of poses, 8 at a time.
 std::vector<GridMatch> GridCascade::score(const std::vector<std::uint32_t>& maps, const Poses& poses) const {
@@ -275,8 +197,7 @@ std::vector<GridMatch> GridCascade::score(const std::vector<std::uint32_t>& maps
     (simd_ ? best8_avx512 : best8_portable)(w0.data(), w1.data(), poses, both.data(), either.data());
     for (std::size_t i = 0; i < m; ++i) {
       const std::uint32_t id = maps[j + i];
-      out[j + i] = {id, static_cast<double>(both[i]) / either[i] -
-                            grid_.hub_weight * (records_[id][kSignatureBytes] / levels_)};
+      out[j + i] = {id, static_cast<double>(both[i]) / either[i] - mu_term_[level_[id]]};
     }
   }
   return out;
@@ -307,37 +228,37 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
   const int reach = grid_.max_shift * grid_.substeps, side = 2 * reach + 1;
   GridCascadeStats st;
   const std::size_t n = size_;
-  const auto [coarse_n, signature_n] = keep(k);
+  const auto [coarse_n, turns_n] = keep(k);
   auto pose = [&](int turn, int row, int column) {
     return query[static_cast<std::size_t>((turn * side + row) * side + column)];
   };
 
-  // 1. signatures: the maps nearest the query's (turns 0 and 1; 2 and 3 give the same codes), ties by index.
+  // 1. turns: the score over the query's four turns unshifted, in bins; the best bins go on, ties by index.
   auto t0 = Clock::now();
   std::vector<std::uint32_t> list;
-  if (n > signature_n) {
-    const std::array<GridSignature, 2> q{grid_signature(pose(0, reach, reach), grid_.cells),
-                                         grid_signature(pose(1, reach, reach), grid_.cells)};
-    std::vector<std::uint16_t> distance(records_.size());
-    (simd_ ? distances_avx512 : distances_portable)(records_.data(), records_.size(), q, distance.data());
-    // Four interleaved histograms: runs of equal distances do not wait on one counter.
-    std::array<std::array<std::uint32_t, 512>, 4> part{};
+  if (n > turns_n) {
+    Poses turns;
+    for (int turn = 0; turn < 4; ++turn) turns.add(pose(turn, reach, reach));
+    std::vector<std::uint16_t> bin(level_.size());
+    const auto kernel = simd_ ? bins8_avx512 : bins8_portable;
+    for (std::size_t b = 0; b < blocks_.size(); ++b)
+      kernel(blocks_[b].w0.data(), blocks_[b].w1.data(), &level_[8 * b], turns, mu_term_.data(), &bin[8 * b]);
+    // Four interleaved histograms: runs of equal bins do not wait on one counter.
+    std::array<std::array<std::uint32_t, kBins>, 4> part{};
     std::size_t i = 0;
     for (; i + 4 <= n; i += 4)
-      for (std::size_t h = 0; h < 4; ++h) ++part[h][distance[i + h]];
-    for (; i < n; ++i) ++part[0][distance[i]];
-    std::array<std::size_t, 512> histogram{};
-    for (std::size_t d = 0; d < histogram.size(); ++d)
-      histogram[d] = std::size_t{part[0][d]} + part[1][d] + part[2][d] + part[3][d];
-    std::size_t bar = 0, below = 0;
-    while (below + histogram[bar] < signature_n) below += histogram[bar++];
-    std::size_t at_bar = signature_n - below;
-    list.resize(signature_n + 1);  // one spare slot: each map is written, and kept by moving on
+      for (std::size_t h = 0; h < 4; ++h) ++part[h][bin[i + h]];
+    for (; i < n; ++i) ++part[0][bin[i]];
+    std::size_t bar = kBins - 1, above = 0;
+    auto at = [&](std::size_t b) { return std::size_t{part[0][b]} + part[1][b] + part[2][b] + part[3][b]; };
+    while (above + at(bar) < turns_n) above += at(bar--);
+    std::size_t at_bar = turns_n - above;
+    list.resize(turns_n + 1);  // one spare slot: each map is written, and kept by moving on
     std::size_t kept = 0;
     for (std::size_t j = 0; j < n; ++j) {  // branch-free: most maps are dropped, at random
-      const bool tie = distance[j] == bar && at_bar > 0;
+      const bool tie = bin[j] == bar && at_bar > 0;
       list[kept] = static_cast<std::uint32_t>(j);
-      kept += distance[j] < bar || tie;
+      kept += bin[j] > bar || tie;
       at_bar -= tie;
     }
     list.resize(kept);
@@ -345,8 +266,8 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
     list.resize(n);
     std::iota(list.begin(), list.end(), std::uint32_t{0});
   }
-  st.signature_kept = list.size();
-  st.signature_ms = ms_since(t0);
+  st.turns_kept = list.size();
+  st.turns_ms = ms_since(t0);
 
   // 2. coarse poses: whole cells within +-coarse_reach, every turn.
   t0 = Clock::now();

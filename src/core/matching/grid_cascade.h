@@ -3,10 +3,8 @@
 //   s(m) = max over the query's poses v of J(q_v, g_m)  -  hub_weight * mu_m        (J: Jaccard similarity)
 // and a scan computes it for every stored map (4 turns x 17 x 17 translations: 1156 poses a map). The cascade
 // computes it only for a short list, chosen in two cheaper stages:
-//   1. signature: a pose-invariant code of each grid (its autocorrelation at 24 small lags, 4 bits each,
-//   derived
-//      from the stored grid: no stored bits) against the query's under the two turns that change it; the
-//      signature_keep share of the maps nearest in L1 distance go on (at least signature_min);
+//   1. turns: the score over the query's four turns unshifted (4 of the 1156 poses), in bins of 1/128; the
+//      turns_keep share of the best go on (at least turns_min);
 //   2. coarse: the score over the poses on whole cells within +-coarse_reach cells (100 of the 1156); the
 //      coarse_keep share of the best go on (at least coarse_min);
 //   3. full: the exact score over every pose, as the scan computes it, and the k best.
@@ -14,9 +12,9 @@
 // scan's bit for bit. Above it the cascade can miss a map the scan ranks in its top k (and rank one above it
 // that the scan would not): it is an approximation, measured against the scan in bench_dm (BM_Succinct*).
 //
-// Stored per map: the grid (16 bytes, in blocks of 8 maps for 8-wide popcounts) and a 16-byte record (the
-// signature's 30 nibbles, 24 used, and mu as its hub level): 32 bytes. The popcount and distance kernels use
-// AVX-512 (VPOPCNTDQ, BW) when the CPU has it, chosen at run time; the portable path gives the same answers.
+// Stored per map: the grid (16 bytes, in blocks of 8 maps for 8-wide popcounts) and mu's level (a byte): 17
+// bytes. The kernels use AVX-512 (VPOPCNTDQ, VL) when the CPU has it, chosen at run time; the portable path
+// gives the same answers.
 #pragma once
 
 #include <array>
@@ -30,23 +28,16 @@
 namespace partslam {
 
 struct GridCascadeConfig {
-  double signature_keep = 0.05;        ///< share of the stored maps the signature stage passes on
-  std::size_t signature_min = 50'000;  ///< ... and at least this many
-  double coarse_keep = 0.001;          ///< share of the stored maps the coarse stage passes on
-  std::size_t coarse_min = 2'000;      ///< ... and at least this many
-  int coarse_reach = 2;                ///< coarse poses: whole-cell translations within +-this many cells
-  bool use_simd = true;                ///< AVX-512 kernels when the CPU has them (false: the portable path)
+  double turns_keep = 0.05;        ///< share of the stored maps the turns stage passes on
+  std::size_t turns_min = 50'000;  ///< ... and at least this many
+  double coarse_keep = 0.001;      ///< share of the stored maps the coarse stage passes on
+  std::size_t coarse_min = 2'000;  ///< ... and at least this many
+  int coarse_reach = 2;            ///< coarse poses: whole-cell translations within +-this many cells
+  bool use_simd = true;            ///< AVX-512 kernels when the CPU has them (false: the portable path)
 };
 
 /// Throws InputError naming the offending field.
 void validate(const GridCascadeConfig& config);
-
-/// The pose-invariant code of a grid of S x S cells (S <= 11): for each lag d = (dx, dy) with |dx|, |dy| <= 3
-/// in one half-plane (24 lags), the number of occupied cells c whose c + d is occupied too, halved and capped
-/// at 15, two lags a byte (byte i: lag 2i low nibble, lag 2i + 1 high); bytes 12..15 are 0. A 180-degree turn
-/// of the grid leaves it unchanged, a quarter turn permutes it.
-using GridSignature = std::array<std::uint8_t, 16>;
-GridSignature grid_signature(const GridBits& grid, int cells);
 
 struct GridMatch {
   std::size_t index = 0;  ///< the stored map's index
@@ -55,9 +46,9 @@ struct GridMatch {
 };
 
 struct GridCascadeStats {
-  std::size_t signature_kept = 0;  ///< maps the signature stage passed on (all when it was skipped)
-  std::size_t coarse_kept = 0;     ///< maps the coarse stage passed on, scored over every pose
-  double signature_ms = 0, coarse_ms = 0, full_ms = 0;
+  std::size_t turns_kept = 0;   ///< maps the turns stage passed on (all when it was skipped)
+  std::size_t coarse_kept = 0;  ///< maps the coarse stage passed on, scored over every pose
+  double turns_ms = 0, coarse_ms = 0, full_ms = 0;
 };
 
 class GridCascade {
@@ -85,9 +76,9 @@ class GridCascade {
   bool simd() const { return simd_; }
 
  private:
-  /// How many maps the coarse and the signature stage keep for a top k (a stage keeping them all is skipped).
+  /// How many maps the coarse and the turns stage keep for a top k (a stage keeping them all is skipped).
   struct Keep {
-    std::size_t coarse = 0, signature = 0;
+    std::size_t coarse = 0, turns = 0;
   };
   Keep keep(std::size_t k) const;
 
@@ -105,7 +96,8 @@ class GridCascade {
   double levels_ = 1;  // mu = level / levels_
   bool simd_ = false;
   std::vector<Block> blocks_;
-  std::vector<GridSignature> records_;  // signature (left 0 when the stage never runs), byte 15: mu's level
+  std::vector<std::uint8_t> level_;    // mu's level (mu = level / levels_) of each map, a block's 8 together
+  std::array<double, 256> mu_term_{};  // hub_weight * mu of each level
 };
 
 /// The reference: every stored map's exact score, then the k best (score descending, then index ascending).

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -74,7 +76,7 @@ void expect_equal(const std::vector<GridMatch>& got, const std::vector<GridMatch
 
 // Every stage forced to prune on a small database.
 GridCascadeConfig pruning() {
-  return {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05, .coarse_min = 1};
+  return {.turns_keep = 0.3, .turns_min = 1, .coarse_keep = 0.05, .coarse_min = 1};
 }
 
 TEST(GridCascade, EqualsTheScanWhenTheShortListsCoverTheDatabase) {
@@ -125,16 +127,16 @@ TEST(GridCascade, StagesKeepTheirShareAndScoreExactly) {
   std::mt19937_64 rng(5);
   const GridCascade portable(
       db.grids, db.mu, config,
-      {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05, .coarse_min = 1, .use_simd = false});
+      {.turns_keep = 0.3, .turns_min = 1, .coarse_keep = 0.05, .coarse_min = 1, .use_simd = false});
   const GridCascade simd(
       db.grids, db.mu, config,
-      {.signature_keep = 0.3, .signature_min = 1, .coarse_keep = 0.05, .coarse_min = 1, .use_simd = true});
+      {.turns_keep = 0.3, .turns_min = 1, .coarse_keep = 0.05, .coarse_min = 1, .use_simd = true});
   for (int t = 0; t < 5; ++t) {
     const Points2 place = db.places[rng() % db.places.size()];
     const std::vector<GridBits> q = make_query_grids(visit(place, rng), config);
     GridCascadeStats stats;
     const std::vector<GridMatch> top = portable.top_k(q, 50, &stats);
-    EXPECT_EQ(stats.signature_kept, 1200u);
+    EXPECT_EQ(stats.turns_kept, 1200u);
     EXPECT_EQ(stats.coarse_kept, 200u);
     ASSERT_EQ(top.size(), 50u);
     // The AVX-512 kernels (where the CPU has them) give the same answer as the portable ones.
@@ -165,25 +167,41 @@ TEST(GridCascade, StagesKeepTheirShareAndScoreExactly) {
   }
 }
 
-TEST(GridCascade, SignatureCountsPairsAtEachLagAndIgnoresAHalfTurn) {
-  GridBits line;  // cells 2..6 of row 4 (11 x 11)
-  for (int x = 2; x <= 6; ++x)
-    line.words[static_cast<std::size_t>((x + 44) >> 6)] |= std::uint64_t{1} << ((x + 44) & 63);
-  const GridSignature s = grid_signature(line, 11);
-  // Lags in order (dy 0: dx 1..3; then dy 1..3: dx -3..3): dx = 1, 2, 3 on the row have 4, 3, 2 pairs -> 2,
-  // 1, 1.
-  EXPECT_EQ(s[0], 2 | (1 << 4));
-  EXPECT_EQ(s[1] & 15, 1);
-  for (std::size_t i = 2; i < s.size(); ++i) EXPECT_EQ(s[i], 0) << "byte " << i;
-  EXPECT_EQ(s[1] >> 4, 0);
-  // A place and its half turn (p -> -p) have one signature; a quarter turn moves the counts to other lags.
-  std::mt19937_64 rng(8);
+TEST(GridCascade, TurnsStageKeepsTheBestUnshiftedScoresTiesByIndex) {
+  // turns_keep = coarse_keep: the coarse stage has nothing to drop, so the answer is the turns stage's list.
   const GridConfig config = succinct_grid_config();
-  const Points2 place = random_place(rng);
-  Points2 half, quarter;
-  for (const Vec2& p : place) half.push_back(-p), quarter.push_back(Vec2{-p.y(), p.x()});
-  EXPECT_EQ(grid_signature(make_grid(place, config), 11), grid_signature(make_grid(half, config), 11));
-  EXPECT_NE(grid_signature(make_grid(place, config), 11), grid_signature(make_grid(quarter, config), 11));
+  const Synthetic db = synthetic(400, 30, 21, config);
+  std::mt19937_64 rng(4);
+  const int reach = config.max_shift * config.substeps, side = 2 * reach + 1;
+  for (int t = 0; t < 4; ++t) {
+    const std::vector<GridBits> q = make_query_grids(visit(db.places[rng() % db.places.size()], rng), config);
+    std::vector<GridBits> turns;
+    for (int turn = 0; turn < 4; ++turn)
+      turns.push_back(q[static_cast<std::size_t>((turn * side + reach) * side + reach)]);
+    const std::vector<int> counts = grid_counts(turns);
+    std::vector<std::pair<int, std::size_t>> bins;  // (-bin, index): the expected order
+    for (std::size_t i = 0; i < db.grids.size(); ++i) {
+      const double s = grid_similarity(turns, counts, db.grids[i]) - db.mu[i];
+      bins.emplace_back(-std::clamp(static_cast<int>(std::floor(s * 128)) + 128, 0, 256), i);
+    }
+    std::sort(bins.begin(), bins.end());
+    std::vector<std::size_t> expected;
+    for (std::size_t r = 0; r < 100; ++r) expected.push_back(bins[r].second);
+    std::sort(expected.begin(), expected.end());
+    for (bool simd : {false, true}) {
+      const GridCascade c(
+          db.grids, db.mu, config,
+          {.turns_keep = 0.25, .turns_min = 1, .coarse_keep = 0.25, .coarse_min = 1, .use_simd = simd});
+      GridCascadeStats stats;
+      const std::vector<GridMatch> top = c.top_k(q, 100, &stats);
+      EXPECT_EQ(stats.turns_kept, 100u);
+      EXPECT_EQ(stats.coarse_kept, 100u);
+      std::vector<std::size_t> got;
+      for (const GridMatch& m : top) got.push_back(m.index);
+      std::sort(got.begin(), got.end());
+      EXPECT_EQ(got, expected) << "query " << t << " simd " << simd;
+    }
+  }
 }
 
 TEST(GridCascade, EmptyDatabasesAndEmptyGrids) {
@@ -207,7 +225,7 @@ TEST(GridCascade, RefusesBadInputNamingIt) {
   const GridCascade ok(std::vector<GridBits>(3), {}, config);
   EXPECT_THROW(ok.top_k(std::vector<GridBits>(10), 1), InputError);  // not the config's poses
   EXPECT_THROW(GridCascade(std::vector<GridBits>(3), std::vector<double>(2), config), InputError);
-  EXPECT_THROW(GridCascade(std::vector<GridBits>(3), {}, config, {.signature_keep = 0}), InputError);
+  EXPECT_THROW(GridCascade(std::vector<GridBits>(3), {}, config, {.turns_keep = 0}), InputError);
   EXPECT_THROW(GridCascade(std::vector<GridBits>(3), {}, config, {.coarse_min = 0}), InputError);
   for (const double bad : {std::nan(""), 0.5, -1.0 / 127}) {  // off the 7-bit lattice, or outside [0, 1]
     try {

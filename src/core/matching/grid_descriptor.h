@@ -44,6 +44,10 @@ struct GridConfig {
   /// A ranker over at least this many stored maps answers top-k requests through grid_cascade.h's kernels as an
   /// exact scan (17x the scalar scan at 100 k maps; building it costs about one scalar query: docs/NOTES.md).
   std::size_t index_min_maps = 100'000;
+  /// ... and over at least this many through the cascade's approximate stages (grid_cascade.h's defaults): at
+  /// 10 M maps they find the relevant map in the top 100 as often as the exact scan, at 1 M not yet
+  /// (docs/NOTES.md, "The succinct matcher at fleet scale").
+  std::size_t cascade_min_maps = 10'000'000;
 };
 
 /// The configuration of `succinct`, chosen on the tuning split (docs/NOTES.md, "The succinct matcher").

@@ -1,6 +1,7 @@
 // The occupancy-grid descriptors (core/matching/grid_descriptor.h) as rankers: `grid[:S[:key=value...]]`, the
 // baseline, and `succinct`, the product's default succinct matcher. A large database ranked for its top k
-// answers through core/matching/grid_cascade.h's kernels, configured as an exact scan.
+// answers through core/matching/grid_cascade.h's kernels: an exact scan, or its approximate cascade on the
+// largest.
 #include "core/ranking/grid_ranker.h"
 
 #include <algorithm>
@@ -27,11 +28,15 @@ class GridRanker final : public Ranker {
     for (const MapView& m : maps) points.push_back(m.points);
     hub_ = grid_hubness(points, stored_, config_, num_threads, progress);
     // Top-k requests over the whole of a large database (rank with options.top_k > 0) go through the
-    // cascade's kernels with short lists as long as the database: the scan's exact top k.
+    // cascade's kernels: with short lists as long as the database (the scan's exact top k), or from
+    // cascade_min_maps on with its approximate stages.
     index_.reset();
-    if (stored_.size() >= config_.index_min_maps)
-      index_ = std::make_unique<GridCascade>(
-          stored_, hub_, config_, GridCascadeConfig{.coarse_min = std::max<std::size_t>(1, stored_.size())});
+    const std::size_t n = stored_.size();
+    if (n >= config_.cascade_min_maps)
+      index_ = std::make_unique<GridCascade>(stored_, hub_, config_);
+    else if (n >= config_.index_min_maps)
+      index_ = std::make_unique<GridCascade>(stored_, hub_, config_,
+                                             GridCascadeConfig{.coarse_min = std::max<std::size_t>(1, n)});
   }
 
   double bits_per_map() const override { return grid_bits_per_map(config_); }

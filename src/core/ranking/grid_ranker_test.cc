@@ -12,7 +12,8 @@
 namespace partslam {
 namespace {
 
-void expect_equal(const std::vector<GridMatch>& index, const std::vector<GridMatch>& scan, const std::string& what) {
+void expect_equal(const std::vector<GridMatch>& index, const std::vector<GridMatch>& scan,
+                  const std::string& what) {
   ASSERT_EQ(index.size(), scan.size()) << what;
   for (std::size_t r = 0; r < scan.size(); ++r) {
     EXPECT_EQ(index[r].index, scan[r].index) << what << " rank " << r;
@@ -21,7 +22,8 @@ void expect_equal(const std::vector<GridMatch>& index, const std::vector<GridMat
 }
 
 // Real query grids (the simulator's submaps, the succinct configuration and its hubness values as the ranker
-// computes them) against the other submaps: the ranker's scores, their top k, and the cascade's top k (its short lists cover this database) agree.
+// computes them) against the other submaps: the ranker's scores, their top k, and the cascade's top k (its
+// short lists cover this database) agree.
 TEST(GridRanker, TopKThroughTheCascadeEqualsTheScan) {
   const Submaps& maps = testing::simulated_maps();
   const std::vector<MapView> views = testing::point_views(maps);
@@ -31,9 +33,13 @@ TEST(GridRanker, TopKThroughTheCascadeEqualsTheScan) {
   const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec("succinct"), RankingConfig{});
   ranker->prepare(views, 1);
   GridConfig indexed = config;
-  indexed.index_min_maps = 0;  // the cascade even for this small database
+  indexed.index_min_maps = 0;  // the exact index even for this small database
   const std::unique_ptr<Ranker> indexed_ranker = make_grid_ranker(indexed);
   indexed_ranker->prepare(views, 1);
+  GridConfig approximate = config;
+  approximate.cascade_min_maps = 0;  // the cascade's stages, which this database is too small to prune
+  const std::unique_ptr<Ranker> cascade_ranker = make_grid_ranker(approximate);
+  cascade_ranker->prepare(views, 1);
   std::vector<std::size_t> everyone(maps.size());
   for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
   std::vector<const Points2*> points;
@@ -52,23 +58,27 @@ TEST(GridRanker, TopKThroughTheCascadeEqualsTheScan) {
     }
     // The ranker asked for its top k (as `partslam match --top` does) answers through the cascade: the same k
     // first, everything else below them.
-    const Ranking fast = indexed_ranker->rank(views[qi], everyone, {.num_threads = 1, .top_k = 10});
-    const std::vector<std::size_t> fast_order = ranking_order(fast.scores);
-    for (std::size_t j = 0; j < top.size(); ++j) {
-      EXPECT_EQ(fast_order[j], order[j]) << "query " << qi << " rank " << j;
-      EXPECT_EQ(fast.scores[fast_order[j]], r.scores[order[j]]) << "query " << qi << " rank " << j;
+    for (const Ranker* indexed_one : {indexed_ranker.get(), cascade_ranker.get()}) {
+      const Ranking fast = indexed_one->rank(views[qi], everyone, {.num_threads = 1, .top_k = 10});
+      const std::vector<std::size_t> fast_order = ranking_order(fast.scores);
+      for (std::size_t j = 0; j < top.size(); ++j) {
+        EXPECT_EQ(fast_order[j], order[j]) << "query " << qi << " rank " << j;
+        EXPECT_EQ(fast.scores[fast_order[j]], r.scores[order[j]]) << "query " << qi << " rank " << j;
+      }
+      EXPECT_EQ(fast.scores[fast_order[top.size()]], -std::numeric_limits<double>::infinity());
     }
-    EXPECT_EQ(fast.scores[fast_order[top.size()]], -std::numeric_limits<double>::infinity());
   }
 }
 
 TEST(GridRanker, SpecsNormaliseAndBadOnesAreNamed) {
   EXPECT_EQ(parse_method_spec("grid").spec, "grid:11");
   EXPECT_EQ(parse_method_spec("grid:11").label, "grid 11x11");
-  EXPECT_EQ(parse_method_spec("grid:11:hub=100:box=80:shift=3:sub=2").spec, "grid:11:box=80:shift=3:sub=2:hub=100");
+  EXPECT_EQ(parse_method_spec("grid:11:hub=100:box=80:shift=3:sub=2").spec,
+            "grid:11:box=80:shift=3:sub=2:hub=100");
   EXPECT_FALSE(parse_method_spec("succinct").traits.needs_points);
   EXPECT_FALSE(parse_method_spec("succinct").traits.needs_parts);
-  for (const char* bad : {"grid:12", "grid:0", "grid:11:shift", "grid:11:foo=1", "grid:11:sub=0", "succinct:3"}) {
+  for (const char* bad :
+       {"grid:12", "grid:0", "grid:11:shift", "grid:11:foo=1", "grid:11:sub=0", "succinct:3"}) {
     try {
       parse_method_spec(bad);
       ADD_FAILURE() << "accepted " << bad;
