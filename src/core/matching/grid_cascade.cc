@@ -173,10 +173,10 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
     mu_term_[l] = grid_.hub_weight * (static_cast<double>(l) / levels_);
 }
 
-GridCascade::Keep GridCascade::keep(std::size_t k) const {
+GridCascade::Keep GridCascade::keep(std::size_t k, std::size_t n) const {
   Keep out;
-  out.coarse = std::max(keep_count(config_.coarse_keep, config_.coarse_min, size_), k);
-  out.turns = std::max(keep_count(config_.turns_keep, config_.turns_min, size_), out.coarse);
+  out.coarse = std::max(keep_count(config_.coarse_keep, config_.coarse_min, n), k);
+  out.turns = std::max(keep_count(config_.turns_keep, config_.turns_min, n), out.coarse);
   return out;
 }
 
@@ -223,12 +223,12 @@ void GridCascade::check_query(const std::vector<GridBits>& query) const {
 }
 
 std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, std::size_t k,
-                                          GridCascadeStats* stats) const {
+                                          GridCascadeStats* stats, std::size_t first_maps) const {
   check_query(query);
   const int reach = grid_.max_shift * grid_.substeps, side = 2 * reach + 1;
   GridCascadeStats st;
-  const std::size_t n = size_;
-  const auto [coarse_n, turns_n] = keep(k);
+  const std::size_t n = std::min(size_, first_maps);
+  const auto [coarse_n, turns_n] = keep(k, n);
   auto pose = [&](int turn, int row, int column) {
     return query[static_cast<std::size_t>((turn * side + row) * side + column)];
   };
@@ -241,7 +241,7 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
     for (int turn = 0; turn < 4; ++turn) turns.add(pose(turn, reach, reach));
     std::vector<std::uint16_t> bin(level_.size());
     const auto kernel = simd_ ? bins8_avx512 : bins8_portable;
-    for (std::size_t b = 0; b < blocks_.size(); ++b)
+    for (std::size_t b = 0; b < (n + 7) / 8; ++b)
       kernel(blocks_[b].w0.data(), blocks_[b].w1.data(), &level_[8 * b], turns, mu_term_.data(), &bin[8 * b]);
     // Four interleaved histograms: runs of equal bins do not wait on one counter.
     std::array<std::array<std::uint32_t, kBins>, 4> part{};

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -62,9 +63,11 @@ class GridCascade {
               const GridCascadeConfig& config = {});
 
   /// The k best stored maps for a query (its make_query_grids under `grid`), best first (score descending,
-  /// then index ascending).
+  /// then index ascending), among the first `first_maps` stored maps (all by default; the stages keep their
+  /// shares of those).
   std::vector<GridMatch> top_k(const std::vector<GridBits>& query, std::size_t k,
-                               GridCascadeStats* stats = nullptr) const;
+                               GridCascadeStats* stats = nullptr,
+                               std::size_t first_maps = std::numeric_limits<std::size_t>::max()) const;
 
   /// Every stored map's score s(m) for a query (the scan without the selection), in index order.
   std::vector<double> scores(const std::vector<GridBits>& query) const;
@@ -76,11 +79,12 @@ class GridCascade {
   bool simd() const { return simd_; }
 
  private:
-  /// How many maps the coarse and the turns stage keep for a top k (a stage keeping them all is skipped).
+  /// How many of n maps the coarse and the turns stage keep for a top k (a stage keeping them all is
+  /// skipped).
   struct Keep {
     std::size_t coarse = 0, turns = 0;
   };
-  Keep keep(std::size_t k) const;
+  Keep keep(std::size_t k, std::size_t n) const;
 
   /// Throws InputError unless the query has the 4 x side^2 grids of the cascade's configuration.
   void check_query(const std::vector<GridBits>& query) const;

@@ -99,6 +99,12 @@ TEST(GridCascade, EqualsTheScanWhenTheShortListsCoverTheDatabase) {
                                      " simd " + std::to_string(simd) + " k " + std::to_string(k);
             expect_equal(cascade.top_k(q, k, &stats), scan_top_k(q, db.grids, db.mu, hub_weight, k), what);
             EXPECT_EQ(stats.coarse_kept, n) << what;  // nothing pruned below coarse_min maps
+            const std::size_t first = (n + 1) / 2;    // the first maps only
+            expect_equal(
+                cascade.top_k(q, k, &stats, first),
+                scan_top_k(q, std::span(db.grids).first(first), std::span(db.mu).first(first), hub_weight, k),
+                what + " first " + std::to_string(first));
+            EXPECT_EQ(stats.coarse_kept, first) << what;
           }
         }
       }

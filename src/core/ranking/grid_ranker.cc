@@ -50,10 +50,12 @@ class GridRanker final : public Ranker {
     const std::vector<int> counts = grid_counts(q);
     r.prep_ms = ms_since(t0);
     t0 = Clock::now();
-    if (options.top_k > 0 && index_ != nullptr && is_everyone(candidates)) {
-      // The k best exactly (grid_cascade.h); the others cannot enter the top k and rank below them.
+    if (options.top_k > 0 && index_ != nullptr && is_prefix(candidates)) {
+      // The k best (grid_cascade.h) among the candidates, the first stored maps (all of them, or a log's maps
+      // before the query's for loops); the others rank below them.
       r.scores.assign(candidates.size(), -std::numeric_limits<double>::infinity());
-      for (const GridMatch& m : index_->top_k(q, static_cast<std::size_t>(options.top_k)))
+      for (const GridMatch& m :
+           index_->top_k(q, static_cast<std::size_t>(options.top_k), nullptr, candidates.size()))
         r.scores[m.index] = m.score;
       r.match_ms = ms_since(t0);
       return r;
@@ -73,8 +75,9 @@ class GridRanker final : public Ranker {
   std::vector<double> hub_;  // mu_m, quantised to hub_bits
   std::unique_ptr<GridCascade> index_;
 
-  bool is_everyone(std::span<const std::size_t> candidates) const {
-    if (candidates.size() != stored_.size()) return false;
+  // Whether the candidates are stored maps 0, 1, ..., in order.
+  bool is_prefix(std::span<const std::size_t> candidates) const {
+    if (candidates.size() > stored_.size()) return false;
     for (std::size_t j = 0; j < candidates.size(); ++j)
       if (candidates[j] != j) return false;
     return true;

@@ -67,6 +67,18 @@ TEST(GridRanker, TopKThroughTheCascadeEqualsTheScan) {
       }
       EXPECT_EQ(fast.scores[fast_order[top.size()]], -std::numeric_limits<double>::infinity());
     }
+    // The first stored maps as candidates (loops: a log's maps before the query's) go through the index too.
+    const std::vector<std::size_t> prefix(everyone.begin(),
+                                          everyone.begin() + static_cast<std::ptrdiff_t>(qi / 2 + 11));
+    const std::vector<std::size_t> prefix_order = ranking_order(ranker->rank(views[qi], prefix).scores);
+    for (const Ranker* indexed_one : {indexed_ranker.get(), cascade_ranker.get()}) {
+      const Ranking fast = indexed_one->rank(views[qi], prefix, {.num_threads = 1, .top_k = 5});
+      ASSERT_EQ(fast.scores.size(), prefix.size());
+      const std::vector<std::size_t> fast_order = ranking_order(fast.scores);
+      for (std::size_t j = 0; j < 5; ++j)
+        EXPECT_EQ(fast_order[j], prefix_order[j]) << "query " << qi << " rank " << j;
+      EXPECT_EQ(fast.scores[fast_order[5]], -std::numeric_limits<double>::infinity());
+    }
   }
 }
 

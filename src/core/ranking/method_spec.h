@@ -36,6 +36,9 @@ struct MethodTraits {
   /// The score of a stored map depends on that map and the query alone, so stored maps can be split between
   /// processes (mpirun); false when the method learns from all stored maps or shortlists among them.
   bool shardable = true;
+  /// rerank:R: R, the candidates it matches directly (a caller that reads only those asks for its top R);
+  /// 0: every candidate the method scores can carry a direct match.
+  int shortlist = 0;
   QueryParts query_parts = QueryParts::kNone;
   int parts = 0;  ///< K: parts per stored map it reads (0: none)
   /// The name of the score a succinct stage gives ("iMM score"), shown beside a pose; empty when the method's

@@ -154,5 +154,29 @@ TEST(Ranking, RerankPutsTheShortlistFirstOrderedByDmm) {
   EXPECT_EQ(tied_rank(r, 3), 4.5);  // the two below the shortlist tie (their first-stage scores are all 0)
 }
 
+TEST(Ranking, RerankAskedForItsTopGivesTheSameShortlist) {
+  // match --top K and loops read only the top: the first stage then ranks only its top R (through the grid
+  // index on a large database; scanned here), and the shortlist and its dMM results do not change.
+  const Submaps& maps = testing::simulated_maps();
+  const std::vector<MapView> views = testing::point_views(maps);
+  const MethodSpec spec = parse_method_spec("rerank:4:succinct");
+  EXPECT_EQ(spec.traits.shortlist, 4);
+  EXPECT_EQ(parse_method_spec("dmm").traits.shortlist, 0);
+  const std::unique_ptr<Ranker> rerank = make_ranker(spec, {});
+  rerank->prepare(views, 1);
+  std::vector<std::size_t> everyone(maps.size());
+  for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
+  const Ranking all = rerank->rank(views[7], everyone, {1, 0});
+  for (int k : {1, 4, 6}) {
+    const Ranking top = rerank->rank(views[7], everyone, {1, k});
+    const std::vector<std::size_t> order = ranking_order(all), top_order = ranking_order(top);
+    for (std::size_t j = 0; j < 4; ++j) {
+      EXPECT_EQ(top_order[j], order[j]) << "k " << k << " rank " << j;
+      EXPECT_EQ(top.scores[top_order[j]], all.scores[order[j]]) << "k " << k << " rank " << j;
+      EXPECT_EQ(top.tiers[top_order[j]], 1) << "k " << k << " rank " << j;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace partslam

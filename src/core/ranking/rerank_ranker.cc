@@ -32,7 +32,10 @@ class RerankRanker final : public Ranker {
 
   Ranking rank(const MapView& query, std::span<const std::size_t> candidates,
                const RankOptions& options) const override {
-    Ranking r = first_->rank(query, candidates, {options.num_threads, 0});
+    // A caller that reads only the top k (match --top K, loops) lets the first stage rank only its top R (a
+    // large grid database answers through its index); every candidate is ranked otherwise (eval's ANR).
+    const int first_k = options.top_k > 0 ? std::max(rerank_, options.top_k) : 0;
+    Ranking r = first_->rank(query, candidates, {options.num_threads, first_k});
     r.shortlist_scores = r.scores;
     std::vector<std::size_t> order = ranking_order(r.scores);
     order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(rerank_)));
@@ -86,6 +89,7 @@ void parse_rerank(const std::string& text, const std::vector<std::string>& args,
   m.traits.gives_pose = true;
   m.traits.calibrated = true;  // its dMM stage verifies
   m.traits.shardable = false;  // each process would shortlist its own slice
+  m.traits.shortlist = o->rerank;
   m.options = std::move(o);
 }
 

@@ -145,7 +145,9 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
         for (std::size_t g = 0; g < q; ++g)
           if (maps[g].travel <= maps[q].travel - config.min_travel_gap) candidates.push_back(g);
         if (candidates.empty()) return;
-        const Ranking r = ranker->rank(views[q], candidates, {1, 0});
+        // A rerank's hypotheses are its top R: its first stage ranks only those (through the grid index when
+        // the log has index_min_maps submaps or more); dMM alone matches every candidate.
+        const Ranking r = ranker->rank(views[q], candidates, {1, method.traits.shortlist});
         per_query[q] = hypotheses(maps, q, candidates, r, config);
       },
       "loop closures", progress);
