@@ -76,42 +76,65 @@ __attribute__((target("avx512f,avx512vpopcntdq"))) void best8_avx512(const std::
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(either), _mm512_cvtepi64_epi32(be));
 }
 
-// The turns stage's bin of a score both / either - mu_term: floor(128 s) + 128, clamped to [0, 256]. The
-// AVX-512 kernel performs the same IEEE operations in the same order, so both paths give the same bins.
-std::uint16_t score_bin(int both, int either, double mu_term) {
-  const double bin = std::floor((static_cast<double>(both) / static_cast<double>(either) - mu_term) * 128.0);
-  return static_cast<std::uint16_t>(std::clamp(bin + 128.0, 0.0, static_cast<double>(kBins - 1)));
+// The turns stage: each map's best Jaccard over a few poses in single precision, c / max(either, 1), minus
+// its mu term, in bins floor(128 s) + 128 clamped to [0, 256]; 16 maps (two blocks) at a time. The AVX-512
+// kernel performs the same IEEE operations in the same order, so both paths give the same bins.
+void bins16_portable(const std::uint64_t* w0, const std::uint64_t* w1, const std::uint8_t* level,
+                     const Poses& p, const float* mu_term, std::uint16_t* out) {
+  for (int j = 0; j < 16; ++j) {
+    // two blocks: maps 0..7 of the first, 8..15 of the second (words 16 apart)
+    const std::uint64_t g0 = w0[j < 8 ? j : j + 8], g1 = w1[j < 8 ? j : j + 8];
+    const int nb = std::popcount(g0) + std::popcount(g1);
+    float best = 0.0F;
+    for (std::size_t v = 0; v < p.count.size(); ++v) {
+      const int c = std::popcount(g0 & p.w0[v]) + std::popcount(g1 & p.w1[v]);
+      const int e = std::max(p.count[v] + nb - c, 1);
+      best = std::max(best, static_cast<float>(c) / static_cast<float>(e));
+    }
+    const float bin = std::floor((best - mu_term[level[j]]) * 128.0F) + 128.0F;
+    out[j] = static_cast<std::uint16_t>(std::clamp(bin, 0.0F, static_cast<float>(kBins - 1)));
+  }
 }
 
-// The bins of a block's 8 maps over the poses (their levels: mu's, looked up in mu_term).
-void bins8_portable(const std::uint64_t* w0, const std::uint64_t* w1, const std::uint8_t* level,
-                    const Poses& p, const double* mu_term, std::uint16_t* out) {
-  std::array<int, 8> both{}, either{};
-  best8_portable(w0, w1, p, both.data(), either.data());
-  for (int j = 0; j < 8; ++j) out[j] = score_bin(both[j], either[j], mu_term[level[j]]);
+// Two 8-lane 64-bit counts as 16 32-bit lanes.
+__attribute__((target("avx512f"), always_inline)) inline __m512i lanes16(__m512i low, __m512i high) {
+  return _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(low)), _mm512_cvtepi64_epi32(high),
+                            1);
 }
 
-__attribute__((target("avx512f,avx512vl,avx512vpopcntdq"))) void bins8_avx512(
-    const std::uint64_t* w0, const std::uint64_t* w1, const std::uint8_t* level, const Poses& p,
-    const double* mu_term, std::uint16_t* out) {
-  std::array<int, 8> both{}, either{};
-  best8_avx512(w0, w1, p, both.data(), either.data());
-  const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(both.data()));
-  const __m256i e = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(either.data()));
-  const __m512i l = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(level)));
-  const __m512d m = _mm512_i64gather_pd(l, mu_term, 8);
-  const __m512d x = _mm512_div_pd(_mm512_cvtepi32_pd(b), _mm512_cvtepi32_pd(e));
-  __m512d bin = _mm512_roundscale_pd(_mm512_mul_pd(_mm512_sub_pd(x, m), _mm512_set1_pd(128.0)),
-                                     _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-  bin = _mm512_min_pd(_mm512_max_pd(_mm512_add_pd(bin, _mm512_set1_pd(128.0)), _mm512_setzero_pd()),
-                      _mm512_set1_pd(kBins - 1));
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_cvtepi32_epi16(_mm512_cvtpd_epi32(bin)));
+__attribute__((target("avx512f,avx512vpopcntdq"))) void bins16_avx512(const std::uint64_t* w0,
+                                                                      const std::uint64_t* w1,
+                                                                      const std::uint8_t* level,
+                                                                      const Poses& p, const float* mu_term,
+                                                                      std::uint16_t* out) {
+  const __m512i a0 = _mm512_loadu_si512(w0), a1 = _mm512_loadu_si512(w1);            // maps 0..7
+  const __m512i b0 = _mm512_loadu_si512(w0 + 16), b1 = _mm512_loadu_si512(w1 + 16);  // maps 8..15
+  const __m512i nb = lanes16(_mm512_add_epi64(_mm512_popcnt_epi64(a0), _mm512_popcnt_epi64(a1)),
+                             _mm512_add_epi64(_mm512_popcnt_epi64(b0), _mm512_popcnt_epi64(b1)));
+  __m512 best = _mm512_setzero_ps();
+  for (std::size_t v = 0; v < p.count.size(); ++v) {
+    const __m512i q0 = _mm512_set1_epi64(static_cast<long long>(p.w0[v]));
+    const __m512i q1 = _mm512_set1_epi64(static_cast<long long>(p.w1[v]));
+    const __m512i c = lanes16(_mm512_add_epi64(_mm512_popcnt_epi64(_mm512_and_si512(a0, q0)),
+                                               _mm512_popcnt_epi64(_mm512_and_si512(a1, q1))),
+                              _mm512_add_epi64(_mm512_popcnt_epi64(_mm512_and_si512(b0, q0)),
+                                               _mm512_popcnt_epi64(_mm512_and_si512(b1, q1))));
+    const __m512i e = _mm512_max_epi32(
+        _mm512_sub_epi32(_mm512_add_epi32(nb, _mm512_set1_epi32(p.count[v])), c), _mm512_set1_epi32(1));
+    best = _mm512_max_ps(best, _mm512_div_ps(_mm512_cvtepi32_ps(c), _mm512_cvtepi32_ps(e)));
+  }
+  const __m512 m = _mm512_i32gather_ps(
+      _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(level))), mu_term, 4);
+  __m512 bin = _mm512_roundscale_ps(_mm512_mul_ps(_mm512_sub_ps(best, m), _mm512_set1_ps(128.0F)),
+                                    _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  bin = _mm512_add_ps(bin, _mm512_set1_ps(128.0F));
+  bin = _mm512_min_ps(_mm512_max_ps(bin, _mm512_setzero_ps()), _mm512_set1_ps(kBins - 1));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm512_cvtepi32_epi16(_mm512_cvttps_epi32(bin)));
 }
 
 bool cpu_has_avx512() {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-         __builtin_cpu_supports("avx512vpopcntdq");
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vpopcntdq");
 }
 
 // Better: higher score, then lower index.
@@ -157,7 +180,10 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
   if (grid_.hub_bits > 8) throw InputError("grid cascade: hub_bits must be <= 8 (a byte a map)");
   levels_ = std::ldexp(1.0, grid_.hub_bits) - 1;
   simd_ = config_.use_simd && cpu_has_avx512();
-  blocks_.resize((size_ + 7) / 8);
+  // The turns stage's kernels read two adjacent blocks as one run of words (word 0 of their maps at 0..7 and
+  // 16..23, word 1 at 8..15 and 24..31).
+  static_assert(sizeof(Block) == 16 * sizeof(std::uint64_t));
+  blocks_.resize((size_ + 15) / 16 * 2);  // an even count: the turns stage reads two blocks at a time
   level_.resize(blocks_.size() * 8);
   for (std::size_t i = 0; i < size_; ++i) {
     blocks_[i / 8].w0[i % 8] = grids[i].words[0];
@@ -169,8 +195,10 @@ GridCascade::GridCascade(std::span<const GridBits> grids, std::span<const double
                        " is not on the hub_bits lattice");
     level_[i] = static_cast<std::uint8_t>(level);
   }
-  for (std::size_t l = 0; l < mu_term_.size(); ++l)
+  for (std::size_t l = 0; l < mu_term_.size(); ++l) {
     mu_term_[l] = grid_.hub_weight * (static_cast<double>(l) / levels_);
+    mu_term_f_[l] = static_cast<float>(mu_term_[l]);
+  }
 }
 
 GridCascade::Keep GridCascade::keep(std::size_t k, std::size_t n) const {
@@ -240,9 +268,10 @@ std::vector<GridMatch> GridCascade::top_k(const std::vector<GridBits>& query, st
     Poses turns;
     for (int turn = 0; turn < 4; ++turn) turns.add(pose(turn, reach, reach));
     std::vector<std::uint16_t> bin(level_.size());
-    const auto kernel = simd_ ? bins8_avx512 : bins8_portable;
-    for (std::size_t b = 0; b < (n + 7) / 8; ++b)
-      kernel(blocks_[b].w0.data(), blocks_[b].w1.data(), &level_[8 * b], turns, mu_term_.data(), &bin[8 * b]);
+    const auto kernel = simd_ ? bins16_avx512 : bins16_portable;
+    for (std::size_t b = 0; b < (n + 15) / 16 * 2; b += 2)
+      kernel(blocks_[b].w0.data(), blocks_[b].w1.data(), &level_[8 * b], turns, mu_term_f_.data(),
+             &bin[8 * b]);
     // Four interleaved histograms: runs of equal bins do not wait on one counter.
     std::array<std::array<std::uint32_t, kBins>, 4> part{};
     std::size_t i = 0;

@@ -3,8 +3,8 @@
 //   s(m) = max over the query's poses v of J(q_v, g_m)  -  hub_weight * mu_m        (J: Jaccard similarity)
 // and a scan computes it for every stored map (4 turns x 17 x 17 translations: 1156 poses a map). The cascade
 // computes it only for a short list, chosen in two cheaper stages:
-//   1. turns: the score over the query's four turns unshifted (4 of the 1156 poses), in bins of 1/128; the
-//      turns_keep share of the best go on (at least turns_min);
+//   1. turns: the score over the query's four turns unshifted (4 of the 1156 poses; single precision), in
+//      bins of 1/128; the turns_keep share of the best go on (at least turns_min);
 //   2. coarse: the score over the poses on whole cells within +-coarse_reach cells (100 of the 1156); the
 //      coarse_keep share of the best go on (at least coarse_min);
 //   3. full: the exact score over every pose, as the scan computes it, and the k best.
@@ -13,7 +13,7 @@
 // that the scan would not): it is an approximation, measured against the scan in bench_dm (BM_Succinct*).
 //
 // Stored per map: the grid (16 bytes, in blocks of 8 maps for 8-wide popcounts) and mu's level (a byte): 17
-// bytes. The kernels use AVX-512 (VPOPCNTDQ, VL) when the CPU has it, chosen at run time; the portable path
+// bytes. The kernels use AVX-512 (VPOPCNTDQ) when the CPU has it, chosen at run time; the portable path
 // gives the same answers.
 #pragma once
 
@@ -100,8 +100,9 @@ class GridCascade {
   double levels_ = 1;  // mu = level / levels_
   bool simd_ = false;
   std::vector<Block> blocks_;
-  std::vector<std::uint8_t> level_;    // mu's level (mu = level / levels_) of each map, a block's 8 together
-  std::array<double, 256> mu_term_{};  // hub_weight * mu of each level
+  std::vector<std::uint8_t> level_;     // mu's level (mu = level / levels_) of each map, a block's 8 together
+  std::array<double, 256> mu_term_{};   // hub_weight * mu of each level
+  std::array<float, 256> mu_term_f_{};  // ... in single precision (the turns stage)
 };
 
 /// The reference: every stored map's exact score, then the k best (score descending, then index ascending).
