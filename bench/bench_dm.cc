@@ -422,7 +422,8 @@ std::vector<std::size_t> scan_ranks(const LargeGridDb& db, const GridCascade& sc
 void rank_quartiles(benchmark::State& state, std::vector<std::size_t> ranks) {
   std::sort(ranks.begin(), ranks.end());
   const auto at = [&](double share) {
-    return static_cast<double>(ranks[static_cast<std::size_t>(share * static_cast<double>(ranks.size() - 1))]);
+    return static_cast<double>(
+        ranks[static_cast<std::size_t>(share * static_cast<double>(ranks.size() - 1))]);
   };
   state.counters["rank_q1"] = at(0.25);
   state.counters["rank_median"] = at(0.5);
