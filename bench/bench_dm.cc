@@ -240,12 +240,11 @@ BENCHMARK(BM_ScoreAll_iMM)->Args({5, 0, 1, 0, 1})->Args({5, 1, 1, 0, 1})->Apply(
 
 // ---- the succinct matcher at fleet scale: the cascade against the scan ----
 
-// The real buildings: every log of ../shared/data there is, as submaps (8 m range, as eval), grids and mu.
+// The real buildings: every log of ../shared/data there is, as submaps (8 m range, as eval) and grids.
 struct Building {
   std::string name;
   Submaps maps;
   std::vector<GridBits> grids;
-  std::vector<double> mu;
 };
 constexpr const char* kLogs[] = {"fr079/fr079-corrected.log.gz",
                                  "intel/intel-corrected.log.gz",
@@ -265,10 +264,8 @@ constexpr std::size_t kHubProbes = 32;  // probes of the large database's mu (th
 
 Building building(std::string name, Submaps maps) {
   const GridConfig config = succinct_grid_config();
-  Building b{std::move(name), std::move(maps), {}, {}};
-  std::vector<const Points2*> points;
-  for (const Submap& m : b.maps) b.grids.push_back(make_grid(m.points, config)), points.push_back(&m.points);
-  b.mu = grid_hubness(points, b.grids, config, 2);
+  Building b{std::move(name), std::move(maps), {}};
+  for (const Submap& m : b.maps) b.grids.push_back(make_grid(m.points, config));
   return b;
 }
 

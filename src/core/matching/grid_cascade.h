@@ -73,7 +73,7 @@ class GridCascade {
   std::vector<double> scores(const std::vector<GridBits>& query) const;
 
   std::size_t size() const { return size_; }
-  /// Bytes held per the stored maps (grids and records).
+  /// Bytes held for the stored maps (their grids and mu levels).
   std::size_t memory_bytes() const;
   /// Whether the AVX-512 kernels run (the CPU has them and the configuration allows them).
   bool simd() const { return simd_; }
