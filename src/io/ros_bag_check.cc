@@ -171,7 +171,7 @@ ChunkBytes chunk_contents(Source& file, const Record& chunk) {
   const auto* in = reinterpret_cast<const char*>(data.data());
   if (compression == "none") {
     if (chunk.data_len != size) fail("an uncompressed chunk whose size disagrees with its data");
-    std::memcpy(out.data.get(), in, size);
+    if (size > 0) std::memcpy(out.data.get(), in, size);  // an empty chunk's data is no buffer at all
   } else if (compression == "bz2") {
     unsigned int got = size;
     if (BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data.get()), &got, const_cast<char*>(in), chunk.data_len,

@@ -357,6 +357,17 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   EXPECT_THAT(error(patched(good, "size=", 0, 0xffffffff)),
               HasSubstr("bad.bag: not a readable ROS 1 bag (the record at byte " +
                                   std::to_string(good.find("compression=") - 8) + " is damaged: a chunk of more than"));
+  // A chunk that claims no bytes at all (size 0, data_len 0; the fuzzer's find: an empty copy from no buffer): the
+  // bytes after its header are then read as the next record, which is damaged.
+  std::string empty_chunk = patched(good, "size=", 0, 0);
+  {
+    const std::size_t at = good.find("compression=") - 8;
+    std::uint32_t header_len = 0;
+    std::memcpy(&header_len, good.data() + at, 4);
+    const std::uint32_t none = 0;
+    std::memcpy(empty_chunk.data() + at + 4 + header_len, &none, 4);
+  }
+  EXPECT_THAT(error(empty_chunk), HasSubstr("bad.bag: not a readable ROS 1 bag"));
   // The first index data record (op 4), found by walking the records after the chunk: its first entry's offset.
   std::string offset = good;
   for (std::size_t pos = 13; pos + 8 <= good.size();) {
