@@ -2,29 +2,31 @@
 """Fits the same-place probability of core/matching/verification.cc and checks it (docs/NOTES.md, "Verifying a
 match").
 
-Input: the CSV rows of build/verify_features (one per (query, stored map) pair of the evaluation's tasks). The
-model is a logistic regression on the match terms at the refined pose; a pair is positive when the map is the
-task's relevant one and the refined pose is within 0.5 m / 0.2 rad of the truth. It is fitted on the tuning
-sets only; the validation sets report its expected calibration error (ECE, 10 equal-width bins over every pair)
-and the recall@1 / ANR of ranking by it, beside Eq. 1 and the oracle (the true overlap at the true pose).
+Input: the CSV rows of build/verify_features (one per (query, stored map, candidate pose) of the evaluation's
+tasks). The model is logistic in the match terms at the refined pose; a row is positive when the map is the
+task's relevant one and the refined pose is within 0.5 m / 0.2 rad of the truth. Its weights are fitted to rank
+each task's positive rows first (a conditional logit over the task's rows: --objective listwise, kept) or to
+predict each row's label (pointwise, the first model), then Platt-scaled on each pair's best pose so that the
+answer's probability is calibrated. Fitted on the tuning sets only; the validation sets report the expected
+calibration error (ECE, 10 equal-width bins over every pair) and the recall@1 / ANR of ranking by it, beside
+Eq. 1 and the oracle (the true overlap at the true pose).
 
 Usage: fit_verification.py --tuning A.csv B.csv ... --validation C.csv ... [--plot docs/reliability.png]
+                           [--objective listwise|pointwise] [--features qo,mo,...]
 Prints the coefficients as C++ for verification.cc and a Markdown table.
 """
 import argparse
 import numpy as np
 
-FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms"]
+FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms", "qfit", "mfit"]
 
 
 def load(path):
     return np.genfromtxt(path, delimiter=",", names=True)
 
 
-def features(a, prefix="r_"):
-    x = np.stack([a[prefix + "qo"], a[prefix + "mo"], a[prefix + "qf"], a[prefix + "mf"], a[prefix + "qs"],
-                  a[prefix + "ms"]], axis=1)
-    return x
+def features(a, prefix="r_", names=None):
+    return np.stack([a[prefix + n] for n in (names or FEATURES)], axis=1)
 
 
 def labels(a):
@@ -46,6 +48,40 @@ def fit_logistic(x, y, l2=1e-7, iterations=50):
         if np.abs(step).max() < 1e-9:
             break
     return w
+
+
+def fit_listwise(sets, xs, l2=1e-4, iterations=600, rate=0.05):
+    """The weights that rank each task's right answer first: a conditional logit over every candidate pose of
+    every map of a task (softmax across the task), maximising the probability mass on the positive rows (the
+    relevant map within tolerance). Tasks with no positive row carry no information and are left out. Adam on
+    standardised features, from zero, a fixed number of steps: deterministic. Returns (weights, no intercept)."""
+    x = np.vstack(xs)
+    mu, sd = x.mean(0), x.std(0) + 1e-9
+    groups, ys, offset = [], [], 0
+    for a in sets:
+        t = a["task"].astype(np.int64)
+        groups.append(t + offset)
+        offset += int(t.max()) + 1
+        ys.append(labels(a) > 0)
+    g, y = np.concatenate(groups), np.concatenate(ys)
+    has = np.zeros(offset, bool)
+    has[g[y]] = True
+    keep = has[g]
+    x, g, y = (x[keep] - mu) / sd, g[keep], y[keep]
+    w, m1, m2 = np.zeros(x.shape[1]), np.zeros(x.shape[1]), np.zeros(x.shape[1])
+    for i in range(iterations):
+        s = x @ w
+        top = np.full(offset, -np.inf)
+        np.maximum.at(top, g, s)
+        e = np.exp(s - top[g])
+        z_all, z_pos = np.zeros(offset), np.zeros(offset)
+        np.add.at(z_all, g, e)
+        np.add.at(z_pos, g, e * y)
+        grad = x.T @ (e / z_all[g] - np.where(y, e / np.maximum(z_pos[g], 1e-300), 0)) / has.sum() + l2 * w
+        m1 = 0.9 * m1 + 0.1 * grad
+        m2 = 0.999 * m2 + 0.001 * grad * grad
+        w -= rate * (m1 / (1 - 0.9 ** (i + 1))) / (np.sqrt(m2 / (1 - 0.999 ** (i + 1))) + 1e-8)
+    return np.concatenate([[-(w / sd) @ mu], w / sd])
 
 
 def predict(w, x):
@@ -94,11 +130,18 @@ def main():
     ap.add_argument("--tuning", nargs="+", required=True)
     ap.add_argument("--validation", nargs="+", required=True)
     ap.add_argument("--plot")
+    ap.add_argument("--objective", choices=["listwise", "pointwise"], default="listwise",
+                    help="listwise: the relevant map's right pose first in its task (kept); pointwise: a "
+                    "logistic regression of each row's label (the first model)")
+    ap.add_argument("--features", default=",".join(FEATURES), help="comma-separated terms (ablations)")
     o = ap.parse_args()
+    FEATURES[:] = o.features.split(",")
     tuning = [load(p) for p in o.tuning]
-    x = np.vstack([features(a) for a in tuning])
-    y = np.concatenate([labels(a) for a in tuning])
-    w = fit_logistic(x, y)
+    xs = [features(a) for a in tuning]
+    if o.objective == "listwise":
+        w = fit_listwise(tuning, xs)
+    else:
+        w = fit_logistic(np.vstack(xs), np.concatenate([labels(a) for a in tuning]))
     # Platt scaling on what the ranker reports: each pair's best pose (the maximum over its poses), so that the
     # probability of the pose it answers with is calibrated (a monotone map: the ranking does not change).
     z, yz = [], []

@@ -13,6 +13,7 @@
 #include "core/matching/dmm.h"
 #include "core/matching/verification.h"
 #include "core/parallel.h"
+#include "core/ranking/ranking.h"
 #include "io/scan_source.h"
 
 using namespace partslam;
@@ -21,8 +22,8 @@ namespace {
 
 std::string terms_csv(const MatchTerms& t) {
   char b[256];
-  std::snprintf(b, sizeof b, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", t.query.occupied, t.query.free, t.query.seen,
-                t.map.occupied, t.map.free, t.map.seen);
+  std::snprintf(b, sizeof b, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", t.query.occupied, t.query.free,
+                t.query.seen, t.map.occupied, t.map.free, t.map.seen, t.query_fit, t.map_fit);
   return b;
 }
 
@@ -51,7 +52,7 @@ int main(int argc, char** argv) {
     const int threads = argc > 6 ? std::atoi(argv[6]) : 2;
     tc.radius = argc > 7 ? std::atof(argv[7]) : 2.0;
     const std::vector<Task> tasks = make_tasks(maps, tc);
-    const DmmConfig dmm;
+    const DmmConfig dmm = ranking_dmm_config();
     const VerifyConfig verify_config;
     std::vector<PreparedMap> prepared(maps.size());
     std::vector<VerifyMap> verify(maps.size());
@@ -67,17 +68,19 @@ int main(int argc, char** argv) {
       for (std::size_t m : task.database) {
         const std::vector<DmmResult> poses = dmm_poses(pq, prepared[m], verify_config);  // verify_dmm's poses
         const Pose2 truth = maps[m].T_world_map.inverse() * q.T_world_map;
-        const std::string at_truth = terms_csv(match_terms(verify[task.query], verify[m], truth));
+        const PairFields fields(verify[task.query], verify[m]);
+        const std::string at_truth = terms_csv(match_terms(verify[task.query], verify[m], fields, truth));
         for (std::size_t k = 0; k < poses.size(); ++k) {
           const DmmResult& d = poses[k];
-          const Pose2 refined = refine_match(verify[task.query], verify[m], d.T_map_query);
+          const Pose2 refined = refine_match(verify[task.query], fields, d.T_map_query);
           char head[160];
           std::snprintf(head, sizeof head, "%zu,%zu,%zu,%d,%d,%zu,%zu,%.3f,", t, m, k,
                         m == task.relevant ? 1 : 0, d.inliers, q.points.size(), maps[m].points.size(),
                         (maps[m].T_world_map.translation() - q.T_world_map.translation()).norm());
-          rows[t] += head + terms_csv(match_terms(verify[task.query], verify[m], d.T_map_query)) + "," +
-                     terms_csv(match_terms(verify[task.query], verify[m], refined)) + "," + at_truth + "," +
-                     pose_error_csv(d.T_map_query, truth) + "," + pose_error_csv(refined, truth) + "\n";
+          rows[t] += head + terms_csv(match_terms(verify[task.query], verify[m], fields, d.T_map_query)) +
+                     "," + terms_csv(match_terms(verify[task.query], verify[m], fields, refined)) + "," +
+                     at_truth + "," + pose_error_csv(d.T_map_query, truth) + "," +
+                     pose_error_csv(refined, truth) + "\n";
         }
       }
     });
@@ -85,8 +88,9 @@ int main(int argc, char** argv) {
     if (f == nullptr) throw std::runtime_error(std::string("cannot write ") + argv[2]);
     std::fprintf(
         f,
-        "task,map,k,relevant,inliers,nq,nm,dist,e_qo,e_qf,e_qs,e_mo,e_mf,e_ms,r_qo,r_qf,r_qs,r_mo,r_mf,r_ms,"
-        "t_qo,t_qf,t_qs,t_mo,t_mf,t_ms,e_dt,e_da,e_t,r_dt,r_da,r_t\n");
+        "task,map,k,relevant,inliers,nq,nm,dist,e_qo,e_qf,e_qs,e_mo,e_mf,e_ms,e_qfit,e_mfit,r_qo,r_qf,r_qs,r_"
+        "mo,"
+        "r_mf,r_ms,r_qfit,r_mfit,t_qo,t_qf,t_qs,t_mo,t_mf,t_ms,t_qfit,t_mfit,e_dt,e_da,e_t,r_dt,r_da,r_t\n");
     for (const std::string& r : rows) std::fputs(r.c_str(), f);
     std::fclose(f);
     std::fprintf(stderr, "%zu maps, %zu tasks -> %s\n", maps.size(), tasks.size(), argv[2]);

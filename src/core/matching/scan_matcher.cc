@@ -145,15 +145,22 @@ LikelihoodField::LikelihoodField(const Points2& points, double resolution, doubl
   values_.assign(static_cast<std::size_t>(width_) * height_, 0.0f);
   const int r = static_cast<int>(std::ceil(margin / resolution));
   const double inv = 1.0 / (2.0 * sigma * sigma);
+  // The Gaussian is separable: exp(-(dx^2 + dy^2) k) = exp(-dx^2 k) exp(-dy^2 k), 2 (2r + 1) exps a point
+  // instead of (2r + 1)^2.
+  std::vector<double> gx(static_cast<std::size_t>(2 * r + 1)), gy(gx.size());
   for (const Vec2& p : points) {
     const Vec2 f = (p - origin_) / resolution;
     const int cx = static_cast<int>(std::lround(f.x())), cy = static_cast<int>(std::lround(f.y()));
+    for (int k = -r; k <= r; ++k) {
+      const double dx = (cx + k - f.x()) * resolution, dy = (cy + k - f.y()) * resolution;
+      gx[static_cast<std::size_t>(k + r)] = std::exp(-dx * dx * inv);
+      gy[static_cast<std::size_t>(k + r)] = std::exp(-dy * dy * inv);
+    }
     for (int y = std::max(0, cy - r); y <= std::min(height_ - 1, cy + r); ++y) {
-      for (int x = std::max(0, cx - r); x <= std::min(width_ - 1, cx + r); ++x) {
-        const double d2 = ((x - f.x()) * (x - f.x()) + (y - f.y()) * (y - f.y())) * resolution * resolution;
-        float& v = values_[static_cast<std::size_t>(y) * width_ + x];
-        v = std::max(v, static_cast<float>(std::exp(-d2 * inv)));
-      }
+      const double wy = gy[static_cast<std::size_t>(y - cy + r)];
+      float* row = &values_[static_cast<std::size_t>(y) * width_];
+      for (int x = std::max(0, cx - r); x <= std::min(width_ - 1, cx + r); ++x)
+        row[x] = std::max(row[x], static_cast<float>(wy * gx[static_cast<std::size_t>(x - cx + r)]));
     }
   }
 }

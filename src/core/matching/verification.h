@@ -7,8 +7,11 @@
 //   - at T_map_query the query's points are looked up in the map's grid and the map's points in the query's:
 //     the shares that land on structure, on free space (a beam of the other map passed through that wall) and
 //     on cells the other map saw at all (their common field of view);
-//   - a logistic model of those shares (fitted on the tuning split, docs/NOTES.md) turns them into the
-//     probability that the two maps show the same place at that pose.
+//   - each map's points are read on the other's likelihood field (the front end's, 0.05 m cells): a smooth fit
+//     that tells walls laid on each other from walls that only fall inside one another's dilation;
+//   - a logistic model of those terms (weights fitted on the tuning split to rank each task's right answer
+//     first, then Platt-scaled; docs/NOTES.md) turns them into the probability that the two maps show the
+//     same place at that pose.
 // refine_match moves a lattice pose to the smooth optimum (the front end's correlative + Gauss-Newton matcher
 // on a likelihood field of the map's points), below the lattice that limits Eq. 1.
 #pragma once
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "core/matching/dmm.h"
+#include "core/matching/scan_matcher.h"
 #include "core/types.h"
 
 namespace partslam {
@@ -104,13 +108,23 @@ struct SideTerms {
 };
 
 struct MatchTerms {
-  SideTerms query;     ///< the query's points in the map's grid (query.occupied is Eq. 1's inlier share)
-  SideTerms map;       ///< the map's points in the query's grid
-  bool beams = false;  ///< both maps had laser origins (the free and seen shares are meaningful)
+  SideTerms query;       ///< the query's points in the map's grid (query.occupied is Eq. 1's inlier share)
+  SideTerms map;         ///< the map's points in the query's grid
+  double query_fit = 0;  ///< mean of the map's likelihood field at the query's points, in [0, 1]
+  double map_fit = 0;    ///< mean of the query's likelihood field at the map's points
+  bool beams = false;    ///< both maps had laser origins (the free and seen shares are meaningful)
 };
 
-/// The terms at T_map_query (maps query-frame points into the map frame). Empty maps give zero shares.
-MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query);
+/// The two maps' likelihood fields (the front end's: 0.05 m cells, sigma 0.1 m), built once per pair: the fit
+/// terms and refine_match read them.
+struct PairFields {
+  PairFields(const VerifyMap& query, const VerifyMap& map);
+  LikelihoodField query, map;
+};
+
+/// The terms at T_map_query (maps query-frame points into the map frame). Empty maps give zero terms.
+MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
+                       const Pose2& T_map_query);
 
 /// The probability that the two maps show the same place at that pose: a logistic model of the terms,
 /// coefficients in verification.cc, fitted by tools/fit_verification.py on the tuning split with beams on
@@ -118,10 +132,10 @@ MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const Pose2
 /// the two occupied shares, but it is not calibrated for that case.
 double same_place_probability(const MatchTerms& terms);
 
-/// The pose moved to the best fit of the query's points on a likelihood field of the map's points within
+/// The pose moved to the best fit of the query's points on the map's likelihood field (fields.map) within
 /// +- refine_window / refine_angle (correlative search on 0.05 m cells, then Gauss-Newton); the input pose
 /// when either map has no points.
-Pose2 refine_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
+Pose2 refine_match(const VerifyMap& query, const PairFields& fields, const Pose2& T_map_query,
                    const VerifyConfig& config = {});
 
 struct Verified {
@@ -131,7 +145,8 @@ struct Verified {
 };
 
 /// The terms and probability at T_map_query as it is (no refinement).
-Verified verify_at(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query);
+Verified verify_at(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
+                   const Pose2& T_map_query);
 
 /// refine_match, then the terms and probability at the refined pose (or at the input pose when refining
 /// lowers the probability).

@@ -63,28 +63,45 @@ TEST(VerifyMap, RefusesNonFinitePointsAndBadConfig) {
 
 TEST(MatchTerms, AWallInTheOtherMapsFreeSpaceIsAContradiction) {
   const VerifyMap a(corridor(), axis_origins());
-  const MatchTerms same = match_terms(a, a, Pose2{});
+  const PairFields fields(a, a);
+  const MatchTerms same = match_terms(a, a, fields, Pose2{});
   EXPECT_DOUBLE_EQ(same.query.occupied, 1.0);
   EXPECT_DOUBLE_EQ(same.map.occupied, 1.0);
   EXPECT_DOUBLE_EQ(same.query.free, 0.0);
   EXPECT_TRUE(same.beams);
   // Half a corridor sideways: the walls run down the other's free middle.
-  const MatchTerms shifted = match_terms(a, a, Pose2{0.0, 1.0, 0.0});
+  const MatchTerms shifted = match_terms(a, a, fields, Pose2{0.0, 1.0, 0.0});
   EXPECT_LT(shifted.query.occupied, 0.6);
   EXPECT_GT(shifted.query.free + shifted.map.free, 0.3);
   EXPECT_GT(same_place_probability(same), same_place_probability(shifted) + 0.3);
   // Empty maps: zero shares, no crash.
   const VerifyMap empty(Points2{}, Points2{});
-  const MatchTerms none = match_terms(empty, a, Pose2{});
+  const MatchTerms none = match_terms(empty, a, PairFields(empty, a), Pose2{});
   EXPECT_DOUBLE_EQ(none.query.occupied, 0.0);
+  EXPECT_DOUBLE_EQ(none.query_fit, 0.0);
+  EXPECT_DOUBLE_EQ(none.map_fit, 0.0);
   EXPECT_FALSE(none.beams);
+}
+
+TEST(MatchTerms, TheFitTellsWallsOnEachOtherFromWallsInsideTheDilation) {
+  const VerifyMap a(corridor(), axis_origins());
+  const PairFields fields(a, a);
+  const MatchTerms same = match_terms(a, a, fields, Pose2{});
+  EXPECT_GT(same.query_fit, 0.95);
+  EXPECT_GT(same.map_fit, 0.95);
+  // One cell across the walls: still on the dilated walls, but 0.1 m (one sigma) off them.
+  const MatchTerms off = match_terms(a, a, fields, Pose2{0.0, 0.1, 0.0});
+  EXPECT_GT(off.query.occupied, 0.9);
+  EXPECT_LT(off.query_fit, 0.75);
+  EXPECT_LT(off.map_fit, 0.75);
+  EXPECT_GT(same_place_probability(same), same_place_probability(off));
 }
 
 TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {
   const VerifyMap a(corridor(), axis_origins());
   // A map with a corner (the cross wall) pins x and y; the pose is off by 0.07 m / 0.8 deg.
   const Pose2 off{0.07, -0.06, 0.014};
-  const Pose2 refined = refine_match(a, a, off);
+  const Pose2 refined = refine_match(a, PairFields(a, a), off);
   EXPECT_LT(refined.translation().norm(), 0.03);
   EXPECT_LT(std::abs(refined.theta), 0.005);
 }
