@@ -25,7 +25,7 @@ import re, sys
 t = open(sys.argv[2]).read()
 q = re.search(r"queries: (\d+)", t).group(1)
 inmap, correct, share = re.search(r"overlap >= 30 %\): (\d+), pose within [^:]*: (\d+) \(([\d.]+) %\)", t).groups()
-conf, wrong = re.search(r"confident \(>= [\d.]+\): (\d+), wrong among them: (\d+)", t).groups()
+conf, wrong = re.search(r"confident \(>= [\d.]+, probability >= [\d.]+\): (\d+), wrong among them: (\d+)", t).groups()
 out, outc = re.search(r"outside the map \(overlap < 30 %\): (\d+), reported confidently: (\d+)", t).groups()
 med, p95 = re.search(r"median ([\d.]+) ms, p95 ([\d.]+) ms", t).groups()
 # Per-query lines: in the map and within 0.1 m / 1 deg (the refined pose).

@@ -20,7 +20,7 @@ using namespace partslam;
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: relocalisation_check CORRECTED_LOG OUT_DIR [candidates=K turns=4|8 free_weight=W "
-                         "elsewhere=M window=M full_circle]\n");
+                         "elsewhere=M window=M full_circle refine_window=M confidence=C probability=P]\n");
     return 2;
   }
   try {
@@ -37,9 +37,11 @@ int main(int argc, char** argv) {
       else if (name == "free_weight") config.localizer.free_weight = value;
       else if (name == "neighbourhood") config.localizer.neighbourhood = value;
       else if (name == "confidence") config.min_confidence = value;
+      else if (name == "probability") config.min_probability = value;
       else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
+      else if (name == "refine_window") config.localizer.verify.refine_window = value;
       else throw std::runtime_error("unknown setting '" + arg + "'");
     }
     const std::size_t split = first_revisit(scans, config.revisit_radius, config.revisit_gap);
@@ -57,7 +59,8 @@ int main(int argc, char** argv) {
     std::printf("in the map (overlap >= %.0f %%): %zu, pose within %.2f m / %.0f deg: %zu (%.1f %%)\n",
                 100 * config.min_overlap, r.in_map, config.correct.translation,
                 config.correct.rotation * 180 / std::numbers::pi, r.in_map_correct, share(r.in_map_correct, r.in_map));
-    std::printf("confident (>= %.2f): %zu, wrong among them: %zu (%.1f %%)\n", config.min_confidence, r.confident,
+    std::printf("confident (>= %.2f, probability >= %.3f): %zu, wrong among them: %zu (%.1f %%)\n",
+                config.min_confidence, config.min_probability, r.confident,
                 r.confident_wrong, share(r.confident_wrong, r.confident));
     std::printf("outside the map (overlap < %.0f %%): %zu, reported confidently: %zu (%.1f %%)\n",
                 100 * config.min_overlap, r.outside, r.outside_confident, share(r.outside_confident, r.outside));

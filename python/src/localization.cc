@@ -112,6 +112,9 @@ void define_localization(py::module_& m) {
       .def_readonly("calibrated", &Localization::calibrated)
       .def_readonly("T_map_elsewhere", &Localization::T_map_elsewhere)
       .def_readonly("confidence", &Localization::confidence)
+      .def_property_readonly(
+          "confident", [](const Localization& l) { return is_confident(l); },
+          "reported as found: confidence >= 0.2 and, when calibrated, probability >= 0.025 (as `partslam locate`)")
       .def_readonly("candidates", &Localization::candidates)
       .def_readonly("time_ms", &Localization::time_ms)
       .def("__repr__", [](const Localization& l) {

@@ -31,6 +31,7 @@ def test_a_stretch_of_the_log_is_found_in_its_own_map(sim_scans):
     assert abs(partslam.wrap_angle(found.T_map_query[2] - truth[2])) < 1 * math.pi / 180
     assert found.confidence == pytest.approx(found.score - found.elsewhere_score)
     assert found.calibrated and 0 < found.probability <= 1
+    assert found.confident == (found.confidence >= 0.2 and found.probability >= 0.025)
     assert not localizer.locate(local.points).calibrated  # bare points
     assert found.candidates >= 2
 

@@ -62,7 +62,7 @@ void print(const Located& l) {
   std::printf("%s\n  %s in the map: x %.2f m, y %.2f m, theta %.1f deg; inliers %.1f %%, %d on free space; "
               "confidence %.3f%s; same-place probability %.3f%s; %.1f ms\n",
               l.label.c_str(), l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
-              100 * r.inlier_fraction, r.free_conflicts, r.confidence, r.confidence >= kConfident ? "" : " (low)",
+              100 * r.inlier_fraction, r.free_conflicts, r.confidence, is_confident(r) ? "" : " (low)",
               r.probability, r.calibrated ? "" : " (bare points: no laser origins)", r.time_ms);
 }
 
@@ -78,14 +78,16 @@ nlohmann::json located_json(const Located& l) {
                                  {"query_seen", r.terms.query.seen},
                                  {"map_occupied", r.terms.map.occupied},
                                  {"map_free", r.terms.map.free},
-                                 {"map_seen", r.terms.map.seen}}},
+                                 {"map_seen", r.terms.map.seen},
+                                 {"query_fit", r.terms.query_fit},
+                                 {"map_fit", r.terms.map_fit}}},
                       {"T_map_lattice", pose_json(r.T_map_lattice)},
                       {"free_conflicts", r.free_conflicts},
                       {"score", r.score},
                       {"probability", r.probability},
                       {"calibrated", r.calibrated},
                       {"confidence", r.confidence},
-                      {"confident", r.confidence >= kConfident},
+                      {"confident", is_confident(r)},
                       {"elsewhere", {{"score", r.elsewhere_score}, {"T_map_query", pose_json(r.T_map_elsewhere)}}},
                       {"candidates", r.candidates},
                       {"time_ms", r.time_ms}};
@@ -113,7 +115,7 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
   if (located.size() == 1) {
     const Located& l = located.front();
     const Pose2& p = l.robot ? *l.robot : l.T_map_source;
-    const bool confident = l.result.confidence >= kConfident;
+    const bool confident = is_confident(l.result);
     std::snprintf(title, sizeof title, "%s at x %.2f m, y %.2f m, %.1f deg; inliers %.0f %%; confidence %.2f (%s)",
                   l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
                   100 * l.result.inlier_fraction, l.result.confidence, confident ? "confident" : "low");
@@ -124,7 +126,7 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
     for (const Located& l : located) {
       const Pose2& p = l.robot ? *l.robot : l.T_map_source;
       panel.path.push_back(p.translation());
-      const bool sure = l.result.confidence >= kConfident;
+      const bool sure = is_confident(l.result);
       panel.path_colours.push_back(sure ? plot::kGood : plot::kDoubtful);
       confident += sure;
     }
@@ -190,12 +192,14 @@ void print_all(const std::vector<Located>& located) {
   for (const Located& l : located) {
     print(l);
     times.push_back(l.result.time_ms);
-    confident += l.result.confidence >= kConfident;
+    confident += is_confident(l.result);
   }
   if (located.size() > 1) {
     std::sort(times.begin(), times.end());
-    std::printf("%zu local maps, %zu confident (>= %.1f); time per local map: median %.1f ms, max %.1f ms\n",
-                located.size(), confident, kConfident, times[times.size() / 2], times.back());
+    std::printf("%zu local maps, %zu confident (>= %.1f, probability >= %.3f); time per local map: median %.1f ms, "
+                "max %.1f ms\n",
+                located.size(), confident, kConfident, kConfidentLocalizationProbability, times[times.size() / 2],
+                times.back());
   }
 }
 
@@ -219,6 +223,7 @@ void run_locate(const LocateOptions& o) {
   if (!o.plot.empty() && !located.empty()) write_plot(o, map, located);
   if (!o.json.empty()) {
     nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident},
+                          {"confident_probability_at", kConfidentLocalizationProbability},
                           {"warnings", log.warnings}};
     out["located"] = nlohmann::json::array();
     for (const Located& l : located) out["located"].push_back(located_json(l));

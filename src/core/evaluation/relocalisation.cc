@@ -56,7 +56,8 @@ RelocalisationReport evaluate_relocalisation(const GridMap& map, const Scans& sc
     o.translation_error = std::hypot(error.x, error.y);
     o.rotation_error = std::abs(error.theta);
     o.correct = config.correct.accepts(o.truth, o.result.T_map_query);
-    const bool in_map = o.overlap >= config.min_overlap, confident = o.result.confidence >= config.min_confidence;
+    const bool in_map = o.overlap >= config.min_overlap;
+    const bool confident = is_confident(o.result, config.min_confidence, config.min_probability);
     report.in_map += in_map;
     report.in_map_correct += in_map && o.correct;
     report.confident += confident;

@@ -22,7 +22,8 @@ struct RelocalisationConfig {
   double query_spacing = 2.0;    ///< travel between the starts of consecutive query local maps [m]
   double min_overlap = 0.3;      ///< queries at least this much in the map are the ones that must be found
   PoseTolerance correct{0.3, 3.0 * std::numbers::pi / 180};  ///< a pose counts as correct within this
-  double min_confidence = kConfidentLocalization;  ///< a localisation at least this confident is "confident"
+  double min_confidence = kConfidentLocalization;  ///< a localisation at least this confident ...
+  double min_probability = kConfidentLocalizationProbability;  ///< ... and probable is "confident" (is_confident)
   SubmapConfig submap;           ///< how local maps are built (window_length, range, alignment)
   LocalizerConfig localizer;
 };

@@ -44,7 +44,7 @@ double decision_probability(std::span<const double> probabilities, std::size_t b
   return probabilities[best] * (1.0 - other);
 }
 
-/// A calibrated decision at least this probable is reported as confident (`match`, `locate`).
+/// A calibrated decision at least this probable is reported as confident (`match`).
 inline constexpr double kConfidentProbability = 0.5;
 
 }  // namespace partslam

@@ -86,6 +86,10 @@ int Localizer::free_conflicts(const Points2& query_points, const Pose2& T_map_qu
   return conflicts;
 }
 
+bool is_confident(const Localization& l, double min_confidence, double min_probability) {
+  return l.confidence >= min_confidence && (!l.calibrated || l.probability >= min_probability);
+}
+
 Localization Localizer::locate(const Points2& query_points, const Points2& query_origins) const {
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
   const auto t0 = Clock::now();

@@ -31,10 +31,21 @@ DmmConfig localizer_dmm_config();
 /// A localisation at least this confident is reported as found: chosen on fr079 (the lowest threshold with no
 /// wrong answer there; docs/NOTES.md, "Locate").
 inline constexpr double kConfidentLocalization = 0.2;
+/// ... and, where its probability is calibrated (free space on both sides), at least this probable: chosen on
+/// fr079, above every wrong or out-of-map answer's probability there (at most 0.023; docs/NOTES.md, "Locate").
+inline constexpr double kConfidentLocalizationProbability = 0.025;
+
+/// The verification of the answer, refined within +-0.15 m (a lattice step and a half): with +-0.3 m the fit terms
+/// drew one of intel's answers 0.37 m along a corridor, a confident wrong answer (docs/NOTES.md, "Locate").
+inline VerifyConfig localizer_verify_config() {
+  VerifyConfig config;
+  config.refine_window = 0.15;
+  return config;
+}
 
 struct LocalizerConfig {
   DmmConfig dmm = localizer_dmm_config();
-  VerifyConfig verify;              ///< the verification of the candidates
+  VerifyConfig verify = localizer_verify_config();  ///< the verification of the answer
   double elsewhere_distance = 2.0;  ///< "elsewhere": the local map's centre at least this far away [m] ...
   double elsewhere_angle = 10.0 * std::numbers::pi / 180;  ///< ... or turned by more than this [rad]
   int candidates = 15;              ///< distinct poses examined (one exact search each), in [2, 100]
@@ -63,6 +74,12 @@ struct Localization {
   int candidates = 0;             ///< candidates examined
   double time_ms = 0.0;           ///< all searches and verification [ms]
 };
+
+/// Whether an answer is reported as found: confidence >= min_confidence and, when `calibrated`, probability >=
+/// min_probability (a margin over the other candidates says the answer is unique, the probability that it is the
+/// place; on buildings other than the tuning ones, unique answers outside the map were common).
+bool is_confident(const Localization& l, double min_confidence = kConfidentLocalization,
+                  double min_probability = kConfidentLocalizationProbability);
 
 class Localizer {
  public:

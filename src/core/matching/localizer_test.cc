@@ -87,5 +87,18 @@ TEST(Localizer, RefusesEmptyOrBadInput) {
   EXPECT_THROW(ok.locate(Points2{{NAN, 0.0}}), InputError);
 }
 
+TEST(Localizer, ConfidentNeedsAMarginAndWhereCalibratedAProbability) {
+  Localization l;
+  l.confidence = 0.3, l.calibrated = true, l.probability = 0.01;
+  EXPECT_FALSE(is_confident(l));  // unique, but improbable: a place the map may not hold
+  l.probability = 0.03;
+  EXPECT_TRUE(is_confident(l));
+  l.confidence = 0.1;
+  EXPECT_FALSE(is_confident(l));  // probable, but another candidate scores nearly as well
+  l.confidence = 0.3, l.calibrated = false, l.probability = 0.0;
+  EXPECT_TRUE(is_confident(l));  // bare points: the probability is not calibrated, the margin decides
+  EXPECT_FALSE(is_confident(l, 0.5));
+}
+
 }  // namespace
 }  // namespace partslam
