@@ -20,7 +20,7 @@ using namespace partslam;
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: relocalisation_check CORRECTED_LOG OUT_DIR [candidates=K turns=4|8 free_weight=W "
-                         "elsewhere=M window=M full_circle refine_window=M confidence=C probability=P]\n");
+                         "elsewhere=M window=M full_circle wall_share=S refine_window=M confidence=C probability=P]\n");
     return 2;
   }
   try {
@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
       else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
+      else if (name == "wall_share") config.localizer.wall_direction_share = value;
       else if (name == "refine_window") config.localizer.verify.refine_window = value;
       else throw std::runtime_error("unknown setting '" + arg + "'");
     }
@@ -54,6 +55,9 @@ int main(int argc, char** argv) {
                 travel[split == scans.size() ? split - 1 : split], travel.back(), map.width, map.height, map.resolution,
                 yaml.c_str());
     const RelocalisationReport r = evaluate_relocalisation(map, scans, split, config);
+    std::printf("wing directions searched beside the axes:");
+    for (const double d : r.wing_directions) std::printf(" %+.0f deg", d * 180 / std::numbers::pi);
+    std::printf("%s\n", r.wing_directions.empty() ? " none" : "");
     const auto share = [](std::size_t a, std::size_t b) { return b ? 100.0 * a / b : 0.0; };
     std::printf("queries: %zu (every %.1f m of travel after the split)\n", r.outcomes.size(), config.query_spacing);
     std::printf("in the map (overlap >= %.0f %%): %zu, pose within %.2f m / %.0f deg: %zu (%.1f %%)\n",
@@ -68,12 +72,12 @@ int main(int argc, char** argv) {
     for (const RelocalisationOutcome& o : r.outcomes) {
       const MatchTerms& t = o.result.terms;
       std::printf("  %7.1f m  overlap %.2f  conf %.3f  score %.3f  inl %.3f  free %d  else %.3f  p %.3f  qo %.3f "
-                  "qf %.3f qs %.3f mo %.3f mf %.3f ms %.3f  err %.2f m %.1f deg  %.1f ms%s\n",
+                  "qf %.3f qs %.3f mo %.3f mf %.3f ms %.3f  err %.2f m %.1f deg  %.1f ms  truth: score %.3f p %.3f%s\n",
                   o.travel, o.overlap, o.result.confidence, o.result.score, o.result.inlier_fraction,
                   o.result.free_conflicts, o.result.elsewhere_score, o.result.probability, t.query.occupied, t.query.free, t.query.seen, t.map.occupied, t.map.free,
                   t.map.seen,
                   o.translation_error, o.rotation_error * 180 / std::numbers::pi, o.result.time_ms,
-                  o.correct ? "" : "  WRONG");
+                  o.truth_score, o.truth_verified.probability, o.correct ? "" : "  WRONG");
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "relocalisation_check: %s\n", e.what());

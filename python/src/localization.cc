@@ -98,7 +98,9 @@ void define_localization(py::module_& m) {
       .def_readwrite("elsewhere_angle", &LocalizerConfig::elsewhere_angle, "[rad]")
       .def_readwrite("candidates", &LocalizerConfig::candidates)
       .def_readwrite("free_weight", &LocalizerConfig::free_weight)
-      .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]");
+      .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]")
+      .def_readwrite("wall_direction_share", &LocalizerConfig::wall_direction_share,
+                     "wall directions off the axes holding this share of the walls are searched too; 0: none");
   def_keyword_init(config);
   py::class_<Localization>(m, "Localization", "Where a local map lies in the building map, and how surely")
       .def_readonly("T_map_query", &Localization::T_map_query)
@@ -129,7 +131,9 @@ void define_localization(py::module_& m) {
            "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives; "
            "query_origins: its laser positions, Submap.origins, for a calibrated probability).")
       .def_property_readonly("prepare_ms", &Localizer::prepare_ms)
-      .def_property_readonly("alignment_angle", &Localizer::alignment_angle);
+      .def_property_readonly("alignment_angle", &Localizer::alignment_angle)
+      .def_property_readonly("wing_directions", &Localizer::wing_directions,
+                             "wall directions searched beside the axes, in the canonical frame [rad]");
 }
 
 }  // namespace partslam::python

@@ -110,6 +110,9 @@ void define_dmm(py::module_& m) {
                      "both maps are in the canonical frame (turns x residual); false: full circle")
       .def_readwrite("canonical_turns", &DmmConfig::canonical_turns,
                      "canonical: rotation families, 4 (multiples of 90 deg) or 8 (of 45 deg)")
+      .def_readwrite("extra_directions", &DmmConfig::extra_directions,
+                     "canonical: further families turned by these offsets (a building's wings) [rad]")
+      .def_readwrite("extra_window", &DmmConfig::extra_window, "residual about each extra direction [rad]")
       .def_readwrite("dilation", &DmmConfig::dilation, "target cells within this many cells are occupied")
       .def_readwrite("search_depth", &DmmConfig::search_depth, "branch-and-bound depth; 0: automatic")
       .def("validate", py::overload_cast<const DmmConfig&>(&validate),

@@ -63,3 +63,25 @@ def test_a_map_frame_point_file_names_its_frame_and_gives_the_world_files_local_
     from_map = partslam.local_map_from_points(partslam.transform(T_world_points, points))
     from_world = partslam.local_map_from_points(world)
     assert len(from_map.points) == len(from_world.points)
+
+
+def test_a_wing_built_at_another_angle_is_searched_too():
+    def wall(a, b):
+        t = np.linspace(0.0, 1.0, int(np.hypot(b[0] - a[0], b[1] - a[1]) / 0.05) + 1)[:, None]
+        return np.asarray(a) + t * (np.asarray(b) - np.asarray(a))
+
+    walls = []
+    for k in range(6):
+        walls += [wall((0.0, 2.0 * k + 0.3), (20.0, 2.0 * k + 0.3)), wall((4.0 * k + 0.3, 0.0), (4.0 * k + 0.3, 10.0))]
+    c, s = math.cos(math.radians(20)), math.sin(math.radians(20))
+    turn = np.array([[c, -s], [s, c]])
+    for k in range(4):
+        walls += [wall((0.0, 2.0 * k), (12.0, 2.0 * k)) @ turn.T + (30.0, 0.0),
+                  wall((3.0 * k, 0.0), (3.0 * k, 6.0)) @ turn.T + (30.0, 0.0)]
+    points = np.concatenate(walls)
+    localizer = partslam.Localizer(points)
+    assert len(localizer.wing_directions) == 1
+    assert math.degrees(localizer.wing_directions[0] - localizer.alignment_angle) % 90 == pytest.approx(20, abs=1)
+    config = partslam.LocalizerConfig()
+    config.wall_direction_share = 0
+    assert partslam.Localizer(points, config).wing_directions == []

@@ -210,6 +210,13 @@ void run_locate(const LocateOptions& o) {
   const Localizer localizer(map, o.localizer);
   std::printf("map %s: %d x %d cells at %.3f m; prepared in %.0f ms (read %.0f ms)\n", o.map.c_str(), map.width,
               map.height, map.resolution, localizer.prepare_ms(), ms_since(t0) - localizer.prepare_ms());
+  std::vector<double> wings;
+  for (const double d : localizer.wing_directions()) wings.push_back(d * 180 / std::numbers::pi);
+  if (!wings.empty()) {
+    std::printf("walls off the map's axes, searched too:");
+    for (const double d : wings) std::printf(" %+.0f deg", d);
+    std::printf("\n");
+  }
   const QueryLog log = o.query.log.empty() ? QueryLog{} : load_query_log(o.query, {}, o.submap.window_length);
   std::vector<Located> located;
   if (o.every) {
@@ -224,6 +231,7 @@ void run_locate(const LocateOptions& o) {
   if (!o.json.empty()) {
     nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident},
                           {"confident_probability_at", kConfidentLocalizationProbability},
+                          {"wing_directions_deg", wings},
                           {"warnings", log.warnings}};
     out["located"] = nlohmann::json::array();
     for (const Located& l : located) out["located"].push_back(located_json(l));

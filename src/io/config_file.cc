@@ -125,6 +125,7 @@ void visit(V& v, DmmConfig& c) {
   v.field("angular_step", c.angular_step);
   v.field("canonical", c.canonical);
   v.field("canonical_turns", c.canonical_turns);
+  v.field("extra_window", c.extra_window);
   v.field("dilation", c.dilation);
   v.field("search_depth", c.search_depth);
 }
@@ -151,6 +152,7 @@ void visit(V& v, LocalizerConfig& c) {
   v.field("candidates", c.candidates);
   v.field("free_weight", c.free_weight);
   v.field("neighbourhood", c.neighbourhood);
+  v.field("wall_direction_share", c.wall_direction_share);
 }
 
 template <class V>

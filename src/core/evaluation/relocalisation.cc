@@ -38,6 +38,7 @@ RelocalisationReport evaluate_relocalisation(const GridMap& map, const Scans& sc
   const OccupancyGrid seen = build_occupancy_grid(map_points, dmm.resolution, dmm.dilation);
   const std::vector<double> travel = travel_distances(scans);
   RelocalisationReport report;
+  report.wing_directions = localizer.wing_directions();
   std::vector<double> times;
   if (first_query >= scans.size()) throw InputError("relocalisation: no scan after the map's last one");
   for (double s = travel[first_query]; s + config.submap.window_length <= travel.back(); s += config.query_spacing) {
@@ -52,6 +53,8 @@ RelocalisationReport evaluate_relocalisation(const GridMap& map, const Scans& sc
     o.truth = query.T_world_map;
     o.overlap = static_cast<double>(count_inliers(query.points, seen, o.truth)) / query.points.size();
     o.result = localizer.locate(query.points, query.origins);
+    o.truth_score = localizer.score_at(query.points, o.truth);
+    o.truth_verified = localizer.verify(query.points, query.origins, o.truth);
     const Pose2 error = o.truth.inverse() * o.result.T_map_query;
     o.translation_error = std::hypot(error.x, error.y);
     o.rotation_error = std::abs(error.theta);

@@ -40,6 +40,11 @@ struct RelocalisationOutcome {
   double translation_error = 0.0;  ///< [m]
   double rotation_error = 0.0;     ///< [rad]
   bool correct = false;            ///< within RelocalisationConfig::correct of the truth
+  /// At the true pose, what the localizer would have seen: its candidates' score (a wrong answer scoring
+  /// above it was chosen by the score, one below it was a true pose the searches missed) and the verification
+  /// from there.
+  double truth_score = 0.0;
+  Verified truth_verified;
 };
 
 struct RelocalisationReport {
@@ -51,6 +56,7 @@ struct RelocalisationReport {
   std::size_t outside = 0;          ///< queries with overlap < min_overlap
   std::size_t outside_confident = 0;  ///< ... reported with confidence >= min_confidence anyway
   double median_ms = 0.0, p95_ms = 0.0;  ///< time per query (both searches)
+  std::vector<double> wing_directions;  ///< Localizer::wing_directions of the map [rad]
 };
 
 /// Locates local maps of scans[first_query, end) in `map` (built from earlier scans, in their world frame).

@@ -1,5 +1,6 @@
 #include "core/maps/manhattan.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
@@ -55,6 +56,67 @@ double manhattan_angle(const Points2& points, const ManhattanConfig& config) {
   best_angle = std::fmod(best_angle, quarter);
   if (best_angle < 0) best_angle += quarter;
   return best_angle;
+}
+
+std::vector<double> wall_directions(const Points2& points, const WallDirectionConfig& config) {
+  constexpr int kBins = 90;  // 1 deg bins over a quarter turn
+  const double bin = std::numbers::pi / 2 / kBins;
+  std::unordered_map<std::int64_t, std::vector<Vec2>> cells;
+  for (const Vec2& p : points) {
+    const auto x = static_cast<std::int64_t>(std::floor(p.x() / config.cell));
+    const auto y = static_cast<std::int64_t>(std::floor(p.y() / config.cell));
+    cells[static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint32_t>(y))]
+        .push_back(p);
+  }
+  std::vector<double> weight(kBins, 0.0);
+  double total = 0.0;
+  for (const auto& [key, cell] : cells) {
+    if (static_cast<int>(cell.size()) < config.min_points) continue;
+    Vec2 mean = Vec2::Zero();
+    for (const Vec2& p : cell) mean += p;
+    mean /= static_cast<double>(cell.size());
+    Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+    for (const Vec2& p : cell) covariance += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(covariance);
+    const Eigen::Vector2d variances = solver.eigenvalues();  // ascending
+    if (!(variances(1) > 0.0) || variances(0) > config.max_flatness * variances(1)) continue;
+    const Eigen::Vector2d along = solver.eigenvectors().col(1);
+    double angle = std::fmod(std::atan2(along.y(), along.x()), std::numbers::pi / 2);
+    if (angle < 0) angle += std::numbers::pi / 2;
+    weight[static_cast<std::size_t>(std::lround(angle / bin)) % kBins] += static_cast<double>(cell.size());
+    total += static_cast<double>(cell.size());
+  }
+  std::vector<double> out;
+  if (total == 0.0) return out;
+  const int half = static_cast<int>(std::lround(config.window / bin));
+  std::vector<double> share(kBins, 0.0);
+  for (int b = 0; b < kBins; ++b)
+    for (int k = -half; k <= half; ++k) share[b] += weight[((b + k) % kBins + kBins) % kBins] / total;
+  // Angular distance on the quarter-turn circle [rad].
+  const auto apart = [](double a, double b) { return std::abs(std::remainder(a - b, std::numbers::pi / 2)); };
+  while (static_cast<int>(out.size()) < config.max_directions) {
+    int best = -1;
+    for (int b = 0; b < kBins; ++b) {
+      if (apart(b * bin, 0.0) < config.min_separation ||
+          apart(b * bin, std::numbers::pi / 4) < config.min_separation)
+        continue;
+      if (std::any_of(out.begin(), out.end(),
+                      [&](double d) { return apart(b * bin, d) < config.min_separation; }))
+        continue;
+      const bool peak = share[b] >= share[(b + 1) % kBins] && share[b] >= share[(b + kBins - 1) % kBins];
+      if (peak && (best < 0 || share[b] > share[best]))
+        best = b;  // a peak, not the shoulder of the axes' one
+    }
+    if (best < 0 || share[best] < config.min_share) break;
+    // The direction: the walls' weighted mean within the window (a flat-topped peak is found at its edge).
+    double sum = 0.0, moment = 0.0;
+    for (int k = -half; k <= half; ++k) {
+      const double w = weight[((best + k) % kBins + kBins) % kBins];
+      sum += w, moment += w * k;
+    }
+    out.push_back(std::remainder((best + moment / sum) * bin, std::numbers::pi / 2));
+  }
+  return out;
 }
 
 }  // namespace partslam

@@ -34,6 +34,41 @@ TEST(ManhattanAngle, AxisAlignedRectangleNeedsNoRotation) {
   EXPECT_LT(a, std::numbers::pi / 2);
 }
 
+// Wall points every 0.05 m along a segment.
+void add_wall(Points2& points, const Vec2& from, const Vec2& to) {
+  const int n = static_cast<int>((to - from).norm() / 0.05);
+  for (int i = 0; i <= n; ++i) points.push_back(from + (to - from) * (static_cast<double>(i) / n));
+}
+
+// A building along the axes with a wing turned by 20 degrees: the wing's direction is found (modulo 90 deg), the
+// axes and the diagonals are not reported, and a building without the wing has none.
+TEST(WallDirections, FindsAWingBuiltAtAnotherAngleAndNothingInAManhattanBuilding) {
+  Points2 building;
+  for (int k = 0; k < 6; ++k) {
+    add_wall(building, {0.0, 2.0 * k + 0.3}, {20.0, 2.0 * k + 0.3});  // corridors along x
+    add_wall(building, {4.0 * k + 0.3, 0.0}, {4.0 * k + 0.3, 10.0});  // and along y
+  }
+  add_wall(building, {0.0, 12.0}, {8.0, 20.0});  // a diagonal wall: searched by the eight families anyway
+  EXPECT_TRUE(wall_directions(building).empty());
+  Points2 with_wing = building;
+  const Pose2 wing{30.0, 0.0, 20.0 * kDeg};
+  for (int k = 0; k < 4; ++k) {
+    add_wall(with_wing, wing * Vec2(0.0, 2.0 * k), wing * Vec2(12.0, 2.0 * k));
+    add_wall(with_wing, wing * Vec2(3.0 * k, 0.0), wing * Vec2(3.0 * k, 6.0));
+  }
+  const std::vector<double> directions = wall_directions(with_wing);
+  ASSERT_EQ(directions.size(), 1u);
+  EXPECT_NEAR(directions[0], 20.0 * kDeg, 1.0 * kDeg);
+  // Turned by a quarter turn, the same wing is at the same direction (modulo 90 degrees).
+  const std::vector<double> turned = wall_directions(transform(Pose2{0.0, 0.0, 90.0 * kDeg}, with_wing));
+  ASSERT_EQ(turned.size(), 1u);
+  EXPECT_NEAR(turned[0], 20.0 * kDeg, 1.0 * kDeg);
+  WallDirectionConfig strict;
+  strict.min_share = 0.9;
+  EXPECT_TRUE(wall_directions(with_wing, strict).empty());
+  EXPECT_TRUE(wall_directions({}).empty());
+}
+
 // Simulated submaps (walls along the world axes) turned by known angles: the alignment must undo the
 // turn up to a multiple of 90 degrees.
 TEST(ManhattanAngle, RecoversKnownRotationsOfSimulatedSubmaps) {

@@ -40,6 +40,13 @@ std::vector<double> search_angles(const DmmConfig& config, double step) {
     for (int base = 0; base < config.canonical_turns; ++base) {
       for (int m = -n; m <= n; ++m) angles.push_back(base * 2 * kPi / config.canonical_turns + m * step);
     }
+    // A wing's walls and the local map's agree up to a quarter turn: four families each.
+    const int extra = static_cast<int>(std::floor(config.extra_window / step + 1e-9));
+    for (const double offset : config.extra_directions) {
+      for (int base = 0; base < 4; ++base) {
+        for (int m = -extra; m <= extra; ++m) angles.push_back(base * kPi / 2 + offset + m * step);
+      }
+    }
   } else {
     const int n = std::max(1, static_cast<int>(std::ceil(2 * kPi / step - 1e-9)));
     for (int m = 0; m < n; ++m) angles.push_back(m * (2 * kPi / n));
@@ -338,6 +345,11 @@ void validate(const DmmConfig& c) {
   require(c.angular_step == 0.0 || c.angular_step >= 1e-5, "angular_step must be 0 (automatic) or >= 1e-5 rad");
   require(c.canonical_turns == 4 || c.canonical_turns == 8,
           "canonical_turns must be 4 or 8, got " + std::to_string(c.canonical_turns));
+  require(c.extra_directions.size() <= 8, "extra_directions: at most 8, got " + std::to_string(c.extra_directions.size()));
+  for (const double d : c.extra_directions)
+    require(std::abs(d) <= kPi / 4, "extra_directions must each be in [-pi/4, pi/4] rad, got " + std::to_string(d));
+  require(c.extra_window >= 0.0 && c.extra_window <= kPi / 4,
+          "extra_window must be in [0, pi/4] rad, got " + std::to_string(c.extra_window));
   require(c.dilation >= 0 && c.dilation <= 100, "dilation must be in [0, 100] cells, got " + std::to_string(c.dilation));
   require(c.search_depth >= 0 && c.search_depth <= 8,
           "search_depth must be in [0, 8] (0: automatic), got " + std::to_string(c.search_depth));

@@ -45,6 +45,11 @@ struct DmmConfig {
   bool canonical = true;       ///< both maps are in the canonical frame (search 4 x residual); false: full circle
   int canonical_turns = 4;     ///< canonical: rotation families, 4 (multiples of 90 deg) or 8 (of 45 deg: for a
                                ///< local map whose own Manhattan alignment may be off by half a quarter turn)
+  /// canonical: further families, each multiple of 90 deg turned by one of these offsets and searched
+  /// +- extra_window: the directions of a building's wings that are not Manhattan to its main axes (a local map
+  /// there is aligned to the wing's walls; wall_directions, core/maps/manhattan.h) [rad], each in [-pi/4, pi/4]
+  std::vector<double> extra_directions;
+  double extra_window = 3.0 * std::numbers::pi / 180;  ///< residual searched about each extra direction [rad]
   int dilation = 1;            ///< target cells within this many cells (Euclidean) of a point are occupied [cells]
   int search_depth = 0;        ///< 16-way branch-and-bound steps: root blocks of 4^depth x 4^depth translations;
                                ///< 0: the smallest depth whose roots tile the window about 2 x 2

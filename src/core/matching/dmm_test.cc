@@ -65,6 +65,42 @@ TEST(DmmConfig, ValidateNamesTheField) {
   c = {};
   c.linear_window = std::nan("");
   EXPECT_NE(message(c).find("linear_window"), std::string::npos);
+  c = {};
+  c.extra_directions = {0.9};
+  EXPECT_NE(message(c).find("extra_directions"), std::string::npos);
+  c = {};
+  c.extra_window = -0.1;
+  EXPECT_NE(message(c).find("extra_window"), std::string::npos);
+}
+
+// A wing built 20 degrees off the building's axes: a query aligned to the wing's walls is out of reach of the
+// canonical families (+- 3 degrees about each quarter turn) and found with the wing's direction searched too.
+TEST(MatchDmm, AnExtraDirectionReachesAQueryTurnedOffTheAxes) {
+  DmmConfig config;
+  config.angular_window = 2.0 * kDeg;
+  config.angular_step = 1.0 * kDeg;
+  config.extra_directions = {-20.0 * kDeg};
+  config.extra_window = 2.0 * kDeg;
+  const PreparedQuery q = prepare_query({{1.0, 0.0}, {0.0, 2.0}}, config);
+  ASSERT_EQ(q.rotations.size(), 4u * 5u + 4u * 5u);  // the families, then the wing's: four quarter turns each
+  EXPECT_NEAR(q.rotations[20].angle, -22.0 * kDeg, 1e-12);
+  EXPECT_NEAR(q.rotations[27].angle, 70.0 * kDeg, 1e-12);
+  std::mt19937_64 rng(5);
+  const testing::SyntheticWorld world = testing::random_world(rng, 14.0, 10);
+  const Points2 map_points = testing::sample_world(world, {-6, 6, -6, 6}, rng);
+  const Pose2 T_map_query{0.8, -0.4, -20.0 * kDeg};
+  const Points2 query_points = transform(T_map_query.inverse(), map_points);
+  DmmConfig axes = small_config();
+  axes.angular_step = 0.5 * kDeg;
+  DmmConfig wing = axes;
+  wing.extra_directions = {-20.0 * kDeg};
+  const DmmResult missed = match_dmm(prepare_query(query_points, axes), prepare_map(map_points, axes));
+  const DmmResult found = match_dmm(prepare_query(query_points, wing), prepare_map(map_points, wing));
+  EXPECT_LT(missed.inlier_fraction, 0.6);
+  EXPECT_GE(found.inlier_fraction, 0.95);
+  EXPECT_LT(angle_error(found.T_map_query.theta, T_map_query.theta), 0.5 * kDeg + 1e-9);
+  EXPECT_NEAR(found.T_map_query.x, 0.8, 0.1 + 1e-9);
+  EXPECT_NEAR(found.T_map_query.y, -0.4, 0.1 + 1e-9);
 }
 
 TEST(PrepareQuery, CanonicalRotationsAndAutoStep) {

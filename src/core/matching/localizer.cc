@@ -28,6 +28,8 @@ void validate(const LocalizerConfig& c) {
   if (!(c.free_weight >= 0.0 && c.free_weight <= 100.0)) throw InputError("localizer: free_weight must be in [0, 100]");
   if (!(c.neighbourhood >= 0.0 && c.neighbourhood <= 100.0))
     throw InputError("localizer: neighbourhood must be in [0, 100] m");
+  if (!(c.wall_direction_share >= 0.0 && c.wall_direction_share <= 1.0))
+    throw InputError("localizer: wall_direction_share must be in [0, 1]");
 }
 
 namespace {
@@ -63,7 +65,13 @@ Localizer::Localizer(const Points2& map_points, const Points2& free, const Local
       throw InputError("localizer: building map points must be finite and within " + std::to_string(kMaxCoordinate) + " m");
   }
   if (config_.dmm.canonical) T_canonical_map_ = {0.0, 0.0, manhattan_angle(map_points)};
-  map_ = prepare_map(transform(T_canonical_map_, map_points), config_.dmm);
+  const Points2 canonical = transform(T_canonical_map_, map_points);
+  if (config_.dmm.canonical && config_.wall_direction_share > 0.0) {
+    WallDirectionConfig walls;
+    walls.min_share = config_.wall_direction_share;
+    config_.dmm.extra_directions = wall_directions(canonical, walls);
+  }
+  map_ = prepare_map(canonical, config_.dmm);
   verify_ = VerifyMap::with_free_space(map_points, free, config_.verify);
   prepare_ms_ = ms_since(t0);
 }
@@ -84,6 +92,26 @@ int Localizer::free_conflicts(const Points2& query_points, const Pose2& T_map_qu
     conflicts += m.at(static_cast<int>(column), static_cast<int>(row)) == CellState::kFree;
   }
   return conflicts;
+}
+
+double Localizer::score_at(const Points2& query_points, const Pose2& T_map_query) const {
+  if (query_points.empty()) return 0.0;
+  const Pose2 T_canonical_query = T_canonical_map_ * T_map_query;
+  int inliers = 0;
+  for (const Vec2& p : query_points) inliers += map_.grid.at(T_canonical_query * p);
+  const double points = inliers - config_.free_weight * free_conflicts(query_points, T_map_query);
+  return points / static_cast<double>(query_points.size());
+}
+
+Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {
+  Vec2 lo = query_points.front(), hi = lo;
+  for (const Points2* set : {&query_points, &query_origins})
+    for (const Vec2& p : *set) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  Vec2 a = T_map_query * lo, b = a;
+  for (const Vec2& c : {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())})
+    a = a.cwiseMin(T_map_query * c), b = b.cwiseMax(T_map_query * c);
+  const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
+  return verify_match(VerifyMap(query_points, query_origins, config_.verify), around, T_map_query, config_.verify);
 }
 
 bool is_confident(const Localization& l, double min_confidence, double min_probability) {
@@ -144,15 +172,7 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   out.confidence = std::max(0.0, distinctiveness(scores, 0, [](std::size_t) { return true; }));
   out.candidates = static_cast<int>(found.size());
   // The answer verified against the building map around it: refined below the lattice, with its probability.
-  Vec2 lo = query_points.front(), hi = lo;
-  for (const Points2* set : {&query_points, &query_origins})
-    for (const Vec2& p : *set) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  Vec2 a = best.T_map_query * lo, b = a;
-  for (const Vec2& c : {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())})
-    a = a.cwiseMin(best.T_map_query * c), b = b.cwiseMax(best.T_map_query * c);
-  const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
-  const Verified v =
-      verify_match(VerifyMap(query_points, query_origins, config_.verify), around, best.T_map_query, config_.verify);
+  const Verified v = verify(query_points, query_origins, best.T_map_query);
   out.T_map_query = v.T_map_query;
   out.terms = v.terms;
   out.probability = v.probability;

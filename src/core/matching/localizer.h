@@ -51,6 +51,11 @@ struct LocalizerConfig {
   int candidates = 15;              ///< distinct poses examined (one exact search each), in [2, 100]
   double free_weight = 1.0;         ///< inliers a point on the map's free space costs (maps with free space only)
   double neighbourhood = 1.0;       ///< verification: the building map cut to the local map's box grown by this [m]
+  /// The building's wall directions off its axes and diagonals holding at least this share of its walls
+  /// (wall_directions: a wing built at another angle) are searched too (DmmConfig::extra_directions, four
+  /// families each, about 1.6x the time where there is one); 0: none. 0.08 is above what fr079 and intel, the
+  /// floor's sets, hold (at most 0.06; docs/NOTES.md, "Locate").
+  double wall_direction_share = 0.08;
 };
 
 /// Throws InputError naming the field.
@@ -94,9 +99,18 @@ class Localizer {
   /// Throws InputError for an empty query or non-finite points.
   Localization locate(const Points2& query_points, const Points2& query_origins = {}) const;
 
+  /// The candidates' score at a pose (T_map_query, in the map's frame): query points on the map's dilated occupied
+  /// cells minus free_weight times those on its free cells, as a share of the query's points.
+  double score_at(const Points2& query_points, const Pose2& T_map_query) const;
+  /// The verification at a pose: the building map cut to the local map's box there grown by `neighbourhood`,
+  /// refined and scored (verify_match). query_points must not be empty.
+  Verified verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const;
+
   const LocalizerConfig& config() const { return config_; }
   /// The rotation that took the building map into its canonical frame [rad].
   double alignment_angle() const { return T_canonical_map_.theta; }
+  /// Its wings' directions searched beside the axes (in the canonical frame) [rad].
+  const std::vector<double>& wing_directions() const { return config_.dmm.extra_directions; }
   /// Time to prepare the building map [ms].
   double prepare_ms() const { return prepare_ms_; }
 
