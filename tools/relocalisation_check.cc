@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
       else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
+      else if (name == "verified") config.localizer.verified = static_cast<int>(value);
       else if (name == "wall_share") config.localizer.wall_direction_share = value;
       else if (name == "refine_window") config.localizer.verify.refine_window = value;
       else throw std::runtime_error("unknown setting '" + arg + "'");

@@ -99,6 +99,8 @@ void define_localization(py::module_& m) {
       .def_readwrite("candidates", &LocalizerConfig::candidates)
       .def_readwrite("free_weight", &LocalizerConfig::free_weight)
       .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]")
+      .def_readwrite("verified", &LocalizerConfig::verified,
+                     "the best-scoring candidates verified; the most probable of them is the answer")
       .def_readwrite("wall_direction_share", &LocalizerConfig::wall_direction_share,
                      "wall directions off the axes holding this share of the walls are searched too; 0: none");
   def_keyword_init(config);

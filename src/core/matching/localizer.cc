@@ -28,6 +28,7 @@ void validate(const LocalizerConfig& c) {
   if (!(c.free_weight >= 0.0 && c.free_weight <= 100.0)) throw InputError("localizer: free_weight must be in [0, 100]");
   if (!(c.neighbourhood >= 0.0 && c.neighbourhood <= 100.0))
     throw InputError("localizer: neighbourhood must be in [0, 100] m");
+  if (c.verified < 1 || c.verified > 100) throw InputError("localizer: verified must be in [1, 100]");
   if (!(c.wall_direction_share >= 0.0 && c.wall_direction_share <= 1.0))
     throw InputError("localizer: wall_direction_share must be in [0, 1]");
 }
@@ -155,24 +156,32 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   }
   // Best rescored first; ties keep the search order (the higher dMM score).
   std::stable_sort(found.begin(), found.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
+  // The best few candidates verified against the building map around them (refined below the lattice, with
+  // their same-place probability); the most probable is the answer.
+  std::size_t chosen = 0;
+  Verified v = verify(query_points, query_origins, found.front().T_map_query);
+  const std::size_t verified = std::min<std::size_t>(found.size(), static_cast<std::size_t>(config_.verified));
+  for (std::size_t i = 1; i < verified; ++i) {
+    Verified other = verify(query_points, query_origins, found[i].T_map_query);
+    if (other.probability > v.probability) v = std::move(other), chosen = i;
+  }
   Localization out;
-  const Scored& best = found.front();
+  const Scored& best = found[chosen];
   out.T_map_lattice = best.T_map_query;
   out.inliers = best.dmm.inliers;
   out.inlier_fraction = best.dmm.inlier_fraction;
   out.free_conflicts = best.conflicts;
   out.score = best.score;
   if (found.size() > 1) {
-    out.elsewhere_score = found[1].score;
-    out.T_map_elsewhere = found[1].T_map_query;
+    const std::size_t next = chosen == 0 ? 1 : 0;  // the best-scoring other candidate
+    out.elsewhere_score = found[next].score;
+    out.T_map_elsewhere = found[next].T_map_query;
   }
   std::vector<double> scores;
   for (const Scored& f : found) scores.push_back(f.score);
   // Every other candidate is another place: each search avoided the poses found before it.
-  out.confidence = std::max(0.0, distinctiveness(scores, 0, [](std::size_t) { return true; }));
+  out.confidence = std::max(0.0, distinctiveness(scores, chosen, [](std::size_t) { return true; }));
   out.candidates = static_cast<int>(found.size());
-  // The answer verified against the building map around it: refined below the lattice, with its probability.
-  const Verified v = verify(query_points, query_origins, best.T_map_query);
   out.T_map_query = v.T_map_query;
   out.terms = v.terms;
   out.probability = v.probability;

@@ -6,13 +6,14 @@
 // then the best pose elsewhere than the ones found so far (match_dmm_elsewhere), `candidates` in all. With a map
 // that knows its free space (a GridMap), each candidate is rescored by what contradicts it: local map points
 // that land on cells the map saw free (a corridor turned end for end, a room that is not there) cost
-// free_weight inliers each. The best rescored candidate is the answer; how unique it is:
-// confidence = its score - the best other candidate's score (shares of the query's points), near 0 for a
-// corridor that fits two places or a place the map does not hold. The answer is then verified
-// (core/matching/verification.h) against the building map cut to the local map's neighbourhood: refined below
-// dMM's lattice, with the same-place probability of both directions and both free spaces. The verified
-// probability does not decide: on fr079 and intel it separates right from wrong answers less well than the
-// margin (docs/NOTES.md, "Locate").
+// free_weight inliers each. The best `verified` rescored candidates are verified (core/matching/verification.h)
+// against the building map cut to each one's neighbourhood: refined below dMM's lattice, with the same-place
+// probability of both directions and both free spaces; the most probable is the answer (in a long corridor the
+// true place often scores a few inliers below an alias that the free space and the fit tell apart). How unique
+// it is: confidence = its score - the best other candidate's score (shares of the query's points), near 0 for a
+// corridor that fits two places or a place the map does not hold; it is reported as found when that margin and
+// its probability are both high enough (is_confident; docs/NOTES.md, "Locate"). Buildings with a wing at
+// another angle have that wing's direction searched too (wall_directions).
 #pragma once
 
 #include <numbers>
@@ -56,6 +57,10 @@ struct LocalizerConfig {
   /// families each, about 1.6x the time where there is one); 0: none. 0.08 is above what fr079 and intel, the
   /// floor's sets, hold (at most 0.06; docs/NOTES.md, "Locate").
   double wall_direction_share = 0.08;
+  /// The best-scoring candidates verified (refined, with their same-place probability): the most probable is the
+  /// answer. 8 (chosen on fr079 and intel: 1 / 3 / 5 / 8 / 15 put 71 / 71 / 72 / 72 / 72 of 80 and 177 / 177 /
+  /// 179 / 181 / 181 of 192 within 0.3 m / 3 deg; docs/NOTES.md, "Locate"), in [1, 100].
+  int verified = 8;
 };
 
 /// Throws InputError naming the field.

@@ -82,6 +82,12 @@ TEST(Localizer, RefusesEmptyOrBadInput) {
   LocalizerConfig c;
   c.elsewhere_distance = -1;
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
+  c = {};
+  c.verified = 0;
+  EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
+  c = {};
+  c.wall_direction_share = 2;
+  EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
   const Localizer ok(Points2{{0.0, 0.0}, {1.0, 0.0}});
   EXPECT_THROW(ok.locate(Points2{}), InputError);
   EXPECT_THROW(ok.locate(Points2{{NAN, 0.0}}), InputError);
