@@ -35,8 +35,8 @@ TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
       confidence_correct += l.confidence;
     }
     EXPECT_TRUE(l.calibrated);  // the building map's free cells, the local map's beams
-    EXPECT_GE(l.score, l.elsewhere_score);
-    EXPECT_NEAR(l.confidence, l.score - l.elsewhere_score, 1e-12);
+    // The answer is the most probable of the verified candidates, so another may score higher: margin 0.
+    EXPECT_NEAR(l.confidence, std::max(0.0, l.score - l.elsewhere_score), 1e-12);
     EXPECT_NEAR(l.score, (l.inliers - l.free_conflicts) / static_cast<double>(query.points.size()), 1e-12);
     EXPECT_GE(l.terms.query.occupied, l.terms.query.free);
     // Refining moves the lattice pose by less than the refinement window.
@@ -48,6 +48,30 @@ TEST(Localizer, FindsLocalMapsInTheBuildingMapWithTheirPose) {
   EXPECT_EQ(tried, 5);
   EXPECT_GE(correct, 4);
   EXPECT_GT(confidence_correct / correct, 0.1);
+}
+
+// Verifying more candidates answers with the most probable of them: never a less probable answer than the
+// best-scoring candidate's, which is the answer with one verified (and then scores at least as high as any other).
+TEST(Localizer, VerifyingMoreCandidatesAnswersWithTheMostProbable) {
+  const Scans& scans = building_scans();
+  const GridMap map = build_grid_map(scans);
+  LocalizerConfig one;
+  one.verified = 1;
+  LocalizerConfig many;
+  many.verified = 8;
+  const Localizer first(map, one), most(map, many);
+  const std::vector<double> travel = travel_distances(scans);
+  for (double s = 7.0; s + 2.0 < travel.back(); s += 0.25 * travel.back()) {
+    const Submap query = build_local_map(scans, s, s + 2.0);
+    const Localization a = first.locate(query.points, query.origins), b = most.locate(query.points, query.origins);
+    EXPECT_GE(a.score, a.elsewhere_score);
+    EXPECT_GE(b.probability, a.probability - 1e-12);
+    EXPECT_EQ(a.candidates, b.candidates);  // the same searches
+    if (b.T_map_lattice.x != a.T_map_lattice.x || b.T_map_lattice.y != a.T_map_lattice.y) {
+      EXPECT_GT(b.probability, a.probability);  // another candidate only when strictly more probable
+      EXPECT_EQ(b.confidence, std::max(0.0, b.score - a.score));
+    }
+  }
 }
 
 // Bare points (a point file): the same search, no calibrated probability.
