@@ -102,7 +102,9 @@ void define_localization(py::module_& m) {
       .def_readwrite("verified", &LocalizerConfig::verified,
                      "the best-scoring candidates verified; the most probable of them is the answer")
       .def_readwrite("wall_direction_share", &LocalizerConfig::wall_direction_share,
-                     "wall directions off the axes holding this share of the walls are searched too; 0: none");
+                     "wall directions off the axes holding this share of the walls are searched too; 0: none")
+      .def_readwrite("wall_direction_length", &LocalizerConfig::wall_direction_length,
+                     "... and at least this length of wall [m]");
   def_keyword_init(config);
   py::class_<Localization>(m, "Localization", "Where a local map lies in the building map, and how surely")
       .def_readonly("T_map_query", &Localization::T_map_query)

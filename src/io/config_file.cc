@@ -153,6 +153,7 @@ void visit(V& v, LocalizerConfig& c) {
   v.field("free_weight", c.free_weight);
   v.field("neighbourhood", c.neighbourhood);
   v.field("wall_direction_share", c.wall_direction_share);
+  v.field("wall_direction_length", c.wall_direction_length);
   v.field("verified", c.verified);
 }
 

@@ -83,8 +83,10 @@ std::vector<double> wall_directions(const Points2& points, const WallDirectionCo
     const Eigen::Vector2d along = solver.eigenvectors().col(1);
     double angle = std::fmod(std::atan2(along.y(), along.x()), std::numbers::pi / 2);
     if (angle < 0) angle += std::numbers::pi / 2;
-    weight[static_cast<std::size_t>(std::lround(angle / bin)) % kBins] += static_cast<double>(cell.size());
-    total += static_cast<double>(cell.size());
+    // The piece's length: a segment of length L spreads its points with variance L^2 / 12 along it.
+    const double length = std::sqrt(12.0 * variances(1) / static_cast<double>(cell.size()));
+    weight[static_cast<std::size_t>(std::lround(angle / bin)) % kBins] += length;
+    total += length;
   }
   std::vector<double> out;
   if (total == 0.0) return out;
@@ -107,7 +109,7 @@ std::vector<double> wall_directions(const Points2& points, const WallDirectionCo
       if (peak && (best < 0 || share[b] > share[best]))
         best = b;  // a peak, not the shoulder of the axes' one
     }
-    if (best < 0 || share[best] < config.min_share) break;
+    if (best < 0 || share[best] < config.min_share || share[best] * total < config.min_length) break;
     // The direction: the walls' weighted mean within the window (a flat-topped peak is found at its edge).
     double sum = 0.0, moment = 0.0;
     for (int k = -half; k <= half; ++k) {

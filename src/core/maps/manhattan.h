@@ -23,15 +23,18 @@ double manhattan_angle(const Points2& points, const ManhattanConfig& config = {}
 
 struct WallDirectionConfig {
   /// Points are grouped in square cells of this size [m]; a cell of at least min_points points whose second
-  /// principal variance is at most max_flatness times the first is a wall piece, weighted by its points.
+  /// principal variance is at most max_flatness times the first is a wall piece, weighted by its length.
   double cell = 0.5;
   int min_points = 6;
   double max_flatness = 0.05;
-  /// A direction's share: the wall points within +- window of it. A direction is kept when its share is a
-  /// peak of at least min_share, min_separation away from every multiple of 45 deg and from the directions
-  /// kept before it; at most max_directions, the strongest first.
+  /// A direction's share: the wall length within +- window of it. A direction is kept when its share is a
+  /// peak of at least min_share and min_length metres of wall, min_separation away from every multiple of 45
+  /// deg and from the directions kept before it; at most max_directions, the strongest first. The length
+  /// does not shrink as the rest of the building is mapped (a share does), the share keeps a large map's
+  /// scattered pieces out.
   double window = 3.0 * std::numbers::pi / 180;
-  double min_share = 0.08;
+  double min_share = 0.03;
+  double min_length = 10.0;
   double min_separation = 6.0 * std::numbers::pi / 180;
   int max_directions = 2;
 };

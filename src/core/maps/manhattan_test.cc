@@ -66,6 +66,11 @@ TEST(WallDirections, FindsAWingBuiltAtAnotherAngleAndNothingInAManhattanBuilding
   WallDirectionConfig strict;
   strict.min_share = 0.9;
   EXPECT_TRUE(wall_directions(with_wing, strict).empty());
+  WallDirectionConfig long_walls;
+  long_walls.min_length = 100.0;  // the wing has about 70 m of walls
+  EXPECT_TRUE(wall_directions(with_wing, long_walls).empty());
+  long_walls.min_length = 50.0;
+  EXPECT_EQ(wall_directions(with_wing, long_walls).size(), 1u);
   EXPECT_TRUE(wall_directions({}).empty());
 }
 

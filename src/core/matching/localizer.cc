@@ -31,6 +31,8 @@ void validate(const LocalizerConfig& c) {
   if (c.verified < 1 || c.verified > 100) throw InputError("localizer: verified must be in [1, 100]");
   if (!(c.wall_direction_share >= 0.0 && c.wall_direction_share <= 1.0))
     throw InputError("localizer: wall_direction_share must be in [0, 1]");
+  if (!(c.wall_direction_length >= 0.0 && c.wall_direction_length <= 1e6))
+    throw InputError("localizer: wall_direction_length must be in [0, 1e6] m");
 }
 
 namespace {
@@ -70,6 +72,7 @@ Localizer::Localizer(const Points2& map_points, const Points2& free, const Local
   if (config_.dmm.canonical && config_.wall_direction_share > 0.0) {
     WallDirectionConfig walls;
     walls.min_share = config_.wall_direction_share;
+    walls.min_length = config_.wall_direction_length;
     config_.dmm.extra_directions = wall_directions(canonical, walls);
   }
   map_ = prepare_map(canonical, config_.dmm);

@@ -55,11 +55,12 @@ struct LocalizerConfig {
   int candidates = 12;
   double free_weight = 1.0;         ///< inliers a point on the map's free space costs (maps with free space only)
   double neighbourhood = 1.0;       ///< verification: the building map cut to the local map's box grown by this [m]
-  /// The building's wall directions off its axes and diagonals holding at least this share of its walls
-  /// (wall_directions: a wing built at another angle) are searched too (DmmConfig::extra_directions, four
-  /// families each, about 1.6x the time where there is one); 0: none. 0.08 is above what fr079 and intel, the
-  /// floor's sets, hold (at most 0.06; docs/NOTES.md, "Locate").
-  double wall_direction_share = 0.08;
+  /// The building's wall directions off its axes and diagonals holding at least this share of its walls and
+  /// this length (wall_directions: a wing built at another angle) are searched too (DmmConfig::extra_directions,
+  /// four families each, about 1.3-1.6x the time where there is one); share 0: none. 10 m is above what fr079
+  /// and intel, the floor's sets, hold (at most 8-10 m, intel's whole-log map; docs/NOTES.md, "Locate").
+  double wall_direction_share = 0.03;
+  double wall_direction_length = 10.0;  ///< [m]
   /// The best-scoring candidates verified (refined, with their same-place probability): the most probable is the
   /// answer. 8 (chosen on fr079 and intel: 1 / 3 / 5 / 8 / 15 put 71 / 71 / 72 / 72 / 72 of 80 and 177 / 177 /
   /// 179 / 181 / 181 of 192 within 0.3 m / 3 deg; docs/NOTES.md, "Locate"), in [1, 100].
