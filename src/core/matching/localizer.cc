@@ -107,15 +107,23 @@ double Localizer::score_at(const Points2& query_points, const Pose2& T_map_query
   return points / static_cast<double>(query_points.size());
 }
 
-Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {
-  Vec2 lo = query_points.front(), hi = lo;
+Localizer::VerifyQuery Localizer::verify_query(const Points2& query_points, const Points2& query_origins) const {
+  VerifyQuery q{VerifyMap(query_points, query_origins, config_.verify), query_points.front(), query_points.front()};
   for (const Points2* set : {&query_points, &query_origins})
-    for (const Vec2& p : *set) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  Vec2 a = T_map_query * lo, b = a;
-  for (const Vec2& c : {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())})
+    for (const Vec2& p : *set) q.lo = q.lo.cwiseMin(p), q.hi = q.hi.cwiseMax(p);
+  return q;
+}
+
+Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query) const {
+  Vec2 a = T_map_query * query.lo, b = a;
+  for (const Vec2& c : {query.lo, Vec2(query.hi.x(), query.lo.y()), query.hi, Vec2(query.lo.x(), query.hi.y())})
     a = a.cwiseMin(T_map_query * c), b = b.cwiseMax(T_map_query * c);
   const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
-  return verify_match(VerifyMap(query_points, query_origins, config_.verify), around, T_map_query, config_.verify);
+  return verify_match(query.map, around, T_map_query, config_.verify);
+}
+
+Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {
+  return verify(verify_query(query_points, query_origins), T_map_query);
 }
 
 bool is_confident(const Localization& l, double min_confidence, double min_probability) {
@@ -162,10 +170,11 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   // The best few candidates verified against the building map around them (refined below the lattice, with
   // their same-place probability); the most probable is the answer.
   std::size_t chosen = 0;
-  Verified v = verify(query_points, query_origins, found.front().T_map_query);
+  const VerifyQuery verify_local = verify_query(query_points, query_origins);  // its beams cast once
+  Verified v = verify(verify_local, found.front().T_map_query);
   const std::size_t verified = std::min<std::size_t>(found.size(), static_cast<std::size_t>(config_.verified));
   for (std::size_t i = 1; i < verified; ++i) {
-    Verified other = verify(query_points, query_origins, found[i].T_map_query);
+    Verified other = verify(verify_local, found[i].T_map_query);
     if (other.probability > v.probability) v = std::move(other), chosen = i;
   }
   Localization out;

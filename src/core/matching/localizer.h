@@ -126,6 +126,14 @@ class Localizer {
  private:
   Localizer(const Points2& map_points, const Points2& free_points, const LocalizerConfig& config);
   int free_conflicts(const Points2& query_points, const Pose2& T_map_query) const;
+  /// A local map prepared for verification once, however many candidates are verified: its grid (beams cast
+  /// from its laser origins) and the box of its points and origins.
+  struct VerifyQuery {
+    VerifyMap map;
+    Vec2 lo, hi;
+  };
+  VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;
+  Verified verify(const VerifyQuery& query, const Pose2& T_map_query) const;
 
   LocalizerConfig config_;
   std::optional<GridMap> free_space_;  ///< the map, when it knows its free cells
