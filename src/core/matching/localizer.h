@@ -72,14 +72,14 @@ void validate(const LocalizerConfig& config);
 
 struct Localization {
   Pose2 T_map_query;              ///< the local map's frame in the building map's frame
-  Pose2 T_map_lattice;            ///< the best candidate's pose on dMM's lattice (T_map_query before refining)
+  Pose2 T_map_lattice;            ///< the answer's candidate pose on dMM's lattice (T_map_query before refining)
   int inliers = 0;                ///< query points on occupied cells at the lattice pose (Eq. 1)
   double inlier_fraction = 0.0;   ///< inliers / query points
   int free_conflicts = 0;         ///< query points on cells the map saw free (not counted as inliers)
   double score = 0.0;             ///< (inliers - free_weight * free_conflicts) / query points
   double elsewhere_score = 0.0;   ///< the best score of the other candidates (0 when there is none)
   Pose2 T_map_elsewhere;          ///< that candidate's pose
-  double confidence = 0.0;        ///< score - elsewhere_score, >= 0
+  double confidence = 0.0;        ///< max(0, score - elsewhere_score): 0 when a less probable candidate scores higher
   MatchTerms terms;               ///< the verification's terms at T_map_query
   double probability = 0.0;       ///< same_place_probability there
   /// both maps had free space (the building map's free cells, the local map's laser origins): the probability
