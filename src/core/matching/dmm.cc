@@ -137,6 +137,14 @@ class BranchAndBound {
   // above the bar (rotation -1 when none).
   Candidate run() { return run_from(root_children()); }
 
+  // A fresh search from root children computed before (root_children: they depend only on the query and the
+  // map), with its own bar and exclusion; nothing of an earlier search carries over but the root values.
+  Candidate rerun(const std::vector<Candidate>& candidates, int bar, const Exclusion* exclusion) {
+    best_ = Candidate{-1, 0, 0, bar, 0, 0};
+    exclusion_ = exclusion;
+    return run_from(candidates);
+  }
+
   // The search from root children computed before (root_children), with bar raised to at least `bar`.
   Candidate run_from(const std::vector<Candidate>& candidates, int bar = -1) {
     best_.score = std::max(best_.score, bar);
@@ -452,8 +460,10 @@ PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
 
 DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return match_dmm_above(query, map, -1); }
 
-DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
-                              double min_distance, double min_angle, int bar) {
+namespace {
+
+Exclusion make_exclusion(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
+                         double min_distance, double min_angle) {
   if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
     throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
   Exclusion exclusion;
@@ -468,7 +478,55 @@ DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map
       disc.near.push_back(std::abs(wrap_angle(q.angle - pose.theta)) <= min_angle);
     exclusion.discs.push_back(std::move(disc));
   }
+  return exclusion;
+}
+
+}  // namespace
+
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
+                              double min_distance, double min_angle, int bar) {
+  const Exclusion exclusion = make_exclusion(query, map, avoid, min_distance, min_angle);
   return match_dmm_above(query, map, bar, &exclusion);
+}
+
+struct DmmSearch::State {
+  State(const PreparedQuery& q, const PreparedMap& m)
+      : query(q), map(m), ranges(search_ranges(q, m)), search(q, m, ranges, -1) {}
+  const PreparedQuery& query;
+  const PreparedMap& map;
+  const std::vector<Range> ranges;
+  BranchAndBound search;
+  std::vector<Candidate> roots;
+  bool rooted = false;
+  std::int64_t scored = 0;  // candidates scored before the current search
+
+  DmmResult run(int bar, const Exclusion* exclusion) {
+    if (!rooted) roots = search.root_children(), rooted = true;
+    const Candidate best = search.rerun(roots, bar, exclusion);
+    DmmResult result;
+    if (best.rotation >= 0) {
+      result = make_result(query, map.config, best.score, best.rotation, best.i, best.j);
+    } else if (bar >= 0) {
+      result.exact = false;
+    }
+    result.candidates_scored = search.candidates_scored() - scored;
+    scored = search.candidates_scored();
+    return result;
+  }
+};
+
+DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map) {
+  check_compatible(query, map);
+  state_ = std::make_unique<State>(query, map);
+}
+
+DmmSearch::~DmmSearch() = default;
+
+DmmResult DmmSearch::best(int bar) { return state_->run(bar, nullptr); }
+
+DmmResult DmmSearch::best_elsewhere(std::span<const Pose2> avoid, double min_distance, double min_angle, int bar) {
+  const Exclusion exclusion = make_exclusion(state_->query, state_->map, avoid, min_distance, min_angle);
+  return state_->run(bar, &exclusion);
 }
 
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,

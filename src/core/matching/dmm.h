@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <numbers>
 #include <span>
 #include <vector>
@@ -119,6 +120,29 @@ DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map
 /// bar >= 0 only a candidate scoring more than `bar` is reported (else exact = false, inliers 0), which prunes.
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
                               double min_distance, double min_angle, int bar = -1);
+
+/// Repeated searches of one query on one map: the best pose, then the best elsewhere than the poses found so far
+/// (a localisation's candidates, the verified ranking's alternatives). The roots' bounds over every query point
+/// depend only on the two, so they are computed once, by the first search, and reused by the next; each result
+/// equals match_dmm's / match_dmm_elsewhere's with the same arguments (candidates_scored counts the roots in
+/// the first). Keeps references to the query and the map: both must outlive it. Not thread-safe.
+class DmmSearch {
+ public:
+  /// Throws InputError when the two were prepared on different lattices or rotation searches.
+  DmmSearch(const PreparedQuery& query, const PreparedMap& map);
+  ~DmmSearch();
+  DmmSearch(const DmmSearch&) = delete;
+  DmmSearch& operator=(const DmmSearch&) = delete;
+
+  /// match_dmm; with bar >= 0 only a candidate scoring more than `bar` is reported (else exact = false).
+  DmmResult best(int bar = -1);
+  /// match_dmm_elsewhere.
+  DmmResult best_elsewhere(std::span<const Pose2> avoid, double min_distance, double min_angle, int bar = -1);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// The same maximum by scoring every (rotation, translation) of the discretisation; first maximum in the order
 /// rotation, y, x. The reference for tests and the speed baseline.

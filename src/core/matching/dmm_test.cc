@@ -313,6 +313,46 @@ TEST(MatchDmm, ElsewhereEqualsBruteForceOutsideTheExcludedDisc) {
   EXPECT_THROW(match_dmm_elsewhere(q, prepare_map({{0.0, 0.0}}, small_config()), Pose2{}, -1.0, 0.1), InputError);
 }
 
+// A DmmSearch's repeated searches (root bounds computed once) give what separate searches give: the best pose,
+// then each next-best pose elsewhere than those before it, with and without a bar.
+TEST(DmmSearch, RepeatedSearchesEqualSeparateOnes) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> offset(-1.5, 1.5);
+  for (int p = 0; p < 4; ++p) {
+    const testing::SyntheticWorld world = testing::random_world(rng, 20.0, 20);
+    const testing::SyntheticPair pair = testing::make_pair(world, rng, {offset(rng), offset(rng)},
+                                                           {offset(rng), offset(rng)}, (p % 4) * std::numbers::pi / 2);
+    DmmConfig config = small_config();
+    config.search_depth = p % 2 == 0 ? 0 : 2;
+    const PreparedQuery q = prepare_query(pair.query, config);
+    const PreparedMap m = prepare_map(pair.map, config);
+    DmmSearch search(q, m);
+    const DmmResult first = search.best(), reference = match_dmm(q, m);
+    EXPECT_EQ(first.inliers, reference.inliers) << "pair " << p;
+    EXPECT_EQ(first.T_map_query.x, reference.T_map_query.x);
+    EXPECT_EQ(first.T_map_query.theta, reference.T_map_query.theta);
+    std::vector<Pose2> avoid{first.T_map_query};
+    for (int k = 0; k < 5; ++k) {
+      const int bar = k % 2 == 0 ? -1 : first.inliers / 2;
+      const DmmResult next = search.best_elsewhere(avoid, 0.5, 10 * kDeg, bar);
+      const DmmResult separate = match_dmm_elsewhere(q, m, avoid, 0.5, 10 * kDeg, bar);
+      EXPECT_EQ(next.exact, separate.exact) << "pair " << p << " search " << k;
+      EXPECT_EQ(next.inliers, separate.inliers) << "pair " << p << " search " << k;
+      EXPECT_EQ(next.T_map_query.x, separate.T_map_query.x);
+      EXPECT_EQ(next.T_map_query.y, separate.T_map_query.y);
+      EXPECT_EQ(next.T_map_query.theta, separate.T_map_query.theta);
+      EXPECT_LE(next.inliers, first.inliers);
+      if (!next.exact || next.inliers == 0) break;
+      avoid.push_back(next.T_map_query);
+    }
+  }
+  DmmConfig coarse = small_config();
+  coarse.resolution = 0.2;
+  const PreparedQuery other = prepare_query({{0.0, 0.0}}, coarse);
+  const PreparedMap map = prepare_map({{0.0, 0.0}}, small_config());
+  EXPECT_THROW(DmmSearch(other, map), InputError);
+}
+
 class MatchDmmMany : public ::testing::Test {
  protected:
   void SetUp() override {

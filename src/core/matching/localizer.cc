@@ -147,11 +147,12 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   // The two best rescored scores so far [points]: a candidate with no more inliers than the second cannot
   // change the answer or its confidence (rescoring only subtracts), so it is the next search's bar.
   double first = -1e300, second = -1e300;
+  DmmSearch search(query, map_);  // the searches share their root bounds
   for (int k = 0; k < config_.candidates; ++k) {
     Scored s;
     const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
-    s.dmm = k == 0 ? match_dmm(query, map_)
-                   : match_dmm_elsewhere(query, map_, avoid, config_.elsewhere_distance, config_.elsewhere_angle, bar);
+    s.dmm = k == 0 ? search.best()
+                   : search.best_elsewhere(avoid, config_.elsewhere_distance, config_.elsewhere_angle, bar);
     if (k > 0 && (!s.dmm.exact || s.dmm.inliers == 0)) break;  // nothing left that could matter
     avoid.push_back(s.dmm.T_map_query);
     s.T_map_query = T_map_canonical * s.dmm.T_map_query;
