@@ -137,14 +137,6 @@ class BranchAndBound {
   // above the bar (rotation -1 when none).
   Candidate run() { return run_from(root_children()); }
 
-  // A fresh search from root children computed before (root_children: they depend only on the query and the
-  // map), with its own bar and exclusion; nothing of an earlier search carries over but the root values.
-  Candidate rerun(const std::vector<Candidate>& candidates, int bar, const Exclusion* exclusion) {
-    best_ = Candidate{-1, 0, 0, bar, 0, 0};
-    exclusion_ = exclusion;
-    return run_from(candidates);
-  }
-
   // The search from root children computed before (root_children), with bar raised to at least `bar`.
   Candidate run_from(const std::vector<Candidate>& candidates, int bar = -1) {
     best_.score = std::max(best_.score, bar);
@@ -460,10 +452,8 @@ PreparedMap prepare_map(const Points2& points_map, const DmmConfig& config) {
 
 DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return match_dmm_above(query, map, -1); }
 
-namespace {
-
-Exclusion make_exclusion(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
-                         double min_distance, double min_angle) {
+DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
+                              double min_distance, double min_angle, int bar) {
   if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
     throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
   Exclusion exclusion;
@@ -478,61 +468,250 @@ Exclusion make_exclusion(const PreparedQuery& query, const PreparedMap& map, std
       disc.near.push_back(std::abs(wrap_angle(q.angle - pose.theta)) <= min_angle);
     exclusion.discs.push_back(std::move(disc));
   }
-  return exclusion;
-}
-
-}  // namespace
-
-DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
-                              double min_distance, double min_angle, int bar) {
-  const Exclusion exclusion = make_exclusion(query, map, avoid, min_distance, min_angle);
   return match_dmm_above(query, map, bar, &exclusion);
-}
-
-struct DmmSearch::State {
-  State(const PreparedQuery& q, const PreparedMap& m)
-      : query(q), map(m), ranges(search_ranges(q, m)), search(q, m, ranges, -1) {}
-  const PreparedQuery& query;
-  const PreparedMap& map;
-  const std::vector<Range> ranges;
-  BranchAndBound search;
-  std::vector<Candidate> roots;
-  bool rooted = false;
-  std::int64_t scored = 0;  // candidates scored before the current search
-
-  DmmResult run(int bar, const Exclusion* exclusion) {
-    if (!rooted) roots = search.root_children(), rooted = true;
-    const Candidate best = search.rerun(roots, bar, exclusion);
-    DmmResult result;
-    if (best.rotation >= 0) {
-      result = make_result(query, map.config, best.score, best.rotation, best.i, best.j);
-    } else if (bar >= 0) {
-      result.exact = false;
-    }
-    result.candidates_scored = search.candidates_scored() - scored;
-    scored = search.candidates_scored();
-    return result;
-  }
-};
-
-DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map) {
-  check_compatible(query, map);
-  state_ = std::make_unique<State>(query, map);
-}
-
-DmmSearch::~DmmSearch() = default;
-
-DmmResult DmmSearch::best(int bar) { return state_->run(bar, nullptr); }
-
-DmmResult DmmSearch::best_elsewhere(std::span<const Pose2> avoid, double min_distance, double min_angle, int bar) {
-  const Exclusion exclusion = make_exclusion(state_->query, state_->map, avoid, min_distance, min_angle);
-  return state_->run(bar, &exclusion);
 }
 
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, const Pose2& avoid,
                               double min_distance, double min_angle) {
   return match_dmm_elsewhere(query, map, std::span<const Pose2>(&avoid, 1), min_distance, min_angle);
 }
+
+// Best-first enumeration (one heap of nodes over every rotation, highest bound first), so that each next pose
+// costs only the nodes no earlier call bounded. Nodes above kSubtreeDepth are expanded into the heap, their
+// query cells and looked-up values kept for their children (a node's cells are its parent's that can score in
+// it: filter_cells, as in the depth-first search). A node at or below it (at most 16 x 16 translations) is
+// searched depth-first for its best leaf not yet excluded; the leaf goes on the heap and so does the node again,
+// bounded by that leaf, to yield its next best once the leaf is taken. A leaf popped within the exclusion of a
+// pose returned before is dropped, and so is a node wholly inside one (the disc is convex: its four corners).
+struct DmmSearch::State {
+  static constexpr int kSubtreeDepth = 2;
+  struct Node {
+    int bound = 0;  // Eq. 1 at depth 0, an upper bound above
+    int depth = 0;
+    int rotation = 0, i = 0, j = 0;
+    int bit = 0;              // child index a + 4 b within its parent
+    int list = 0;             // index into lists: the parent's cells and values
+    std::uint32_t order = 0;  // push order: ties pop first-pushed first
+  };
+  struct List {  // the cells of an expanded node and their looked-up values (at the level of its children)
+    CellList cells;
+    const std::uint16_t* values = nullptr;
+  };
+  struct Storage {
+    std::unique_ptr<int[]> x, y;
+    std::unique_ptr<std::uint16_t[]> values;
+  };
+  struct Disc {
+    std::vector<bool> near;  // per rotation of the query
+    double i = 0, j = 0;     // [cells]
+  };
+
+  State(const PreparedQuery& q, const PreparedMap& m, double min_distance, double min_angle)
+      : query(q), map(m), ranges(search_ranges(q, m)), radius(min_distance / m.config.resolution),
+        min_angle(min_angle), n(static_cast<std::size_t>(q.num_points)) {
+    for (Storage& level : scratch) {
+      level = {std::make_unique_for_overwrite<int[]>(n + 8), std::make_unique_for_overwrite<int[]>(n + 8),
+               std::make_unique_for_overwrite<std::uint16_t[]>(n + 8)};
+    }
+  }
+
+  const PreparedQuery& query;
+  const PreparedMap& map;
+  const std::vector<Range> ranges;
+  const double radius;  // [cells]
+  const double min_angle;
+  const std::size_t n;
+  std::array<Storage, kSubtreeDepth + 1> scratch;  // per depth: the cells (and values) of a subtree's node
+  std::vector<Node> heap;
+  std::vector<List> lists;
+  std::vector<Storage> storage;
+  std::vector<Disc> returned;
+  bool started = false;
+  int floor = -1;  // the highest bar so far: nodes bounded at or below it are never pushed
+  std::uint32_t pushed = 0;
+  std::int64_t scored = 0;
+
+  static bool pops_later(const Node& a, const Node& b) {
+    if (a.bound != b.bound) return a.bound < b.bound;
+    if (a.depth != b.depth) return a.depth > b.depth;  // a leaf first: it ends the search
+    return a.order > b.order;
+  }
+
+  void push(Node node) {
+    node.order = pushed++;
+    heap.push_back(node);
+    std::push_heap(heap.begin(), heap.end(), pops_later);
+  }
+
+  bool excluded(const Node& c) const {
+    const int side = (1 << (2 * c.depth)) - 1;
+    const double r2 = radius * radius;
+    for (const Disc& disc : returned) {
+      if (!disc.near[static_cast<std::size_t>(c.rotation)]) continue;
+      bool inside = true;
+      for (const int a : {0, side}) {
+        for (const int b : {0, side}) {
+          const double di = c.i + a - disc.i, dj = c.j + b - disc.j;
+          inside = inside && di * di + dj * dj < r2;
+        }
+      }
+      if (inside) return true;
+    }
+    return false;
+  }
+
+  // The children of node c (at depth c.depth) over `cells`, bounded, those inside the search range that beat
+  // `bar`; none when the pass proved that no child beats it. values: as child_bounds.
+  template <typename Out>
+  void children(const Node& c, const CellList& cells, int bar, std::uint16_t* values, int list, Out& out) {
+    const PackedLevel& packed = map.packed[static_cast<std::size_t>(c.depth - 1)];
+    const Range& r = ranges[static_cast<std::size_t>(c.rotation)];
+    std::array<int, 16> bounds;
+    if (!child_bounds(packed, cells, c.i, c.j, bar, values, bounds)) return;
+    for (int b = 0; b < 4; ++b) {
+      const int cj = c.j + b * packed.step;
+      if (cj > r.j_hi) break;
+      for (int a = 0; a < 4; ++a) {
+        const int ci = c.i + a * packed.step;
+        if (ci > r.i_hi) break;
+        ++scored;
+        const int bound = bounds[static_cast<std::size_t>(a + 4 * b)];
+        if (bound > bar) out.push_back({bound, c.depth - 1, c.rotation, ci, cj, a + 4 * b, list, 0});
+      }
+    }
+  }
+
+  struct Children {
+    std::array<Node, 16> items;
+    std::size_t size = 0;
+    void push_back(const Node& c) { items[size++] = c; }
+  };
+  struct Pusher {
+    State& state;
+    void push_back(const Node& c) { state.push(c); }
+  };
+
+  // Depth-first: the best leaf under node c (depth <= kSubtreeDepth, query cells `cells`) that beats best.bound
+  // and is not excluded, into best.
+  void best_leaf(const Node& c, const CellList& cells, Node& best) {
+    Children kids;
+    const int d = c.depth;
+    std::uint16_t* values = d > 1 ? scratch[static_cast<std::size_t>(d)].values.get() : nullptr;
+    children(c, cells, best.bound, values, -1, kids);
+    std::stable_sort(kids.items.begin(), kids.items.begin() + static_cast<std::ptrdiff_t>(kids.size),
+                     [](const Node& a, const Node& b) { return a.bound > b.bound; });
+    for (std::size_t k = 0; k < kids.size; ++k) {
+      const Node& kid = kids.items[k];
+      if (kid.bound <= best.bound) break;
+      if (excluded(kid)) continue;
+      if (kid.depth == 0) {
+        best = kid;
+        break;  // sorted: the rest score no more
+      }
+      best_leaf(kid, node_cells(kid, {cells, values}, scratch[static_cast<std::size_t>(kid.depth)]), best);
+    }
+  }
+
+  // Node c's query cells: those of its parent (cells with their values) that can score in it, into `room`;
+  // the parent's own when filtering would drop fewer than half.
+  static CellList node_cells(const Node& c, const List& parent, Storage& room) {
+    if (static_cast<std::size_t>(c.bound) * 2 >= parent.cells.size) return parent.cells;
+    return {room.x.get(), room.y.get(),
+            filter_cells(parent.cells, parent.values, c.bit, room.x.get(), room.y.get())};
+  }
+
+  // The roots tile each rotation's range and are not bounded themselves: their children are.
+  void start() {
+    const int depth = static_cast<int>(map.packed.size());
+    const int block = 1 << (2 * depth);
+    for (std::size_t k = 0; k < ranges.size(); ++k) {
+      const Range& r = ranges[k];
+      if (r.empty()) continue;
+      const RotatedQuery& rq = query.rotations[k];
+      const CellList full{rq.x.data(), rq.y.data(), rq.x.size()};
+      for (int j = r.j_lo; j <= r.j_hi; j += block) {
+        for (int i = r.i_lo; i <= r.i_hi; i += block) {
+          std::uint16_t* values = nullptr;
+          if (depth > 1) {
+            storage.push_back({nullptr, nullptr, std::make_unique_for_overwrite<std::uint16_t[]>(n + 8)});
+            values = storage.back().values.get();
+          }
+          lists.push_back({full, values});
+          Pusher pusher{*this};
+          children({0, depth, static_cast<int>(k), i, j, 0, 0, 0}, full, floor, values,
+                   static_cast<int>(lists.size()) - 1, pusher);
+        }
+      }
+    }
+    started = true;
+  }
+
+  void pop_into(const Node& c) {
+    const List& parent = lists[static_cast<std::size_t>(c.list)];
+    if (c.depth <= kSubtreeDepth) {
+      Node best{floor, -1, 0, 0, 0, 0, 0, 0};
+      best_leaf(c, node_cells(c, parent, scratch[static_cast<std::size_t>(c.depth)]), best);
+      if (best.depth < 0) return;  // nothing left in it
+      push(best);
+      Node again = c;  // its next best scores no more than this one
+      again.bound = best.bound;
+      push(again);
+      return;
+    }
+    Storage mine;
+    const CellList cells = [&] {
+      if (static_cast<std::size_t>(c.bound) * 2 >= parent.cells.size) return parent.cells;
+      mine.x = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(c.bound) + 8);
+      mine.y = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(c.bound) + 8);
+      return node_cells(c, parent, mine);
+    }();
+    mine.values = std::make_unique_for_overwrite<std::uint16_t[]>(cells.size + 8);
+    std::uint16_t* values = mine.values.get();
+    lists.push_back({cells, values});
+    storage.push_back(std::move(mine));
+    Pusher pusher{*this};
+    children(c, cells, floor, values, static_cast<int>(lists.size()) - 1, pusher);
+  }
+
+  DmmResult next(int bar) {
+    floor = std::max(floor, bar);
+    if (!started) start();
+    const std::int64_t scored_before = scored;
+    DmmResult result;
+    while (!heap.empty() && heap.front().bound > floor) {
+      std::pop_heap(heap.begin(), heap.end(), pops_later);
+      const Node c = heap.back();
+      heap.pop_back();
+      if (excluded(c)) continue;
+      if (c.depth > 0) {
+        pop_into(c);
+        continue;
+      }
+      result = make_result(query, map.config, c.bound, c.rotation, c.i, c.j);
+      Disc disc;
+      disc.i = c.i, disc.j = c.j;
+      for (const RotatedQuery& q : query.rotations)
+        disc.near.push_back(std::abs(wrap_angle(q.angle - result.T_map_query.theta)) <= min_angle);
+      returned.push_back(std::move(disc));
+      result.candidates_scored = scored - scored_before;
+      return result;
+    }
+    if (floor >= 0) result.exact = false;
+    result.candidates_scored = scored - scored_before;
+    return result;
+  }
+};
+
+DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map, double min_distance, double min_angle) {
+  check_compatible(query, map);
+  if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
+    throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
+  state_ = std::make_unique<State>(query, map, min_distance, min_angle);
+}
+
+DmmSearch::~DmmSearch() = default;
+
+DmmResult DmmSearch::next(int bar) { return state_->next(bar); }
 
 std::vector<DmmResult> match_dmm_joint(const PreparedQuery& query, std::span<const PreparedMap* const> maps,
                                        int top_k) {

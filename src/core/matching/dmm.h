@@ -121,23 +121,26 @@ DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
                               double min_distance, double min_angle, int bar = -1);
 
-/// Repeated searches of one query on one map: the best pose, then the best elsewhere than the poses found so far
-/// (a localisation's candidates, the verified ranking's alternatives). The roots' bounds over every query point
-/// depend only on the two, so they are computed once, by the first search, and reused by the next; each result
-/// equals match_dmm's / match_dmm_elsewhere's with the same arguments (candidates_scored counts the roots in
-/// the first). Keeps references to the query and the map: both must outlive it. Not thread-safe.
+/// The distinct best poses of one query on one map, best first (a localisation's candidates, the verified
+/// ranking's alternatives): the first next() is match_dmm's optimum, each later one the best pose elsewhere than
+/// every pose returned before, as match_dmm_elsewhere defines it (translation >= min_distance [m] away or
+/// rotation > min_angle [rad] apart); the same scores, and among equal scores possibly another pose. One
+/// best-first branch-and-bound serves every call: a node bounded once is never bounded again, so k poses cost
+/// about what the k-th of k separate searches costs. Keeps references to the query and the map (both must
+/// outlive it) and the expanded nodes' query cells (memory grows with the calls). Not thread-safe.
 class DmmSearch {
  public:
-  /// Throws InputError when the two were prepared on different lattices or rotation searches.
-  DmmSearch(const PreparedQuery& query, const PreparedMap& map);
+  /// Throws InputError when the two were prepared on different lattices or rotation searches, or for a negative
+  /// or non-finite distance or angle.
+  DmmSearch(const PreparedQuery& query, const PreparedMap& map, double min_distance, double min_angle);
   ~DmmSearch();
   DmmSearch(const DmmSearch&) = delete;
   DmmSearch& operator=(const DmmSearch&) = delete;
 
-  /// match_dmm; with bar >= 0 only a candidate scoring more than `bar` is reported (else exact = false).
-  DmmResult best(int bar = -1);
-  /// match_dmm_elsewhere.
-  DmmResult best_elsewhere(std::span<const Pose2> avoid, double min_distance, double min_angle, int bar = -1);
+  /// The next pose. bar >= 0: only a pose scoring more than the highest bar given so far is reported, else
+  /// exact = false and inliers 0 (bars are floors: a lower one later does not bring back what a higher one
+  /// pruned). inliers 0 with exact = true when every candidate has been returned or excluded.
+  DmmResult next(int bar = -1);
 
  private:
   struct State;

@@ -142,19 +142,17 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     double score = 0;
   };
   std::vector<Scored> found;
-  std::vector<Pose2> avoid;  // in the canonical frame, as the searches see them
   const double n = static_cast<double>(query_points.size());
   // The two best rescored scores so far [points]: a candidate with no more inliers than the second cannot
   // change the answer or its confidence (rescoring only subtracts), so it is the next search's bar.
   double first = -1e300, second = -1e300;
-  DmmSearch search(query, map_);  // the searches share their root bounds
+  // One best-first search yields the distinct candidates in turn.
+  DmmSearch search(query, map_, config_.elsewhere_distance, config_.elsewhere_angle);
   for (int k = 0; k < config_.candidates; ++k) {
     Scored s;
     const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
-    s.dmm = k == 0 ? search.best()
-                   : search.best_elsewhere(avoid, config_.elsewhere_distance, config_.elsewhere_angle, bar);
+    s.dmm = search.next(bar);
     if (k > 0 && (!s.dmm.exact || s.dmm.inliers == 0)) break;  // nothing left that could matter
-    avoid.push_back(s.dmm.T_map_query);
     s.T_map_query = T_map_canonical * s.dmm.T_map_query;
     s.conflicts = free_conflicts(query_points, s.T_map_query);
     const double points = s.dmm.inliers - config_.free_weight * s.conflicts;

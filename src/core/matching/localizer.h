@@ -2,8 +2,8 @@
 // the whole building (a map_server map, a corrected log's map), with no initial pose? The building map is
 // prepared once for dMM over its whole area (the dictionary's set-up: every translation at which the query
 // overlaps it, dmm_config_for_dictionary), in its canonical (Manhattan) frame so that a canonical local map
-// needs a few turns plus a small residual. Each query is a few exact branch-and-bound searches: the best pose,
-// then the best pose elsewhere than the ones found so far (match_dmm_elsewhere), `candidates` in all. With a map
+// needs a few turns plus a small residual. Each query is one exact best-first branch-and-bound (DmmSearch) that
+// yields the best pose, then the best pose elsewhere than the ones found so far, `candidates` in all. With a map
 // that knows its free space (a GridMap), each candidate is rescored by what contradicts it: local map points
 // that land on cells the map saw free (a corridor turned end for end, a room that is not there) cost
 // free_weight inliers each. The best `verified` rescored candidates are verified (core/matching/verification.h)
@@ -49,10 +49,10 @@ struct LocalizerConfig {
   VerifyConfig verify = localizer_verify_config();  ///< the verification of the answer
   double elsewhere_distance = 2.0;  ///< "elsewhere": the local map's centre at least this far away [m] ...
   double elsewhere_angle = 10.0 * std::numbers::pi / 180;  ///< ... or turned by more than this [rad]
-  /// Distinct poses examined (one exact search each), in [2, 100]. 12: with eight verified, the fewest that keep
-  /// fr079 and intel >= 90 % with no confident wrong answer (10: 88.8 % on fr079, one wrong on intel), and
-  /// their p95 under 150 ms (15: 164 / 177 ms; docs/NOTES.md, "Locate").
-  int candidates = 12;
+  /// Distinct poses examined, in [2, 100]. 16: with eight verified and the best-first search, the fewest that
+  /// keep fr079 and intel >= 90 % with no confident wrong answer (12: one confident wrong answer on intel; 16 to
+  /// 32 give the same answers but one, at the same p95 of 37-58 ms; docs/NOTES.md, "Locate").
+  int candidates = 16;
   double free_weight = 1.0;         ///< inliers a point on the map's free space costs (maps with free space only)
   double neighbourhood = 1.0;       ///< verification: the building map cut to the local map's box grown by this [m]
   /// The building's wall directions off its axes and diagonals holding at least this share of its walls and

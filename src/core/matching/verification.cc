@@ -253,15 +253,12 @@ Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2&
 
 std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,
                                  const VerifyConfig& config) {
-  DmmSearch search(query, map);  // the searches share their root bounds
-  std::vector<DmmResult> poses{search.best()};
-  std::vector<Pose2> avoid{poses[0].T_map_query};
+  DmmSearch search(query, map, config.alternative_distance, config.alternative_angle);
+  std::vector<DmmResult> poses{search.next()};
   const int bar = static_cast<int>(config.alternative_bar * poses[0].inliers);
   for (int k = 0; k < config.alternatives && poses[0].inliers > 0; ++k) {
-    const DmmResult alt =
-        search.best_elsewhere(avoid, config.alternative_distance, config.alternative_angle, bar);
+    const DmmResult alt = search.next(bar);
     if (!alt.exact || alt.inliers == 0) break;
-    avoid.push_back(alt.T_map_query);
     poses.push_back(alt);
   }
   return poses;
