@@ -141,6 +141,7 @@ void visit(V& v, VerifyConfig& c) {
   v.field("alternative_bar", c.alternative_bar);
   v.field("alternative_distance", c.alternative_distance);
   v.field("alternative_angle", c.alternative_angle);
+  v.field("refined", c.refined);
 }
 
 template <class V>

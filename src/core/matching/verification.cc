@@ -65,6 +65,7 @@ Verified refined(const VerifyMap& query, const VerifyMap& map, const PairFields&
 void validate(const VerifyConfig& c) {
   if (!(c.resolution > 0.0) || !std::isfinite(c.resolution) || c.resolution > 10.0)
     throw InputError("verify config: resolution must be in (0, 10] m");
+  if (c.refined < 1 || c.refined > 100) throw InputError("verify config: refined must be in [1, 100]");
   if (c.dilation < 0 || c.dilation > 20) throw InputError("verify config: dilation must be in [0, 20] cells");
   if (!(c.max_ray > 0.0) || c.max_ray > 1000.0)
     throw InputError("verify config: max_ray must be in (0, 1000] m");
@@ -270,14 +271,18 @@ VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const
   VerifiedDmm out;
   out.eq1 = poses[0];
   out.poses = static_cast<int>(poses.size());
-  // Every pose's terms at its lattice pose; only the most probable one is refined.
+  // Every pose's terms at its lattice pose; the most probable few are refined, and the most probable of them
+  // after that is the answer (ties: the more probable at the lattice).
   const PairFields fields(query_verify, map_verify);
-  out.best = verify_at(query_verify, map_verify, fields, poses[0].T_map_query);
-  for (std::size_t k = 1; k < poses.size(); ++k) {
-    const Verified v = verify_at(query_verify, map_verify, fields, poses[k].T_map_query);
-    if (v.probability > out.best.probability) out.best = v;
+  std::vector<Verified> lattice;
+  for (const DmmResult& pose : poses) lattice.push_back(verify_at(query_verify, map_verify, fields, pose.T_map_query));
+  std::stable_sort(lattice.begin(), lattice.end(),
+                   [](const Verified& a, const Verified& b) { return a.probability > b.probability; });
+  const std::size_t count = std::min(lattice.size(), static_cast<std::size_t>(config.refined));
+  for (std::size_t k = 0; k < count; ++k) {
+    Verified v = refined(query_verify, map_verify, fields, lattice[k], config);
+    if (k == 0 || v.probability > out.best.probability) out.best = std::move(v);
   }
-  out.best = refined(query_verify, map_verify, fields, out.best, config);
   return out;
 }
 

@@ -40,6 +40,10 @@ struct VerifyConfig {
   double alternative_bar = 0.6;       ///< an alternative must reach this share of the optimum's Eq. 1 score
   double alternative_distance = 1.0;  ///< distinct: translations this far apart [m]
   double alternative_angle = 0.3;     ///< or rotations this far apart [rad]
+  /// verify_dmm: the most probable this many poses (at their lattice pose) are refined, and the most probable
+  /// after refinement is the answer; 1: only the most probable at the lattice (a right pose a cell or a degree
+  /// off often fits worse there than a wrong one sitting on the lattice)
+  int refined = 4;
 };
 
 /// Throws InputError naming the offending field.
@@ -153,12 +157,13 @@ Verified verify_at(const VerifyMap& query, const VerifyMap& map, const PairField
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                       const VerifyConfig& config = {});
 
-/// The poses verify_dmm verifies: Eq. 1's exact optimum (match_dmm) first, then up to config.alternatives
-/// next-best distinct poses (match_dmm_elsewhere) scoring at least alternative_bar of it.
+/// The poses verify_dmm verifies: Eq. 1's exact optimum first, then up to config.alternatives next-best
+/// distinct poses scoring at least alternative_bar of it (one DmmSearch).
 std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,
                                  const VerifyConfig& config = {});
 
-/// dmm_poses, each verified at its lattice pose; the most probable one refined (verify_match) and returned.
+/// dmm_poses, each verified at its lattice pose; the config.refined most probable ones refined (verify_match),
+/// and the most probable after that returned.
 /// `eq1` is the optimum's Eq. 1 result (the search's statistics and the paper's score).
 struct VerifiedDmm {
   DmmResult eq1;

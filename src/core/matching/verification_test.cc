@@ -128,5 +128,35 @@ TEST(VerifyDmm, FindsAndVerifiesTheTruePoseOfARealSubmap) {
   EXPECT_GT(v.best.terms.query.occupied, 0.9);
 }
 
+// Refining more of the verified poses never answers with a less probable one, and refining k of them answers
+// with the most probable of the k refined (each as verify_match gives it at its lattice pose).
+TEST(VerifyDmm, RefiningMorePosesAnswersWithTheMostProbableAfterRefinement) {
+  const Submaps& maps = testing::simulated_maps();
+  ASSERT_GT(maps.size(), 20u);
+  const DmmConfig dmm;
+  int pairs = 0;
+  for (std::size_t a = 2; a + 6 < maps.size(); a += 7) {
+    const Submap& query = maps[a];
+    const Submap& map = maps[a + 3];
+    const PreparedQuery q = prepare_query(query.points, dmm);
+    const PreparedMap pm = prepare_map(map.points, dmm);
+    const VerifyMap qv(query.points, query.origins), mv(map.points, map.origins);
+    VerifyConfig one, all;
+    one.refined = 1;
+    all.refined = 4;
+    const VerifiedDmm v1 = verify_dmm(q, pm, qv, mv, one), v4 = verify_dmm(q, pm, qv, mv, all);
+    EXPECT_GE(v4.best.probability, v1.best.probability) << "pair " << a;
+    double most = 0.0;
+    for (const DmmResult& pose : dmm_poses(q, pm, all))
+      most = std::max(most, verify_match(qv, mv, pose.T_map_query, all).probability);
+    EXPECT_DOUBLE_EQ(v4.best.probability, most) << "pair " << a;
+    ++pairs;
+  }
+  EXPECT_GE(pairs, 2);
+  VerifyConfig bad;
+  bad.refined = 0;
+  EXPECT_THROW(validate(bad), InputError);
+}
+
 }  // namespace
 }  // namespace partslam
