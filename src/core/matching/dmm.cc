@@ -103,6 +103,28 @@ DmmResult make_result(const PreparedQuery& query, const DmmConfig& config, int i
   return result;
 }
 
+// Bounds the sixteen children of the node at (i, j) over `cells` with `packed` (child_bounds; values as
+// there) and calls emit(i, j, bound, bit) for each child inside the search range r, bit = a + 4 b its index;
+// returns how many: none when the pass proved that no child beats bar.
+template <typename Emit>
+int bound_children(const PackedLevel& packed, const Range& r, const CellList& cells, int i, int j, int bar,
+                   std::uint16_t* values, Emit&& emit) {
+  std::array<int, 16> bounds;
+  if (!child_bounds(packed, cells, i, j, bar, values, bounds)) return 0;
+  int count = 0;
+  for (int b = 0; b < 4; ++b) {
+    const int cj = j + b * packed.step;
+    if (cj > r.j_hi) break;
+    for (int a = 0; a < 4; ++a) {
+      const int ci = i + a * packed.step;
+      if (ci > r.i_hi) break;
+      emit(ci, cj, bounds[static_cast<std::size_t>(a + 4 * b)], a + 4 * b);
+      ++count;
+    }
+  }
+  return count;
+}
+
 struct Candidate {
   int rotation = 0;
   int i = 0, j = 0;
@@ -125,6 +147,33 @@ struct Exclusion {
   };
   std::vector<Disc> discs;
   double radius = 0;  // [cells]
+
+  // The disc about translation (i, j) [cells], at the query's rotations within min_angle of theta.
+  void add(const PreparedQuery& query, double i, double j, double theta, double min_angle) {
+    Disc disc;
+    disc.i = i, disc.j = j;
+    for (const RotatedQuery& q : query.rotations)
+      disc.near.push_back(std::abs(wrap_angle(q.angle - theta)) <= min_angle);
+    discs.push_back(std::move(disc));
+  }
+
+  // True when every translation of the block of 4^d x 4^d at (i, j), depth d, of `rotation` is excluded: the
+  // disc is convex, so the block lies inside it when its four corners do.
+  bool covers(int rotation, int i, int j, int d) const {
+    const int side = (1 << (2 * d)) - 1;
+    const double r2 = radius * radius;
+    const auto inside = [&](const Disc& disc) {
+      if (!disc.near[static_cast<std::size_t>(rotation)]) return false;
+      for (const int a : {0, side}) {
+        for (const int b : {0, side}) {
+          const double di = i + a - disc.i, dj = j + b - disc.j;
+          if (di * di + dj * dj >= r2) return false;
+        }
+      }
+      return true;
+    };
+    return std::any_of(discs.begin(), discs.end(), inside);
+  }
 };
 
 class BranchAndBound {
@@ -200,23 +249,8 @@ class BranchAndBound {
     std::unique_ptr<std::uint16_t[]> values;
   };
 
-  // True when every translation of node c (a block of 4^d x 4^d at depth d) is excluded: the disc is convex,
-  // so the block lies inside it when its four corners do.
   bool excluded(const Candidate& c, int d) const {
-    if (exclusion_ == nullptr) return false;
-    const int side = (1 << (2 * d)) - 1;
-    const double r2 = exclusion_->radius * exclusion_->radius;
-    const auto inside = [&](const Exclusion::Disc& disc) {
-      if (!disc.near[static_cast<std::size_t>(c.rotation)]) return false;
-      for (const int a : {0, side}) {
-        for (const int b : {0, side}) {
-          const double di = c.i + a - disc.i, dj = c.j + b - disc.j;
-          if (di * di + dj * dj >= r2) return false;
-        }
-      }
-      return true;
-    };
-    return std::any_of(exclusion_->discs.begin(), exclusion_->discs.end(), inside);
+    return exclusion_ != nullptr && exclusion_->covers(c.rotation, c.i, c.j, d);
   }
 
   CellList full_cells(int rotation) const {
@@ -229,20 +263,11 @@ class BranchAndBound {
   // proved that no child beats `bar`.
   template <typename Out>
   void expand(const Candidate& c, int d, const CellList& cells, std::uint16_t* values, int bar, Out& out) {
-    const PackedLevel& packed = map_.packed[static_cast<std::size_t>(d - 1)];
-    const Range& r = ranges_[static_cast<std::size_t>(c.rotation)];
-    std::array<int, 16> bounds;
-    if (!child_bounds(packed, cells, c.i, c.j, bar, values, bounds)) return;
-    for (int b = 0; b < 4; ++b) {
-      const int j = c.j + b * packed.step;
-      if (j > r.j_hi) break;
-      for (int a = 0; a < 4; ++a) {
-        const int i = c.i + a * packed.step;
-        if (i > r.i_hi) break;
-        out.push_back({c.rotation, i, j, bounds[static_cast<std::size_t>(a + 4 * b)], a + 4 * b, c.parent});
-        ++scored_;
-      }
-    }
+    scored_ += bound_children(map_.packed[static_cast<std::size_t>(d - 1)],
+                              ranges_[static_cast<std::size_t>(c.rotation)], cells, c.i, c.j, bar, values,
+                              [&](int i, int j, int bound, int bit) {
+                                out.push_back({c.rotation, i, j, bound, bit, c.parent});
+                              });
   }
 
   struct Children {
@@ -457,16 +482,12 @@ DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map
   if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
     throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
   Exclusion exclusion;
-  const double r = map.config.resolution;
-  exclusion.radius = min_distance / r;
+  exclusion.radius = min_distance / map.config.resolution;
   for (const Pose2& pose : avoid) {
     if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.theta))
       throw InputError("dmm: a pose to avoid must be finite");
-    Exclusion::Disc disc;
-    disc.i = pose.x / r, disc.j = pose.y / r;
-    for (const RotatedQuery& q : query.rotations)
-      disc.near.push_back(std::abs(wrap_angle(q.angle - pose.theta)) <= min_angle);
-    exclusion.discs.push_back(std::move(disc));
+    exclusion.add(query, pose.x / map.config.resolution, pose.y / map.config.resolution, pose.theta,
+                  min_angle);
   }
   return match_dmm_above(query, map, bar, &exclusion);
 }
@@ -501,14 +522,14 @@ struct DmmSearch::State {
     std::unique_ptr<int[]> x, y;
     std::unique_ptr<std::uint16_t[]> values;
   };
-  struct Disc {
-    std::vector<bool> near;  // per rotation of the query
-    double i = 0, j = 0;     // [cells]
-  };
 
   State(const PreparedQuery& q, const PreparedMap& m, double min_distance, double min_angle)
-      : query(q), map(m), ranges(search_ranges(q, m)), radius(min_distance / m.config.resolution),
-        min_angle(min_angle), n(static_cast<std::size_t>(q.num_points)) {
+      : query(q),
+        map(m),
+        ranges(search_ranges(q, m)),
+        min_angle(min_angle),
+        n(static_cast<std::size_t>(q.num_points)) {
+    returned.radius = min_distance / m.config.resolution;
     for (Storage& level : scratch) {
       level = {std::make_unique_for_overwrite<int[]>(n + 8), std::make_unique_for_overwrite<int[]>(n + 8),
                std::make_unique_for_overwrite<std::uint16_t[]>(n + 8)};
@@ -518,14 +539,13 @@ struct DmmSearch::State {
   const PreparedQuery& query;
   const PreparedMap& map;
   const std::vector<Range> ranges;
-  const double radius;  // [cells]
   const double min_angle;
   const std::size_t n;
   std::array<Storage, kSubtreeDepth + 1> scratch;  // per depth: the cells (and values) of a subtree's node
   std::vector<Node> heap;
   std::vector<List> lists;
   std::vector<Storage> storage;
-  std::vector<Disc> returned;
+  Exclusion returned;  // about every pose returned so far
   bool started = false;
   int floor = -1;  // the highest bar so far: nodes bounded at or below it are never pushed
   std::uint32_t pushed = 0;
@@ -543,42 +563,18 @@ struct DmmSearch::State {
     std::push_heap(heap.begin(), heap.end(), pops_later);
   }
 
-  bool excluded(const Node& c) const {
-    const int side = (1 << (2 * c.depth)) - 1;
-    const double r2 = radius * radius;
-    for (const Disc& disc : returned) {
-      if (!disc.near[static_cast<std::size_t>(c.rotation)]) continue;
-      bool inside = true;
-      for (const int a : {0, side}) {
-        for (const int b : {0, side}) {
-          const double di = c.i + a - disc.i, dj = c.j + b - disc.j;
-          inside = inside && di * di + dj * dj < r2;
-        }
-      }
-      if (inside) return true;
-    }
-    return false;
-  }
+  bool excluded(const Node& c) const { return returned.covers(c.rotation, c.i, c.j, c.depth); }
 
   // The children of node c (at depth c.depth) over `cells`, bounded, those inside the search range that beat
   // `bar`; none when the pass proved that no child beats it. values: as child_bounds.
   template <typename Out>
   void children(const Node& c, const CellList& cells, int bar, std::uint16_t* values, int list, Out& out) {
-    const PackedLevel& packed = map.packed[static_cast<std::size_t>(c.depth - 1)];
-    const Range& r = ranges[static_cast<std::size_t>(c.rotation)];
-    std::array<int, 16> bounds;
-    if (!child_bounds(packed, cells, c.i, c.j, bar, values, bounds)) return;
-    for (int b = 0; b < 4; ++b) {
-      const int cj = c.j + b * packed.step;
-      if (cj > r.j_hi) break;
-      for (int a = 0; a < 4; ++a) {
-        const int ci = c.i + a * packed.step;
-        if (ci > r.i_hi) break;
-        ++scored;
-        const int bound = bounds[static_cast<std::size_t>(a + 4 * b)];
-        if (bound > bar) out.push_back({bound, c.depth - 1, c.rotation, ci, cj, a + 4 * b, list, 0});
-      }
-    }
+    scored += bound_children(map.packed[static_cast<std::size_t>(c.depth - 1)],
+                             ranges[static_cast<std::size_t>(c.rotation)], cells, c.i, c.j, bar, values,
+                             [&](int i, int j, int bound, int bit) {
+                               if (bound > bar)
+                                 out.push_back({bound, c.depth - 1, c.rotation, i, j, bit, list, 0});
+                             });
   }
 
   struct Children {
@@ -688,11 +684,7 @@ struct DmmSearch::State {
         continue;
       }
       result = make_result(query, map.config, c.bound, c.rotation, c.i, c.j);
-      Disc disc;
-      disc.i = c.i, disc.j = c.j;
-      for (const RotatedQuery& q : query.rotations)
-        disc.near.push_back(std::abs(wrap_angle(q.angle - result.T_map_query.theta)) <= min_angle);
-      returned.push_back(std::move(disc));
+      returned.add(query, c.i, c.j, result.T_map_query.theta, min_angle);
       result.candidates_scored = scored - scored_before;
       return result;
     }
