@@ -125,6 +125,14 @@ int bound_children(const PackedLevel& packed, const Range& r, const CellList& ce
   return count;
 }
 
+// The children of one node, bounded: at most sixteen, held without allocating.
+template <typename Item>
+struct SixteenChildren {
+  std::array<Item, 16> items;
+  std::size_t size = 0;
+  void push_back(const Item& c) { items[size++] = c; }
+};
+
 struct Candidate {
   int rotation = 0;
   int i = 0, j = 0;
@@ -132,6 +140,13 @@ struct Candidate {
   int bit = 0;     // child index a + 4 b within its parent
   int parent = 0;  // for the children of a root: the root's index
 };
+
+// The distance and angle that make two poses distinct (match_dmm_elsewhere, DmmSearch).
+void check_exclusion(double min_distance, double min_angle) {
+  if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) ||
+      !std::isfinite(min_angle))
+    throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
+}
 
 // Depth-first branch-and-bound (Cartographer's FastCorrelativeScanMatcher2D::BranchAndBound), 16-way: a node
 // at depth d is a block of 4^d x 4^d translations of one rotation; its sixteen children (depth d - 1) are
@@ -270,11 +285,7 @@ class BranchAndBound {
                               });
   }
 
-  struct Children {
-    std::array<Candidate, 16> items;
-    std::size_t size = 0;
-    void push_back(const Candidate& c) { items[size++] = c; }
-  };
+  using Children = SixteenChildren<Candidate>;
 
   // `candidates` are nodes at depth d (d = 0: single translations), sorted by bound; their parent (at depth
   // d + 1) left its cells and values in buffers_[d + 1], or in root_values_ for the roots.
@@ -479,8 +490,7 @@ DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return
 
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
                               double min_distance, double min_angle, int bar) {
-  if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
-    throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
+  check_exclusion(min_distance, min_angle);
   Exclusion exclusion;
   exclusion.radius = min_distance / map.config.resolution;
   for (const Pose2& pose : avoid) {
@@ -577,11 +587,7 @@ struct DmmSearch::State {
                              });
   }
 
-  struct Children {
-    std::array<Node, 16> items;
-    std::size_t size = 0;
-    void push_back(const Node& c) { items[size++] = c; }
-  };
+  using Children = SixteenChildren<Node>;
   struct Pusher {
     State& state;
     void push_back(const Node& c) { state.push(c); }
@@ -608,10 +614,16 @@ struct DmmSearch::State {
     }
   }
 
-  // Node c's query cells: those of its parent (cells with their values) that can score in it, into `room`;
-  // the parent's own when filtering would drop fewer than half.
+  // Filtering a node's cells out of its parent's pays only when it drops at least half of them (exactly
+  // c.bound of them can score in it).
+  static bool filters(const Node& c, const List& parent) {
+    return static_cast<std::size_t>(c.bound) * 2 < parent.cells.size;
+  }
+
+  // Node c's query cells: those of its parent (cells with their values) that can score in it, into `room`
+  // (room for c.bound cells); the parent's own when filtering would not pay.
   static CellList node_cells(const Node& c, const List& parent, Storage& room) {
-    if (static_cast<std::size_t>(c.bound) * 2 >= parent.cells.size) return parent.cells;
+    if (!filters(c, parent)) return parent.cells;
     return {room.x.get(), room.y.get(),
             filter_cells(parent.cells, parent.values, c.bit, room.x.get(), room.y.get())};
   }
@@ -655,12 +667,11 @@ struct DmmSearch::State {
       return;
     }
     Storage mine;
-    const CellList cells = [&] {
-      if (static_cast<std::size_t>(c.bound) * 2 >= parent.cells.size) return parent.cells;
+    if (filters(c, parent)) {
       mine.x = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(c.bound) + 8);
       mine.y = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(c.bound) + 8);
-      return node_cells(c, parent, mine);
-    }();
+    }
+    const CellList cells = node_cells(c, parent, mine);
     mine.values = std::make_unique_for_overwrite<std::uint16_t[]>(cells.size + 8);
     std::uint16_t* values = mine.values.get();
     lists.push_back({cells, values});
@@ -696,8 +707,7 @@ struct DmmSearch::State {
 
 DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map, double min_distance, double min_angle) {
   check_compatible(query, map);
-  if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) || !std::isfinite(min_angle))
-    throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
+  check_exclusion(min_distance, min_angle);
   state_ = std::make_unique<State>(query, map, min_distance, min_angle);
 }
 
