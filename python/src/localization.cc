@@ -83,14 +83,21 @@ void define_localization(py::module_& m) {
       "read_point_file",
       [](const std::string& path) {
         io::PointFile file = io::read_point_file(path);
-        return py::make_tuple(py::cast(std::move(file.points)), py::cast(file.T_world_points));
+        return py::make_tuple(py::cast(std::move(file.points)), py::cast(file.T_world_points),
+                              py::cast(std::move(file.laser_origins)));
       },
       "path"_a,
-      "(points, T_world_points): the file's points and, when its header names it (partslam export --frame map), "
-      "the pose of their frame in the world frame, else None. Take the points there with transform() before "
+      "(points, T_world_points, laser_origins): the file's points; when its header names it (partslam export "
+      "--frame map), the pose of their frame in the world frame, else None; the laser origins it carries, in "
+      "the "
+      "points' frame ((0, 2) when none). Take both into the world frame with transform() before "
       "local_map_from_points to build the local map the world-frame file gives.");
-  m.def("local_map_from_points", &local_map_from_points, "points"_a, "config"_a = SubmapConfig{}, release_gil(),
-        "A local map shaped as submaps are (one point per cell, centred, canonical, cropped) from bare points.");
+  m.def("local_map_from_points", &local_map_from_points, "points"_a, "config"_a = SubmapConfig{},
+        "origins"_a = Points2{}, release_gil(),
+        "A local map shaped as submaps are (one point per cell, centred, canonical, cropped) from points "
+        "and, when "
+        "given, the laser origins they were seen from (in the points' frame), which let its free space be "
+        "verified.");
 
   py::class_<LocalizerConfig> config(m, "LocalizerConfig", "How the Localizer searches (core/matching/localizer.h)");
   config.def_readwrite("dmm", &LocalizerConfig::dmm)

@@ -56,13 +56,18 @@ def test_a_map_frame_point_file_names_its_frame_and_gives_the_world_files_local_
     for frame in ("map", "world"):
         subprocess.run([cli, "export", str(db), "--map", "20", "--frame", frame, "--out", str(tmp_path / f"{frame}.csv")],
                        check=True, capture_output=True)
-    points, T_world_points = partslam.read_point_file(str(tmp_path / "map.csv"))
-    world, none = partslam.read_point_file(str(tmp_path / "world.csv"))
+    points, T_world_points, origins = partslam.read_point_file(str(tmp_path / "map.csv"))
+    world, none, world_origins = partslam.read_point_file(str(tmp_path / "world.csv"))
     assert none is None and T_world_points is not None
     np.testing.assert_allclose(partslam.transform(T_world_points, points), world, atol=1e-5)
-    from_map = partslam.local_map_from_points(partslam.transform(T_world_points, points))
-    from_world = partslam.local_map_from_points(world)
+    # the stored map's laser origins travel with it, in the file's frame
+    assert len(origins) > 0 and len(origins) == len(world_origins)
+    np.testing.assert_allclose(partslam.transform(T_world_points, origins), world_origins, atol=1e-5)
+    from_map = partslam.local_map_from_points(partslam.transform(T_world_points, points),
+                                              origins=partslam.transform(T_world_points, origins))
+    from_world = partslam.local_map_from_points(world, origins=world_origins)
     assert len(from_map.points) == len(from_world.points)
+    np.testing.assert_allclose(from_map.origins, from_world.origins, atol=1e-4)
 
 
 def test_a_wing_built_at_another_angle_is_searched_too():

@@ -139,7 +139,8 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
 }
 
 // A stored map exported as a point file (world frame) and queried with --query-points: match ranks that map
-// first, locate puts the file's frame on the map frame.
+// first, locate puts the file's frame on the map frame and, the file carrying the map's laser origins,
+// verifies its free space too (a calibrated probability).
 TEST_F(CliLocateTest, QueryPointsFromAFile) {
   const fs::path db = dir_ / "m.db", points = dir_ / "map20.csv", yaml = dir_ / "b.yaml", json = dir_ / "r.json";
   ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
@@ -156,6 +157,8 @@ TEST_F(CliLocateTest, QueryPointsFromAFile) {
   j = read_json(json);
   const nlohmann::json& frame = j["located"][0]["T_map_source"];
   EXPECT_NEAR(frame["theta"].get<double>(), 0.0, 0.05);
+  EXPECT_TRUE(j["located"][0]["calibrated"].get<bool>());
+  EXPECT_THAT(j["located"][0]["query"].get<std::string>(), HasSubstr("with its laser origins"));
   // The file's points land on themselves, checked where they are: they lie ~20 m from the world origin, so the
   // 0.8 degrees a local map of 0.1 m cells leaves open moves the origin by 0.27 m and the points by 1 cm.
   const Pose2 T_map_source{frame["x"].get<double>(), frame["y"].get<double>(), frame["theta"].get<double>()};

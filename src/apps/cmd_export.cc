@@ -1,6 +1,7 @@
 // partslam export FILE (--map ID | --dictionary NAME): writes one stored map's points as PLY or CSV,
-// atomically, in the map frame (as stored; the header names the frame's pose in the world frame) or the source log's
-// world frame. Either file gives the same local map to match / locate --query-points.
+// atomically, in the map frame (as stored; the header names the frame's pose in the world frame) or the
+// source log's world frame, with the map's laser origins. Either file gives the same local map to match /
+// locate --query-points.
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <memory>
@@ -49,7 +50,7 @@ void run_export(const ExportOptions& options, std::ostream& log) {
   const std::string extension = format == io::PointFormat::kPly ? ".ply" : ".csv";
   const io::MapDatabase db = io::MapDatabase::open(options.file, io::MapDatabase::Mode::kReadOnly);
 
-  Points2 points;
+  Points2 points, origins;  // a stored map's laser origins go with it (a dictionary has none)
   Pose2 T_world_map;
   std::string what;
   std::string out = options.out;
@@ -57,6 +58,7 @@ void run_export(const ExportOptions& options, std::ostream& log) {
     const io::MapLocation where = with_hint([&] { return db.locate(options.map_id); }, info_hint(options.file));
     Submap submap = db.load_submap(options.map_id);
     points = std::move(submap.points);
+    origins = std::move(submap.origins);
     T_world_map = submap.T_world_map;
     what = "map " + std::to_string(options.map_id) + " (dataset '" + where.dataset_name + "', submap " +
            std::to_string(where.index) + ")";
@@ -74,12 +76,14 @@ void run_export(const ExportOptions& options, std::ostream& log) {
   std::optional<Pose2> T_world_points;
   if (options.frame == "world") {
     points = transform(T_world_map, points);
+    origins = transform(T_world_map, origins);
   } else {
     T_world_points = T_world_map;
   }
-  io::write_points(out, points, format, T_world_points);
-  log << "wrote " << points.size() << " points of " << what << " in the " << options.frame << " frame to "
-      << out << "\n";
+  io::write_points(out, points, format, T_world_points, origins);
+  log << "wrote " << points.size() << " points";
+  if (!origins.empty()) log << " and " << origins.size() << " laser origins";
+  log << " of " << what << " in the " << options.frame << " frame to " << out << "\n";
 }
 
 }  // namespace

@@ -215,9 +215,12 @@ Submap build_query(const QueryOptions& q, const QueryLog& log, const SubmapConfi
     const io::PointFile file = io::read_point_file(q.points);
     // A file that names its frame's pose (partslam export --frame map) is taken back into that world frame, so the
     // local map is built exactly as from the world-frame file (cells of the same grid).
-    const Points2 points = file.T_world_points ? transform(*file.T_world_points, file.points) : file.points;
-    const Submap m = local_map_from_points(points, config);
-    std::snprintf(text, sizeof text, "local map of %s (%zu points%s)", q.points.c_str(), m.points.size(),
+    const auto world = [&](const Points2& xs) {
+      return file.T_world_points ? transform(*file.T_world_points, xs) : xs;
+    };
+    const Submap m = local_map_from_points(world(file.points), config, world(file.laser_origins));
+    std::snprintf(text, sizeof text, "local map of %s (%zu points%s%s)", q.points.c_str(), m.points.size(),
+                  m.origins.empty() ? "" : ", with its laser origins",
                   file.T_world_points ? ", taken into the world frame its header names" : "");
     label = text;
     return m;

@@ -81,6 +81,61 @@ TEST(PointFiles, TheFramesPoseRoundTrips) {
   EXPECT_THROW(read_point_file(dir / "bad.ply"), InputError);
 }
 
+// A stored map's laser origins go with its points, in either format and frame; another tool's PLY with more
+// elements (faces) is read for its vertices; a malformed or truncated origin names the line.
+TEST(PointFiles, LaserOriginsRoundTrip) {
+  testing::TempDir dir;
+  const Points2 pts{{1.0, 2.0}, {-0.5, 0.25}}, origins{{0.5, -1.25}, {0.75, -1.0}, {1.0, -0.75}};
+  const Pose2 T{3.0, -4.0, 0.5};
+  for (const char* name : {"o.csv", "o.ply"}) {
+    write_points(dir / name, pts, std::string(name).ends_with(".ply") ? PointFormat::kPly : PointFormat::kCsv,
+                 T, origins);
+    const PointFile file = read_point_file(dir / name);
+    EXPECT_EQ(file.points, pts) << name;
+    EXPECT_EQ(file.laser_origins, origins) << name;
+    ASSERT_TRUE(file.T_world_points) << name;
+    EXPECT_EQ(file.T_world_points->x, T.x) << name;
+  }
+  write_points(dir / "bare.csv", pts, PointFormat::kCsv);
+  EXPECT_TRUE(read_point_file(dir / "bare.csv").laser_origins.empty());
+  testing::write_bytes(dir / "faces.ply",
+                       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                       "element face 1\nproperty list uchar int vertex_indices\n"
+                       "element laser_origin 1\nproperty float x\nproperty float y\nend_header\n"
+                       "1 2\n3 4\n2 0 1\n5 6\n");
+  const PointFile faces = read_point_file(dir / "faces.ply");
+  EXPECT_EQ(faces.points, (Points2{{1.0, 2.0}, {3.0, 4.0}}));
+  EXPECT_EQ(faces.laser_origins, (Points2{{5.0, 6.0}}));
+  const auto error = [&](const std::string& name, const std::string& content) {
+    testing::write_bytes(dir / name, content);
+    try {
+      read_point_file(dir / name, 10);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("a.csv", "# laser_origin 1\n1,2\n").find("a.csv:1: laser_origin: expected x y"),
+            std::string::npos);
+  EXPECT_NE(error("b.csv", "# laser_origin 1 inf\n1,2\n").find("b.csv:1: laser_origin y: not finite"),
+            std::string::npos);
+  EXPECT_NE(error("c.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                  "element laser_origin 2\nproperty float x\nproperty float y\nend_header\n1 2\n3 4\n")
+                .find("c.ply:11: truncated: 1 of 2 laser_origin rows"),
+            std::string::npos);
+  EXPECT_NE(error("d.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                  "element laser_origin 1\nproperty float x\nend_header\n1 2\n3\n")
+                .find("lacks x or y"),
+            std::string::npos);
+  EXPECT_NE(error("e.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                  "element laser_origin 11\nproperty float x\nproperty float y\nend_header\n1 2\n")
+                .find("11 laser origins is more than 10"),
+            std::string::npos);
+}
+
 TEST(PointFiles, BadFilesNameTheFileAndLine) {
   testing::TempDir dir;
   const auto error = [&](const std::string& name, const std::string& content) {

@@ -153,16 +153,22 @@ Submap build_local_map(const Scans& scans, double from, double to, const SubmapC
   return *m;
 }
 
-Submap local_map_from_points(const Points2& points, const SubmapConfig& config) {
+Submap local_map_from_points(const Points2& points, const SubmapConfig& config, const Points2& origins) {
   validate(config);
-  for (const Vec2& p : points) {
-    if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate)
-      throw InputError("local map: point coordinates must be finite and within " + std::to_string(kMaxCoordinate) + " m");
-  }
+  const auto check = [](const Points2& xs, const char* what) {
+    for (const Vec2& p : xs) {
+      if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+        throw InputError(std::string("local map: ") + what + " coordinates must be finite and within " +
+                         std::to_string(kMaxCoordinate) + " m");
+    }
+  };
+  check(points, "point");
+  check(origins, "laser origin");
   std::optional<Submap> m = shape_local_map(points, config);
   if (!m)
     throw InputError("local map: " + std::to_string(points.size()) + " points give fewer than " +
                      std::to_string(config.min_points) + " cells of " + std::to_string(config.resolution) + " m");
+  m->origins = transform(m->T_world_map.inverse(), origins);
   return *m;
 }
 

@@ -54,9 +54,11 @@ Submaps build_submaps(const Scans& scans, const SubmapConfig& config = {});
 Submap build_local_map(const Scans& scans, double from, double to, const SubmapConfig& config = {});
 
 /// A local map from points in any frame (a point file, another mapper's output), shaped as submaps are: one
-/// point per cell, centred, canonical, cropped; T_world_map places it in the points' frame. Throws InputError for
-/// non-finite points or fewer than min_points cells.
-Submap local_map_from_points(const Points2& points, const SubmapConfig& config = {});
+/// point per cell, centred, canonical, cropped; T_world_map places it in the points' frame. Laser origins in
+/// the points' frame (a point file's, partslam export) become the map's origins: its free space can then be
+/// verified. Throws InputError for non-finite points or origins, or fewer than min_points cells.
+Submap local_map_from_points(const Points2& points, const SubmapConfig& config = {},
+                             const Points2& origins = {});
 
 /// One point per occupied cell of the given size (the mean of the points that fall in it), in a fixed order.
 Points2 voxel_downsample(const Points2& points, double resolution);

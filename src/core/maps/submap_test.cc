@@ -197,6 +197,13 @@ TEST(LocalMapFromPoints, IsTheSubmapOfTheSamePoints) {
   EXPECT_EQ(local.points, m.points);
   EXPECT_DOUBLE_EQ(local.T_world_map.x, m.T_world_map.x);
   EXPECT_DOUBLE_EQ(local.T_world_map.theta, m.T_world_map.theta);
+  // Laser origins given in the points' frame end up in the map frame, as the submap's own.
+  ASSERT_FALSE(m.origins.empty());
+  const Submap with_origins = local_map_from_points(world, {}, transform(m.T_world_map, m.origins));
+  ASSERT_EQ(with_origins.origins.size(), m.origins.size());
+  for (std::size_t i = 0; i < m.origins.size(); ++i)
+    EXPECT_LT((with_origins.origins[i] - m.origins[i]).norm(), 1e-9);
+  EXPECT_THROW(local_map_from_points(world, {}, Points2{{0.0, NAN}}), InputError);
   EXPECT_THROW(local_map_from_points(Points2{}), InputError);
   EXPECT_THROW(local_map_from_points(Points2{{0.0, 0.0}, {NAN, 1.0}}), InputError);
   EXPECT_THROW(local_map_from_points(Points2(5, Vec2(1.0, 1.0))), InputError);  // one cell
