@@ -1,5 +1,5 @@
-// libFuzzer target: point files (io/point_export.h, read_points). The first input byte chooses the extension
-// (even: .ply, odd: .csv); the rest is the file.
+// libFuzzer target: point files (io/point_export.h, read_point_file: points, the frame's pose, laser
+// origins). The first input byte chooses the extension (even: .ply, odd: .csv); the rest is the file.
 #include "fuzz/fuzz_common.h"
 #include "io/point_export.h"
 
@@ -10,9 +10,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto path = fuzz::write_file(name, data + 1, size - 1);
   constexpr std::size_t kMaxPoints = 100000;  // the cap itself is what is checked, at a size a fuzzer reaches
   fuzz::expect_input_error([&] {
-    const Points2 points = io::read_points(path, kMaxPoints);
-    fuzz::check(!points.empty() && points.size() <= kMaxPoints, "point count");
-    for (const Vec2& p : points) fuzz::check(fuzz::finite(p), "point finite");
+    const io::PointFile file = io::read_point_file(path, kMaxPoints);
+    fuzz::check(!file.points.empty() && file.points.size() <= kMaxPoints, "point count");
+    for (const Vec2& p : file.points) fuzz::check(fuzz::finite(p), "point finite");
+    fuzz::check(file.laser_origins.size() <= kMaxPoints, "laser origin count");
+    for (const Vec2& o : file.laser_origins) fuzz::check(fuzz::finite(o), "laser origin finite");
+    if (file.T_world_points) fuzz::check(fuzz::finite(*file.T_world_points), "pose finite");
   });
   return 0;
 }
