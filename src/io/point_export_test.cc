@@ -1,9 +1,12 @@
 #include "io/point_export.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "core/error.h"
 #include "io/test_files.h"
@@ -16,6 +19,17 @@ std::string slurp(const std::filesystem::path& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// The error reading a file of this content gives (at most 10 points), or "no error".
+std::string read_error(const testing::TempDir& dir, const std::string& name, const std::string& content) {
+  testing::write_bytes(dir / name, content);
+  try {
+    read_point_file(dir / name, 10);
+  } catch (const InputError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
 }
 
 TEST(PointExport, WritesCsvAndPly) {
@@ -106,46 +120,24 @@ TEST(PointFiles, LaserOriginsRoundTrip) {
   const PointFile faces = read_point_file(dir / "faces.ply");
   EXPECT_EQ(faces.points, (Points2{{1.0, 2.0}, {3.0, 4.0}}));
   EXPECT_EQ(faces.laser_origins, (Points2{{5.0, 6.0}}));
-  const auto error = [&](const std::string& name, const std::string& content) {
-    testing::write_bytes(dir / name, content);
-    try {
-      read_point_file(dir / name, 10);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(error("a.csv", "# laser_origin 1\n1,2\n").find("a.csv:1: laser_origin: expected x y"),
-            std::string::npos);
-  EXPECT_NE(error("b.csv", "# laser_origin 1 inf\n1,2\n").find("b.csv:1: laser_origin y: not finite"),
-            std::string::npos);
-  EXPECT_NE(error("c.ply",
-                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                  "element laser_origin 2\nproperty float x\nproperty float y\nend_header\n1 2\n3 4\n")
-                .find("c.ply:11: truncated: 1 of 2 laser_origin rows"),
-            std::string::npos);
-  EXPECT_NE(error("d.ply",
-                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                  "element laser_origin 1\nproperty float x\nend_header\n1 2\n3\n")
-                .find("lacks x or y"),
-            std::string::npos);
-  EXPECT_NE(error("e.ply",
-                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                  "element laser_origin 11\nproperty float x\nproperty float y\nend_header\n1 2\n")
-                .find("11 laser origins is more than 10"),
-            std::string::npos);
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n";
+  const std::vector<std::array<std::string, 3>> bad = {
+      // file, content, what the error says
+      {"a.csv", "# laser_origin 1\n1,2\n", "a.csv:1: laser_origin: expected x y"},
+      {"b.csv", "# laser_origin 1 inf\n1,2\n", "b.csv:1: laser_origin y: not finite"},
+      {"c.ply", ply + "element laser_origin 2\nproperty float x\nproperty float y\nend_header\n1 2\n3 4\n",
+       "c.ply:11: truncated: 1 of 2 laser_origin rows"},
+      {"d.ply", ply + "element laser_origin 1\nproperty float x\nend_header\n1 2\n3\n", "lacks x or y"},
+      {"e.ply", ply + "element laser_origin 11\nproperty float x\nproperty float y\nend_header\n1 2\n",
+       "11 laser origins is more than 10"}};
+  for (const auto& [name, content, what] : bad)
+    EXPECT_THAT(read_error(dir, name, content), ::testing::HasSubstr(what)) << name;
 }
 
 TEST(PointFiles, BadFilesNameTheFileAndLine) {
   testing::TempDir dir;
   const auto error = [&](const std::string& name, const std::string& content) {
-    testing::write_bytes(dir / name, content);
-    try {
-      read_points(dir / name, 10);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return read_error(dir, name, content);
   };
   EXPECT_NE(error("a.csv", "x,y\n").find("a.csv: no points"), std::string::npos);
   EXPECT_NE(error("b.csv", "x,y\n1,2\nnan,3\n").find("b.csv:3: x: not finite"), std::string::npos);
