@@ -88,15 +88,13 @@ void define_localization(py::module_& m) {
       },
       "path"_a,
       "(points, T_world_points, laser_origins): the file's points; when its header names it (partslam export "
-      "--frame map), the pose of their frame in the world frame, else None; the laser origins it carries, in "
-      "the "
+      "--frame map), the pose of their frame in the world frame, else None; the laser origins it carries, in the "
       "points' frame ((0, 2) when none). Take both into the world frame with transform() before "
       "local_map_from_points to build the local map the world-frame file gives.");
   m.def("local_map_from_points", &local_map_from_points, "points"_a, "config"_a = SubmapConfig{},
         "origins"_a = Points2{}, release_gil(),
-        "A local map shaped as submaps are (one point per cell, centred, canonical, cropped) from points "
-        "and, when "
-        "given, the laser origins they were seen from (in the points' frame), which let its free space be "
+        "A local map shaped as submaps are (one point per cell, centred, canonical, cropped) from points and, "
+        "when given, the laser origins they were seen from (in the points' frame), which let its free space be "
         "verified.");
 
   py::class_<LocalizerConfig> config(m, "LocalizerConfig", "How the Localizer searches (core/matching/localizer.h)");
