@@ -141,13 +141,6 @@ struct Candidate {
   int parent = 0;  // for the children of a root: the root's index
 };
 
-// The distance and angle that make two poses distinct (match_dmm_elsewhere, DmmSearch).
-void check_exclusion(double min_distance, double min_angle) {
-  if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) ||
-      !std::isfinite(min_angle))
-    throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
-}
-
 // Depth-first branch-and-bound (Cartographer's FastCorrelativeScanMatcher2D::BranchAndBound), 16-way: a node
 // at depth d is a block of 4^d x 4^d translations of one rotation; its sixteen children (depth d - 1) are
 // bounded in one pass over the node's query cells with the packed pyramid level 2 (d - 1) (dmm_bounds.h).
@@ -161,10 +154,21 @@ struct Exclusion {
     double i = 0, j = 0;     // [cells]
   };
   std::vector<Disc> discs;
-  double radius = 0;  // [cells]
+  double radius = 0;     // [cells]
+  double min_angle = 0;  // [rad]
+
+  // Two poses are distinct when their translations lie min_distance [m] apart or their rotations differ by
+  // more than min_angle [rad] (match_dmm_elsewhere, DmmSearch); throws InputError unless both are finite and
+  // >= 0.
+  Exclusion(double min_distance, double min_angle, double resolution)
+      : radius(min_distance / resolution), min_angle(min_angle) {
+    if (!(min_distance >= 0.0) || !std::isfinite(min_distance) || !(min_angle >= 0.0) ||
+        !std::isfinite(min_angle))
+      throw InputError("dmm: min_distance and min_angle must be finite and >= 0");
+  }
 
   // The disc about translation (i, j) [cells], at the query's rotations within min_angle of theta.
-  void add(const PreparedQuery& query, double i, double j, double theta, double min_angle) {
+  void add(const PreparedQuery& query, double i, double j, double theta) {
     Disc disc;
     disc.i = i, disc.j = j;
     for (const RotatedQuery& q : query.rotations)
@@ -490,14 +494,11 @@ DmmResult match_dmm(const PreparedQuery& query, const PreparedMap& map) { return
 
 DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map, std::span<const Pose2> avoid,
                               double min_distance, double min_angle, int bar) {
-  check_exclusion(min_distance, min_angle);
-  Exclusion exclusion;
-  exclusion.radius = min_distance / map.config.resolution;
+  Exclusion exclusion(min_distance, min_angle, map.config.resolution);
   for (const Pose2& pose : avoid) {
     if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.theta))
       throw InputError("dmm: a pose to avoid must be finite");
-    exclusion.add(query, pose.x / map.config.resolution, pose.y / map.config.resolution, pose.theta,
-                  min_angle);
+    exclusion.add(query, pose.x / map.config.resolution, pose.y / map.config.resolution, pose.theta);
   }
   return match_dmm_above(query, map, bar, &exclusion);
 }
@@ -537,9 +538,8 @@ struct DmmSearch::State {
       : query(q),
         map(m),
         ranges(search_ranges(q, m)),
-        min_angle(min_angle),
-        n(static_cast<std::size_t>(q.num_points)) {
-    returned.radius = min_distance / m.config.resolution;
+        n(static_cast<std::size_t>(q.num_points)),
+        returned(min_distance, min_angle, m.config.resolution) {
     for (Storage& level : scratch) {
       level = {std::make_unique_for_overwrite<int[]>(n + 8), std::make_unique_for_overwrite<int[]>(n + 8),
                std::make_unique_for_overwrite<std::uint16_t[]>(n + 8)};
@@ -549,7 +549,6 @@ struct DmmSearch::State {
   const PreparedQuery& query;
   const PreparedMap& map;
   const std::vector<Range> ranges;
-  const double min_angle;
   const std::size_t n;
   std::array<Storage, kSubtreeDepth + 1> scratch;  // per depth: the cells (and values) of a subtree's node
   std::vector<Node> heap;
@@ -695,7 +694,7 @@ struct DmmSearch::State {
         continue;
       }
       result = make_result(query, map.config, c.bound, c.rotation, c.i, c.j);
-      returned.add(query, c.i, c.j, result.T_map_query.theta, min_angle);
+      returned.add(query, c.i, c.j, result.T_map_query.theta);
       result.candidates_scored = scored - scored_before;
       return result;
     }
@@ -707,7 +706,6 @@ struct DmmSearch::State {
 
 DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map, double min_distance, double min_angle) {
   check_compatible(query, map);
-  check_exclusion(min_distance, min_angle);
   state_ = std::make_unique<State>(query, map, min_distance, min_angle);
 }
 
