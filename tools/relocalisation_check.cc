@@ -19,9 +19,11 @@ using namespace partslam;
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: relocalisation_check CORRECTED_LOG OUT_DIR [candidates=K turns=4|8 free_weight=W "
-                         "elsewhere=M window=M full_circle verified=K wall_share=S refine_window=M confidence=C "
-                         "probability=P]\n");
+    std::fprintf(
+        stderr,
+        "usage: relocalisation_check CORRECTED_LOG OUT_DIR [candidates=K turns=4|8 free_weight=W "
+        "elsewhere=M distinct=M window=M full_circle verified=K wall_share=S refine_window=M confidence=C "
+        "probability=P]\n");
     return 2;
   }
   try {
@@ -42,6 +44,8 @@ int main(int argc, char** argv) {
       else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
+      else if (name == "distinct")
+        config.localizer.candidate_distance = value;
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);
       else if (name == "wall_share") config.localizer.wall_direction_share = value;
       else if (name == "refine_window") config.localizer.verify.refine_window = value;

@@ -101,6 +101,8 @@ void define_localization(py::module_& m) {
   config.def_readwrite("dmm", &LocalizerConfig::dmm)
       .def_readwrite("elsewhere_distance", &LocalizerConfig::elsewhere_distance, "[m]")
       .def_readwrite("elsewhere_angle", &LocalizerConfig::elsewhere_angle, "[rad]")
+      .def_readwrite("candidate_distance", &LocalizerConfig::candidate_distance,
+                     "the search's candidates lie at least this far apart [m], at most elsewhere_distance")
       .def_readwrite("candidates", &LocalizerConfig::candidates)
       .def_readwrite("free_weight", &LocalizerConfig::free_weight)
       .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]")

@@ -150,6 +150,7 @@ void visit(V& v, LocalizerConfig& c) {
   v.section("verify", c.verify);
   v.field("elsewhere_distance", c.elsewhere_distance);
   v.field("elsewhere_angle", c.elsewhere_angle);
+  v.field("candidate_distance", c.candidate_distance);
   v.field("candidates", c.candidates);
   v.field("free_weight", c.free_weight);
   v.field("neighbourhood", c.neighbourhood);

@@ -120,6 +120,10 @@ TEST(ConfigFile, ValuesOutOfRangeAreRefusedNamingFieldAndFile) {
               HasSubstr("settings.yaml: loops config: truth.radius must be"));
   EXPECT_THAT(refusal<LocateConfig>(dir, "localizer:\n  candidates: 1\n"),
               HasSubstr("settings.yaml: locate config: localizer.candidates must be in [2, 100]"));
+  EXPECT_THAT(
+      refusal<LocateConfig>(dir, "localizer:\n  candidate_distance: 3\n"),
+      HasSubstr(
+          "settings.yaml: locate config: localizer.candidate_distance must be in (0, elsewhere_distance]"));
   EXPECT_THAT(refusal<LocateConfig>(dir, "localizer:\n  dmm:\n    resolution: -1\n"),
               HasSubstr("settings.yaml: locate config: localizer.dmm.resolution must be"));
   EXPECT_THAT(refusal<LocateConfig>(dir, "submaps:\n  window_length: 0\n"),

@@ -22,6 +22,8 @@ void validate(const LocalizerConfig& c) {
   validate(c.verify);
   if (!(c.elsewhere_distance >= 0.0 && c.elsewhere_distance <= 100.0))
     throw InputError("localizer: elsewhere_distance must be in [0, 100] m");
+  if (!(c.candidate_distance > 0.0 && c.candidate_distance <= c.elsewhere_distance))
+    throw InputError("localizer: candidate_distance must be in (0, elsewhere_distance]");
   if (!(c.elsewhere_angle >= 0.0 && c.elsewhere_angle <= std::numbers::pi))
     throw InputError("localizer: elsewhere_angle must be in [0, pi] rad");
   if (c.candidates < 2 || c.candidates > 100) throw InputError("localizer: candidates must be in [2, 100]");
@@ -140,14 +142,23 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     Pose2 T_map_query;
     int conflicts = 0;
     double score = 0;
+    bool place = false;  // the best of its place: no candidate found before it lies within "elsewhere" of it
   };
   std::vector<Scored> found;
+  Vec2 centre = Vec2::Zero();  // the local map's centre
+  for (const Vec2& p : query_points) centre += p;
+  centre /= static_cast<double>(query_points.size());
+  const auto apart = [&](const Pose2& a, const Pose2& b) {
+    return (a * centre - b * centre).norm() >= config_.elsewhere_distance ||
+           std::abs(wrap_angle(a.theta - b.theta)) > config_.elsewhere_angle;
+  };
   const double n = static_cast<double>(query_points.size());
-  // The two best rescored scores so far [points]: a candidate with no more inliers than the second cannot
-  // change the answer or its confidence (rescoring only subtracts), so it is the next search's bar.
+  // The two best rescored scores of distinct places so far [points]: a candidate with no more inliers than
+  // the second cannot change the answer's confidence (rescoring only subtracts), so it is the next search's
+  // bar.
   double first = -1e300, second = -1e300;
   // One best-first search yields the distinct candidates in turn.
-  DmmSearch search(query, map_, config_.elsewhere_distance, config_.elsewhere_angle);
+  DmmSearch search(query, map_, config_.candidate_distance, config_.elsewhere_angle);
   for (int k = 0; k < config_.candidates; ++k) {
     Scored s;
     const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
@@ -157,7 +168,11 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     s.conflicts = free_conflicts(query_points, s.T_map_query);
     const double points = s.dmm.inliers - config_.free_weight * s.conflicts;
     s.score = points / n;
-    if (points > first) {
+    s.place = std::all_of(found.begin(), found.end(),
+                          [&](const Scored& f) { return apart(f.T_map_query, s.T_map_query); });
+    if (!s.place) {
+      // a place found before, seen a little off: its margin is over other places
+    } else if (points > first) {
       second = first, first = points;
     } else if (points > second) {
       second = points;
@@ -183,15 +198,24 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   out.inlier_fraction = best.dmm.inlier_fraction;
   out.free_conflicts = best.conflicts;
   out.score = best.score;
-  if (found.size() > 1) {
-    const std::size_t next = chosen == 0 ? 1 : 0;  // the best-scoring other candidate
-    out.elsewhere_score = found[next].score;
-    out.T_map_elsewhere = found[next].T_map_query;
+  // The margin is over the other places: the candidates that are the best of their place (in the search's
+  // order, as a search with candidate_distance = elsewhere_distance finds them) and lie elsewhere than the
+  // answer (the candidates between are the same places seen a little off).
+  const auto elsewhere = [&](std::size_t j) {
+    return found[j].place && apart(found[j].T_map_query, best.T_map_query);
+  };
+  for (std::size_t j = 0; j < found.size(); ++j) {
+    if (j == chosen || !elsewhere(j)) continue;
+    out.elsewhere_score = found[j].score;  // the best-scoring other place (found is sorted by score)
+    out.T_map_elsewhere = found[j].T_map_query;
+    break;
   }
+  // The margin is from the answer's place: the best score of the candidates there.
   std::vector<double> scores;
   for (const Scored& f : found) scores.push_back(f.score);
-  // Every other candidate is another place: each search avoided the poses found before it.
-  out.confidence = std::max(0.0, distinctiveness(scores, chosen, [](std::size_t) { return true; }));
+  for (const Scored& f : found)
+    if (!apart(f.T_map_query, best.T_map_query)) scores[chosen] = std::max(scores[chosen], f.score);
+  out.confidence = std::max(0.0, distinctiveness(scores, chosen, elsewhere));
   out.candidates = static_cast<int>(found.size());
   out.T_map_query = v.T_map_query;
   out.terms = v.terms;

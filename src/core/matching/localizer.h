@@ -2,18 +2,20 @@
 // the whole building (a map_server map, a corrected log's map), with no initial pose? The building map is
 // prepared once for dMM over its whole area (the dictionary's set-up: every translation at which the query
 // overlaps it, dmm_config_for_dictionary), in its canonical (Manhattan) frame so that a canonical local map
-// needs a few turns plus a small residual. Each query is one exact best-first branch-and-bound (DmmSearch) that
-// yields the best pose, then the best pose elsewhere than the ones found so far, `candidates` in all. With a map
-// that knows its free space (a GridMap), each candidate is rescored by what contradicts it: local map points
-// that land on cells the map saw free (a corridor turned end for end, a room that is not there) cost
-// free_weight inliers each. The best `verified` rescored candidates are verified (core/matching/verification.h)
-// against the building map cut to each one's neighbourhood: refined below dMM's lattice, with the same-place
-// probability of both directions and both free spaces; the most probable is the answer (in a long corridor the
-// true place often scores a few inliers below an alias that the free space and the fit tell apart). How unique
-// it is: confidence = its score - the best other candidate's score (shares of the query's points), near 0 for a
-// corridor that fits two places or a place the map does not hold; it is reported as found when that margin and
-// its probability are both high enough (is_confident; docs/NOTES.md, "Locate"). Buildings with a wing at
-// another angle have that wing's direction searched too (wall_directions).
+// needs a few turns plus a small residual. Each query is one exact best-first branch-and-bound (DmmSearch)
+// that yields the best pose, then the best pose elsewhere than the ones found so far, `candidates` in all.
+// With a map that knows its free space (a GridMap), each candidate is rescored by what contradicts it: local
+// map points that land on cells the map saw free (a corridor turned end for end, a room that is not there)
+// cost free_weight inliers each. The best `verified` rescored candidates are verified
+// (core/matching/verification.h) against the building map cut to each one's neighbourhood: refined below
+// dMM's lattice, with the same-place probability of both directions and both free spaces; the most probable
+// is the answer (in a long corridor the true place often scores a few inliers below an alias that the free
+// space and the fit tell apart). How unique it is: confidence = the best score at its place - the best score
+// at another place (shares of the query's points; "another place": elsewhere_distance away, candidates may
+// lie closer together), near 0 for a corridor that fits two places or a place the map does not hold; it is
+// reported as found when that margin and its probability are both high enough (is_confident; docs/NOTES.md,
+// "Locate"). Buildings with a wing at another angle have that wing's direction searched too
+// (wall_directions).
 #pragma once
 
 #include <numbers>
@@ -47,12 +49,17 @@ inline VerifyConfig localizer_verify_config() {
 struct LocalizerConfig {
   DmmConfig dmm = localizer_dmm_config();
   VerifyConfig verify = localizer_verify_config();  ///< the verification of the answer
-  double elsewhere_distance = 2.0;  ///< "elsewhere": the local map's centre at least this far away [m] ...
+  /// The confidence's "elsewhere": the local map's centre at least this far away [m] ...
+  double elsewhere_distance = 2.0;
   double elsewhere_angle = 10.0 * std::numbers::pi / 180;  ///< ... or turned by more than this [rad]
-  /// Distinct poses examined, in [2, 100]. 16: with eight verified and the best-first search, the fewest that
-  /// keep fr079 and intel >= 90 % with no confident wrong answer (12: one confident wrong answer on intel; 16 to
-  /// 32 give the same answers but one, at the same p95 of 37-58 ms; docs/NOTES.md, "Locate").
-  int candidates = 16;
+  /// The search's candidates are poses at least this far apart (or turned by more than elsewhere_angle) [m],
+  /// in (0, elsewhere_distance]: finer than "elsewhere", so that the true place a metre along a corridor from
+  /// an alias that Eq. 1 prefers is examined too. 1 m with 32 candidates and 16 verified (chosen on fr079 and
+  /// intel: 75 of 80 and 184 of 192 within 0.3 m / 3 deg, against 74 and 180 with 2 m, 16 and 8; 1 m with 16
+  /// candidates: 71 and 181; 0.5 m with 32 and 16: 71 and 182; docs/NOTES.md, "Locate").
+  double candidate_distance = 1.0;
+  /// Distinct poses examined, in [2, 100] (with candidate_distance; 48 gives the same answers).
+  int candidates = 32;
   double free_weight = 1.0;         ///< inliers a point on the map's free space costs (maps with free space only)
   double neighbourhood = 1.0;       ///< verification: the building map cut to the local map's box grown by this [m]
   /// The building's wall directions off its axes and diagonals holding at least this share of its walls and
@@ -61,10 +68,10 @@ struct LocalizerConfig {
   /// and intel, the floor's sets, hold (at most 8-10 m, intel's whole-log map; docs/NOTES.md, "Locate").
   double wall_direction_share = 0.03;
   double wall_direction_length = 10.0;  ///< [m]
-  /// The best-scoring candidates verified (refined, with their same-place probability): the most probable is the
-  /// answer. 8 (chosen on fr079 and intel: 1 / 3 / 5 / 8 / 15 put 71 / 71 / 72 / 72 / 72 of 80 and 177 / 177 /
-  /// 179 / 181 / 181 of 192 within 0.3 m / 3 deg; docs/NOTES.md, "Locate"), in [1, 100].
-  int verified = 8;
+  /// The best-scoring candidates verified (refined, with their same-place probability): the most probable is
+  /// the answer, in [1, 100]. 16 (with candidate_distance: 8 put 182 of intel's 192 within 0.3 m / 3 deg, 16
+  /// 184).
+  int verified = 16;
 };
 
 /// Throws InputError naming the field.
@@ -77,9 +84,11 @@ struct Localization {
   double inlier_fraction = 0.0;   ///< inliers / query points
   int free_conflicts = 0;         ///< query points on cells the map saw free (not counted as inliers)
   double score = 0.0;             ///< (inliers - free_weight * free_conflicts) / query points
-  double elsewhere_score = 0.0;   ///< the best score of the other candidates (0 when there is none)
+  double elsewhere_score = 0.0;   ///< the best score at another place (0 when there is none)
   Pose2 T_map_elsewhere;          ///< that candidate's pose
-  double confidence = 0.0;        ///< max(0, score - elsewhere_score): 0 when a less probable candidate scores higher
+  /// max(0, the best score at the answer's place (the candidates within "elsewhere" of it) -
+  /// elsewhere_score): 0 when a less probable place scores higher
+  double confidence = 0.0;
   MatchTerms terms;               ///< the verification's terms at T_map_query
   double probability = 0.0;       ///< same_place_probability there
   /// both maps had free space (the building map's free cells, the local map's laser origins): the probability
