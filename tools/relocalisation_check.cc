@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
       else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
+      else if (name == "restart")
+        config.localizer.restart_distance = value;
       else if (name == "distinct")
         config.localizer.candidate_distance = value;
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);

@@ -108,6 +108,8 @@ void define_localization(py::module_& m) {
       .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]")
       .def_readwrite("verified", &LocalizerConfig::verified,
                      "the best-scoring candidates verified; the most probable of them is the answer")
+      .def_readwrite("restart_distance", &LocalizerConfig::restart_distance,
+                     "the answer is verified again from starts this far from it along each axis [m]; 0: not")
       .def_readwrite("wall_direction_share", &LocalizerConfig::wall_direction_share,
                      "wall directions off the axes holding this share of the walls are searched too; 0: none")
       .def_readwrite("wall_direction_length", &LocalizerConfig::wall_direction_length,

@@ -157,6 +157,7 @@ void visit(V& v, LocalizerConfig& c) {
   v.field("wall_direction_share", c.wall_direction_share);
   v.field("wall_direction_length", c.wall_direction_length);
   v.field("verified", c.verified);
+  v.field("restart_distance", c.restart_distance);
 }
 
 template <class V>

@@ -31,6 +31,8 @@ void validate(const LocalizerConfig& c) {
   if (!(c.neighbourhood >= 0.0 && c.neighbourhood <= 100.0))
     throw InputError("localizer: neighbourhood must be in [0, 100] m");
   if (c.verified < 1 || c.verified > 100) throw InputError("localizer: verified must be in [1, 100]");
+  if (!(c.restart_distance >= 0.0 && c.restart_distance <= 10.0))
+    throw InputError("localizer: restart_distance must be in [0, 10] m");
   if (!(c.wall_direction_share >= 0.0 && c.wall_direction_share <= 1.0))
     throw InputError("localizer: wall_direction_share must be in [0, 1]");
   if (!(c.wall_direction_length >= 0.0 && c.wall_direction_length <= 1e6))
@@ -190,6 +192,16 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   for (std::size_t i = 1; i < verified; ++i) {
     Verified other = verify(verify_local, found[i].T_map_query);
     if (other.probability > v.probability) v = std::move(other), chosen = i;
+  }
+  // The answer verified again from starts around it: a candidate half a metre from the true pose does not
+  // refine onto it.
+  if (config_.restart_distance > 0) {
+    const Pose2 at = v.T_map_query;
+    const double r = config_.restart_distance;
+    for (const Vec2& d : {Vec2(r, 0), Vec2(-r, 0), Vec2(0, r), Vec2(0, -r)}) {
+      Verified other = verify(verify_local, Pose2(at.x + d.x(), at.y + d.y(), at.theta));
+      if (other.probability > v.probability) v = std::move(other);
+    }
   }
   Localization out;
   const Scored& best = found[chosen];

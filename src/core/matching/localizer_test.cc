@@ -52,12 +52,13 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
     }
     EXPECT_NEAR(l.score, (l.inliers - l.free_conflicts) / static_cast<double>(query.points.size()), 1e-12);
     EXPECT_GE(l.terms.query.occupied, l.terms.query.free);
-    // Refining moves the local map's centre by the refinement window (+-0.15 m) and what Gauss-Newton adds on
-    // the likelihood field after it (its reach: a few sigma, 0.1 m each).
+    // Refining moves the local map's centre by the restarts (0.5 m), the refinement window (+-0.15 m) and
+    // what Gauss-Newton adds on the likelihood field after it (its reach: a few sigma, 0.1 m each).
     Vec2 centre = Vec2::Zero();
     for (const Vec2& p : query.points) centre += p;
     centre /= static_cast<double>(query.points.size());
-    EXPECT_LE((l.T_map_query * centre - l.T_map_lattice * centre).norm(), 0.15 * std::sqrt(2.0) + 0.3);
+    EXPECT_LE((l.T_map_query * centre - l.T_map_lattice * centre).norm(),
+              config.restart_distance + 0.15 * std::sqrt(2.0) + 0.3);
     // The margin is over another place: 2 m away from the answer's lattice pose (measured at the local map's
     // centre, within 0.1 m of its frame's origin) or turned by more than 10 degrees.
     EXPECT_GT(
@@ -79,6 +80,7 @@ TEST(Localizer, VerifyingMoreCandidatesAnswersWithTheMostProbable) {
   const GridMap map = build_grid_map(scans);
   LocalizerConfig one;  // candidates a place apart, so that the best-scoring other one is the margin's
   one.candidate_distance = one.elsewhere_distance;
+  one.restart_distance = 0;  // the candidates' own verification
   one.verified = 1;
   LocalizerConfig many = one;
   many.verified = 8;
@@ -94,6 +96,28 @@ TEST(Localizer, VerifyingMoreCandidatesAnswersWithTheMostProbable) {
       EXPECT_GT(b.probability, a.probability);  // another candidate only when strictly more probable
       EXPECT_EQ(b.confidence, std::max(0.0, b.score - a.score));
     }
+  }
+}
+
+// Restarting the answer's verification around it keeps the same candidates and answer, and only moves the
+// pose to a more probable one.
+TEST(Localizer, RestartsAroundTheAnswerOnlyMakeItMoreProbable) {
+  const Scans& scans = building_scans();
+  const GridMap map = build_grid_map(scans);
+  LocalizerConfig once;
+  once.restart_distance = 0;
+  const Localizer plain(map, once), restarted(map);
+  const std::vector<double> travel = travel_distances(scans);
+  for (double s = 6.0; s + 2.0 < travel.back(); s += 0.25 * travel.back()) {
+    const Submap query = build_local_map(scans, s, s + 2.0);
+    const Localization a = plain.locate(query.points, query.origins);
+    const Localization b = restarted.locate(query.points, query.origins);
+    EXPECT_EQ(a.T_map_lattice.x, b.T_map_lattice.x);  // the same answer among the candidates
+    EXPECT_EQ(a.T_map_lattice.y, b.T_map_lattice.y);
+    EXPECT_EQ(a.confidence, b.confidence);
+    EXPECT_GE(b.probability, a.probability);
+    if (b.T_map_query.x != a.T_map_query.x || b.T_map_query.y != a.T_map_query.y)
+      EXPECT_GT(b.probability, a.probability);  // moved only when strictly more probable
   }
 }
 
@@ -133,6 +157,9 @@ TEST(Localizer, RefusesEmptyOrBadInput) {
   c.candidate_distance = 0;  // the search needs distinct poses
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
   c.candidate_distance = c.elsewhere_distance + 0.5;  // finer than "elsewhere" or the same
+  EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
+  c = {};
+  c.restart_distance = -0.5;
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
   c = {};
   c.verified = 0;
