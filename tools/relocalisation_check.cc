@@ -19,11 +19,11 @@ using namespace partslam;
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(
-        stderr,
-        "usage: relocalisation_check CORRECTED_LOG OUT_DIR [candidates=K turns=4|8 free_weight=W "
-        "elsewhere=M distinct=M window=M full_circle verified=K wall_share=S refine_window=M confidence=C "
-        "probability=P]\n");
+    std::fprintf(stderr,
+                 "usage: relocalisation_check CORRECTED_LOG OUT_DIR [candidates=K turns=4|8 free_weight=W "
+                 "elsewhere=M distinct=M restart=M window=M full_circle verified=K wall_share=S "
+                 "refine_window=M confidence=C "
+                 "probability=P]\n");
     return 2;
   }
   try {

@@ -10,12 +10,12 @@
 // (core/matching/verification.h) against the building map cut to each one's neighbourhood: refined below
 // dMM's lattice, with the same-place probability of both directions and both free spaces; the most probable
 // is the answer (in a long corridor the true place often scores a few inliers below an alias that the free
-// space and the fit tell apart), verified again from starts around it (restart_distance). How unique it is: confidence = the best score at its place - the best score
-// at another place (shares of the query's points; "another place": elsewhere_distance away, candidates may
-// lie closer together), near 0 for a corridor that fits two places or a place the map does not hold; it is
-// reported as found when that margin and its probability are both high enough (is_confident; docs/NOTES.md,
-// "Locate"). Buildings with a wing at another angle have that wing's direction searched too
-// (wall_directions).
+// space and the fit tell apart), verified again from starts around it (restart_distance). How unique it is:
+// confidence = the best score at its place - the best score at another place (shares of the query's points;
+// "another place": elsewhere_distance away, candidates may lie closer together), near 0 for a corridor that
+// fits two places or a place the map does not hold; it is reported as found when that margin and its
+// probability are both high enough (is_confident; docs/NOTES.md, "Locate"). Buildings with a wing at another
+// angle have that wing's direction searched too (wall_directions).
 #pragma once
 
 #include <numbers>

@@ -116,8 +116,9 @@ TEST(Localizer, RestartsAroundTheAnswerOnlyMakeItMoreProbable) {
     EXPECT_EQ(a.T_map_lattice.y, b.T_map_lattice.y);
     EXPECT_EQ(a.confidence, b.confidence);
     EXPECT_GE(b.probability, a.probability);
-    if (b.T_map_query.x != a.T_map_query.x || b.T_map_query.y != a.T_map_query.y)
+    if (b.T_map_query.x != a.T_map_query.x || b.T_map_query.y != a.T_map_query.y) {
       EXPECT_GT(b.probability, a.probability);  // moved only when strictly more probable
+    }
   }
 }
 
