@@ -199,7 +199,7 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     const Pose2 at = v.T_map_query;
     const double r = config_.restart_distance;
     for (const Vec2& d : {Vec2(r, 0), Vec2(-r, 0), Vec2(0, r), Vec2(0, -r)}) {
-      Verified other = verify(verify_local, Pose2(at.x + d.x(), at.y + d.y(), at.theta));
+      Verified other = verify(verify_local, Pose2{at.x + d.x(), at.y + d.y(), at.theta});
       if (other.probability > v.probability) v = std::move(other);
     }
   }
