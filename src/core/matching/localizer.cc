@@ -147,9 +147,7 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     bool place = false;  // the best of its place: no candidate found before it lies within "elsewhere" of it
   };
   std::vector<Scored> found;
-  Vec2 centre = Vec2::Zero();  // the local map's centre
-  for (const Vec2& p : query_points) centre += p;
-  centre /= static_cast<double>(query_points.size());
+  const Vec2 centre = centroid(query_points);  // the local map's centre
   const auto apart = [&](const Pose2& a, const Pose2& b) {
     return (a * centre - b * centre).norm() >= config_.elsewhere_distance ||
            std::abs(wrap_angle(a.theta - b.theta)) > config_.elsewhere_angle;

@@ -54,9 +54,7 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
     EXPECT_GE(l.terms.query.occupied, l.terms.query.free);
     // Refining moves the local map's centre by the restarts (0.5 m), the refinement window (+-0.15 m) and
     // what Gauss-Newton adds on the likelihood field after it (its reach: a few sigma, 0.1 m each).
-    Vec2 centre = Vec2::Zero();
-    for (const Vec2& p : query.points) centre += p;
-    centre /= static_cast<double>(query.points.size());
+    const Vec2 centre = centroid(query.points);
     EXPECT_LE((l.T_map_query * centre - l.T_map_lattice * centre).norm(),
               config.restart_distance + 0.15 * std::sqrt(2.0) + 0.3);
     // The margin is over another place: 2 m away from the answer's lattice pose (measured at the local map's
