@@ -10,11 +10,12 @@
 #include <memory>
 #include <queue>
 #include <set>
+#include <stdexcept>
 #include <string>
 
-#include "core/matching/dmm_bounds.h"
 #include "core/error.h"
 #include "core/maps/scan.h"
+#include "core/matching/dmm_bounds.h"
 
 namespace partslam {
 namespace {
@@ -508,13 +509,14 @@ DmmResult match_dmm_elsewhere(const PreparedQuery& query, const PreparedMap& map
   return match_dmm_elsewhere(query, map, std::span<const Pose2>(&avoid, 1), min_distance, min_angle);
 }
 
-// Best-first enumeration (one heap of nodes over every rotation, highest bound first), so that each next pose
-// costs only the nodes no earlier call bounded. Nodes above kSubtreeDepth are expanded into the heap, their
-// query cells and looked-up values kept for their children (a node's cells are its parent's that can score in
-// it: filter_cells, as in the depth-first search). A node at or below it (at most 16 x 16 translations) is
-// searched depth-first for its best leaf not yet excluded; the leaf goes on the heap and so does the node again,
-// bounded by that leaf, to yield its next best once the leaf is taken. A leaf popped within the exclusion of a
-// pose returned before is dropped, and so is a node wholly inside one (the disc is convex: its four corners).
+// Best-first enumeration (one queue of nodes over every rotation, highest bound first), so that each next
+// pose costs only the nodes no earlier call bounded. Nodes above kSubtreeDepth are expanded into the queue,
+// their query cells and looked-up values kept for their children (a node's cells are its parent's that can
+// score in it: filter_cells, as in the depth-first search). A node at or below it (at most 16 x 16
+// translations) is searched depth-first for its best leaf not yet excluded; the leaf goes on the queue and so
+// does the node again, bounded by that leaf, to yield its next best once the leaf is taken. A leaf popped
+// within the exclusion of a pose returned before is dropped, and so is a node wholly inside one (the disc is
+// convex: its four corners).
 struct DmmSearch::State {
   static constexpr int kSubtreeDepth = 2;
   struct Node {
@@ -523,7 +525,54 @@ struct DmmSearch::State {
     int rotation = 0, i = 0, j = 0;
     int bit = 0;              // child index a + 4 b within its parent
     int list = 0;             // index into lists: the parent's cells and values
-    std::uint32_t order = 0;  // push order: ties pop first-pushed first
+  };
+  // The nodes to expand, popped highest bound first, then lowest depth (a leaf first: it ends the search),
+  // then first pushed first. Bounds are Eq. 1 counts in [0, points], so a bucket per (bound, depth) holds
+  // them in push order and a pop is a step down to the highest non-empty bound: no comparisons, no heap to
+  // sift.
+  class Queue {
+   public:
+    Queue(int max_bound, int depths)
+        : depths_(depths),
+          fifo_(static_cast<std::size_t>(max_bound + 1) * static_cast<std::size_t>(depths)),
+          count_(static_cast<std::size_t>(max_bound + 1), 0) {}
+    bool empty() const { return size_ == 0; }
+    int top_bound() const { return top_; }  // valid when not empty
+    void push(const Node& node) {
+      if (node.bound < 0 || static_cast<std::size_t>(node.bound) >= count_.size() || node.depth < 0 ||
+          node.depth >= depths_)
+        throw std::logic_error("dmm: a node's bound or depth is outside the search queue");
+      fifo(node.bound, node.depth).nodes.push_back(node);
+      ++count_[static_cast<std::size_t>(node.bound)];
+      top_ = size_++ == 0 ? node.bound : std::max(top_, node.bound);
+    }
+    Node pop() {  // not empty
+      for (int d = 0;; ++d) {
+        Fifo& f = fifo(top_, d);
+        if (f.head == f.nodes.size()) continue;
+        const Node node = f.nodes[f.head++];
+        if (f.head == f.nodes.size()) f.nodes.clear(), f.head = 0;
+        --count_[static_cast<std::size_t>(top_)], --size_;
+        if (size_ > 0)
+          while (count_[static_cast<std::size_t>(top_)] == 0) --top_;
+        return node;
+      }
+    }
+
+   private:
+    struct Fifo {
+      std::vector<Node> nodes;
+      std::size_t head = 0;
+    };
+    Fifo& fifo(int bound, int depth) {
+      return fifo_[static_cast<std::size_t>(bound) * static_cast<std::size_t>(depths_) +
+                   static_cast<std::size_t>(depth)];
+    }
+    int depths_;
+    std::vector<Fifo> fifo_;
+    std::vector<std::size_t> count_;  // nodes per bound
+    std::size_t size_ = 0;
+    int top_ = 0;  // the highest non-empty bound (when not empty)
   };
   struct List {  // the cells of an expanded node and their looked-up values (at the level of its children)
     CellList cells;
@@ -539,6 +588,7 @@ struct DmmSearch::State {
         map(m),
         ranges(search_ranges(q, m)),
         n(static_cast<std::size_t>(q.num_points)),
+        queue(max_cells(q), static_cast<int>(m.packed.size()) + 1),
         returned(min_distance, min_angle, m.config.resolution) {
     for (Storage& level : scratch) {
       level = {std::make_unique_for_overwrite<int[]>(n + 8), std::make_unique_for_overwrite<int[]>(n + 8),
@@ -551,26 +601,22 @@ struct DmmSearch::State {
   const std::vector<Range> ranges;
   const std::size_t n;
   std::array<Storage, kSubtreeDepth + 1> scratch;  // per depth: the cells (and values) of a subtree's node
-  std::vector<Node> heap;
+  Queue queue;
   std::vector<List> lists;
   std::vector<Storage> storage;
   Exclusion returned;  // about every pose returned so far
   bool started = false;
   int floor = -1;  // the highest bar so far: nodes bounded at or below it are never pushed
-  std::uint32_t pushed = 0;
   std::int64_t scored = 0;
 
-  static bool pops_later(const Node& a, const Node& b) {
-    if (a.bound != b.bound) return a.bound < b.bound;
-    if (a.depth != b.depth) return a.depth > b.depth;  // a leaf first: it ends the search
-    return a.order > b.order;
+  // The most query cells of any rotation: no bound exceeds it.
+  static int max_cells(const PreparedQuery& q) {
+    std::size_t most = 0;
+    for (const RotatedQuery& r : q.rotations) most = std::max(most, r.x.size());
+    return static_cast<int>(most);
   }
 
-  void push(Node node) {
-    node.order = pushed++;
-    heap.push_back(node);
-    std::push_heap(heap.begin(), heap.end(), pops_later);
-  }
+  void push(const Node& node) { queue.push(node); }
 
   bool excluded(const Node& c) const { return returned.covers(c.rotation, c.i, c.j, c.depth); }
 
@@ -581,8 +627,7 @@ struct DmmSearch::State {
     scored += bound_children(map.packed[static_cast<std::size_t>(c.depth - 1)],
                              ranges[static_cast<std::size_t>(c.rotation)], cells, c.i, c.j, bar, values,
                              [&](int i, int j, int bound, int bit) {
-                               if (bound > bar)
-                                 out.push_back({bound, c.depth - 1, c.rotation, i, j, bit, list, 0});
+      if (bound > bar) out.push_back({bound, c.depth - 1, c.rotation, i, j, bit, list});
                              });
   }
 
@@ -599,8 +644,14 @@ struct DmmSearch::State {
     const int d = c.depth;
     std::uint16_t* values = d > 1 ? scratch[static_cast<std::size_t>(d)].values.get() : nullptr;
     children(c, cells, best.bound, values, -1, kids);
-    std::stable_sort(kids.items.begin(), kids.items.begin() + static_cast<std::ptrdiff_t>(kids.size),
-                     [](const Node& a, const Node& b) { return a.bound > b.bound; });
+    // Highest bound first, ties in the pass's order (a stable insertion sort: at most 16, no buffer to
+    // allocate).
+    for (std::size_t k = 1; k < kids.size; ++k) {
+      const Node kid = kids.items[k];
+      std::size_t at = k;
+      for (; at > 0 && kids.items[at - 1].bound < kid.bound; --at) kids.items[at] = kids.items[at - 1];
+      kids.items[at] = kid;
+    }
     for (std::size_t k = 0; k < kids.size; ++k) {
       const Node& kid = kids.items[k];
       if (kid.bound <= best.bound) break;
@@ -645,7 +696,7 @@ struct DmmSearch::State {
           }
           lists.push_back({full, values});
           Pusher pusher{*this};
-          children({0, depth, static_cast<int>(k), i, j, 0, 0, 0}, full, floor, values,
+          children({0, depth, static_cast<int>(k), i, j, 0, 0}, full, floor, values,
                    static_cast<int>(lists.size()) - 1, pusher);
         }
       }
@@ -656,7 +707,7 @@ struct DmmSearch::State {
   void pop_into(const Node& c) {
     const List& parent = lists[static_cast<std::size_t>(c.list)];
     if (c.depth <= kSubtreeDepth) {
-      Node best{floor, -1, 0, 0, 0, 0, 0, 0};
+      Node best{floor, -1, 0, 0, 0, 0, 0};
       best_leaf(c, node_cells(c, parent, scratch[static_cast<std::size_t>(c.depth)]), best);
       if (best.depth < 0) return;  // nothing left in it
       push(best);
@@ -684,10 +735,8 @@ struct DmmSearch::State {
     if (!started) start();
     const std::int64_t scored_before = scored;
     DmmResult result;
-    while (!heap.empty() && heap.front().bound > floor) {
-      std::pop_heap(heap.begin(), heap.end(), pops_later);
-      const Node c = heap.back();
-      heap.pop_back();
+    while (!queue.empty() && queue.top_bound() > floor) {
+      const Node c = queue.pop();
       if (excluded(c)) continue;
       if (c.depth > 0) {
         pop_into(c);
