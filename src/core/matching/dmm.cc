@@ -523,8 +523,8 @@ struct DmmSearch::State {
     int bound = 0;  // Eq. 1 at depth 0, an upper bound above
     int depth = 0;
     int rotation = 0, i = 0, j = 0;
-    int bit = 0;              // child index a + 4 b within its parent
-    int list = 0;             // index into lists: the parent's cells and values
+    int bit = 0;   // child index a + 4 b within its parent
+    int list = 0;  // index into lists: the parent's cells and values
   };
   // The nodes to expand, popped highest bound first, then lowest depth (a leaf first: it ends the search),
   // then first pushed first. Bounds are Eq. 1 counts in [0, points], so a bucket per (bound, depth) holds
