@@ -188,9 +188,11 @@ def score_section(w, folder, sets, val2):
             w(f"| {b / 10:.1f}-{(b + 1) / 10:.1f} | " + " | ".join(cells) + " |")
     w("| ECE over every pair | " + " | ".join(fmt(ece, 4) for _, (_, ece) in pooled) + " |")
     w("")
-    w("The ECE is carried by the pairs below 0.1 (nearly all of them); how far each higher bin's observed share "
-      "is from its prediction, and why: docs/NOTES.md, \"Calibration\" and \"Why the probabilities of right "
-      "answers are low\".")
+    low = [100 * rows[0][2] / sum(n for *_, n in rows.values()) if 0 in rows else 0 for _, (rows, _) in pooled]
+    w("The ECE weighs each bin by its pairs, and the bin below 0.1 holds " +
+      " and ".join(f"{v:.1f} % of the {split} pairs" for v, (split, _) in zip(low, pooled)) +
+      "; how far each higher bin's observed share is from its prediction, and why: docs/NOTES.md, "
+      "\"Calibration\" and \"Why the probabilities of right answers are low\".")
     w("")
     if any(rows for _, (rows, _) in pooled):
         write_reliability_svg(folder / "reliability_dmm.svg",
