@@ -616,8 +616,6 @@ struct DmmSearch::State {
     return static_cast<int>(most);
   }
 
-  void push(const Node& node) { queue.push(node); }
-
   bool excluded(const Node& c) const { return returned.covers(c.rotation, c.i, c.j, c.depth); }
 
   // The children of node c (at depth c.depth) over `cells`, bounded, those inside the search range that beat
@@ -627,14 +625,15 @@ struct DmmSearch::State {
     scored += bound_children(map.packed[static_cast<std::size_t>(c.depth - 1)],
                              ranges[static_cast<std::size_t>(c.rotation)], cells, c.i, c.j, bar, values,
                              [&](int i, int j, int bound, int bit) {
-      if (bound > bar) out.push_back({bound, c.depth - 1, c.rotation, i, j, bit, list});
+                               if (bound > bar)
+                                 out.push_back({bound, c.depth - 1, c.rotation, i, j, bit, list});
                              });
   }
 
   using Children = SixteenChildren<Node>;
   struct Pusher {
     State& state;
-    void push_back(const Node& c) { state.push(c); }
+    void push_back(const Node& c) { state.queue.push(c); }
   };
 
   // Depth-first: the best leaf under node c (depth <= kSubtreeDepth, query cells `cells`) that beats best.bound
@@ -710,10 +709,10 @@ struct DmmSearch::State {
       Node best{floor, -1, 0, 0, 0, 0, 0};
       best_leaf(c, node_cells(c, parent, scratch[static_cast<std::size_t>(c.depth)]), best);
       if (best.depth < 0) return;  // nothing left in it
-      push(best);
+      queue.push(best);
       Node again = c;  // its next best scores no more than this one
       again.bound = best.bound;
-      push(again);
+      queue.push(again);
       return;
     }
     Storage mine;
