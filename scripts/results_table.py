@@ -98,13 +98,16 @@ def pooled_reliability(results, label):
     return rows, ece
 
 
-# The files main() makes beside RESULTS.md (path -> text): written atomically, or compared with --check.
-FILES = {}
+def write_atomically(path, text):
+    path = pathlib.Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    tmp.replace(path)
 
 
-def write_reliability_svg(path, curves, title):
-    """A reliability diagram (predicted probability against the observed share of same-place pairs) as SVG
-    (into FILES): the diagonal, then one polyline with a dot per non-empty bin for each (label, colour,
+def reliability_svg(curves, title):
+    """A reliability diagram (predicted probability against the observed share of same-place pairs), the SVG
+    text: the diagonal, then one polyline with a dot per non-empty bin for each (label, colour,
     rows) of `curves`."""
     size, margin = 360, 50
     def xy(p, y):
@@ -136,12 +139,17 @@ def write_reliability_svg(path, curves, title):
         out.append(f'<line x1="{lx}" y1="{ly - 4}" x2="{lx + 20}" y2="{ly - 4}" stroke="{colour}" stroke-width="2"/>')
         out.append(f'<text x="{lx + 26}" y="{ly}">{label}</text>')
     out.append("</svg>")
-    FILES[path] = "\n".join(out) + "\n"
+    return "\n".join(out) + "\n"
+
+
+# score_section's columns and their decimals.
+SCORE_DIGITS = (1, 1, 3, 3, 3, 3, 0, 3, 1)
 
 
 def score_section(w, folder, sets, val2):
     """Issue 21's figures for `dMM` (its same-place probability): against the oracle, its relative poses, its
-    calibration (a table and docs/results/reliability_dmm.svg), and rerank20's distance from it."""
+    calibration (a table, and the reliability diagram returned as {path: SVG text}), and rerank20's distance
+    from it."""
     w("## The match score: dMM's same-place probability against the oracle (R = 2 m)")
     w("")
     w("Oracle: each task's database ranked by the true overlap at the true pose (the ceiling of any score). Poses: "
@@ -164,13 +172,11 @@ def score_section(w, folder, sets, val2):
                    m.get("pose_within_tolerance_overlap30"), m.get("pose_fine_overlap30"),
                    m.get("poses_checked_overlap30"), m.get("calibration_error"), r["anr"] if r else None]
             columns.append(row)
-            w(f"| {split} | {tag} | " + " | ".join(fmt(v, d) for v, d in zip(row, (1, 1, 3, 3, 3, 3, 0, 3, 1))) +
-              " |")
+            w(f"| {split} | {tag} | " + " | ".join(fmt(v, d) for v, d in zip(row, SCORE_DIGITS)) + " |")
         if columns:
             means = [mean([c[k] for c in columns]) for k in range(len(columns[0]))]
             means[6] = None  # a count, not averaged
-            w(f"| {split} | mean | " + " | ".join(fmt(v, d) for v, d in zip(means, (1, 1, 3, 3, 3, 3, 0, 3, 1))) +
-              " |")
+            w(f"| {split} | mean | " + " | ".join(fmt(v, d) for v, d in zip(means, SCORE_DIGITS)) + " |")
     w("")
     pooled = [(split, pooled_reliability(results, "dMM")) for split, results in
               (("tuning", sets), ("validation", val2))]
@@ -194,16 +200,18 @@ def score_section(w, folder, sets, val2):
       "; how far each higher bin's observed share is from its prediction, and why: docs/NOTES.md, "
       "\"Calibration\" and \"Why the probabilities of right answers are low\".")
     w("")
-    if any(rows for _, (rows, _) in pooled):
-        write_reliability_svg(folder / "reliability_dmm.svg",
-                              [(f"{split} (ECE {fmt(ece, 4)})", colour, rows)
-                               for (split, (rows, ece)), colour in zip(pooled, ("#1f77b4", "#d62728"))],
-                              "dMM's same-place probability: reliability")
-        w("![reliability of dMM's probability](results/reliability_dmm.svg)")
-        w("")
+    if not any(rows for _, (rows, _) in pooled):
+        return {}
+    w("![reliability of dMM's probability](results/reliability_dmm.svg)")
+    w("")
+    curves = [(f"{split} (ECE {fmt(ece, 4)})", colour, rows)
+              for (split, (rows, ece)), colour in zip(pooled, ("#1f77b4", "#d62728"))]
+    return {folder / "reliability_dmm.svg": reliability_svg(curves, "dMM's same-place probability: reliability")}
 
 
-def main(folder):
+def main(folder, commit=None):
+    """RESULTS.md's text, the files beside it ({path: text}) and the loaded JSON. commit: the one the JSON were
+    made at (default HEAD, as when make results runs)."""
     folder = pathlib.Path(folder)
     sets = []
     for i in range(1, 6):
@@ -223,9 +231,6 @@ def main(folder):
             if m["label"] not in labels:
                 labels.append(m["label"])
     by = [by_label(s) for s in sets]
-    # The commit the JSON were made at: HEAD when make results runs; RESULTS_COMMIT names it when the tables are
-    # made again from a past run's JSON.
-    commit = os.environ.get("RESULTS_COMMIT")
     try:
         commit = commit or subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                           text=True).stdout.strip()
@@ -274,7 +279,7 @@ def main(folder):
                "recall_at_10pct", 2)
     comparison(w, "ANR %, R = 4 m (robustness to where a map's centre falls)", tune4, val4, "anr", 1)
     comparison(w, "Recall@1, R = 4 m", tune4, val4, "recall_at_1", 2)
-    score_section(w, folder, sets, val2)
+    files = score_section(w, folder, sets, val2)
     w("## Table A: ANR % on the tuning sets (ours / paper; lower is better)")
     w("")
     w("Bold: better than the paper's figure. Why some sets are worse: docs/NOTES.md, \"CPD candidates, MC, GC "
@@ -321,7 +326,7 @@ def main(folder):
         if val2[k] is not None:
             w(f"![validation: {b}](results/fig_d_val_{b}.png)")
             w("")
-    return "\n".join(out) + "\n", (sets, by, val2, tune4, val4)
+    return "\n".join(out) + "\n", files, (sets, by, val2, tune4, val4)
 
 
 def update_readme(readme, sets, by, val2, tune4, val4):
@@ -353,9 +358,7 @@ def update_readme(readme, sets, by, val2, tune4, val4):
     text = pathlib.Path(readme).read_text()
     begin, end = "<!-- results:begin -->", "<!-- results:end -->"
     a, b = text.index(begin) + len(begin), text.index(end)
-    tmp = pathlib.Path(readme + ".tmp")
-    tmp.write_text(text[:a] + "\n" + "\n".join(rows) + "\n" + text[b:])
-    tmp.replace(readme)
+    write_atomically(readme, text[:a] + "\n" + "\n".join(rows) + "\n" + text[b:])
 
 
 def check(folder, results_md):
@@ -364,11 +367,11 @@ def check(folder, results_md):
     problems found."""
     problems = []
     stamp = pathlib.Path(results_md).read_text()
-    os.environ["RESULTS_COMMIT"] = stamp.split("at commit `", 1)[1].split("`", 1)[0] if "at commit `" in stamp else ""
-    text, (sets, _, val2, _, _) = main(folder)
+    commit = stamp.split("at commit `", 1)[1].split("`", 1)[0] if "at commit `" in stamp else "?"
+    text, files, (sets, _, val2, _, _) = main(folder, commit)
     if text != stamp:
         problems.append(f"{results_md} differs from what scripts/results_table.py makes of {folder}")
-    for path, text in FILES.items():
+    for path, text in files.items():
         if not path.exists() or path.read_text() != text:
             problems.append(f"{path} differs from what scripts/results_table.py makes of {folder}")
     for s in sets + val2:
@@ -387,11 +390,11 @@ if __name__ == "__main__":
         for problem in found:
             sys.stderr.write(f"results_table --check: {problem}\n")
         sys.exit(1 if found else 0)
-    text, result = main(sys.argv[1] if len(sys.argv) > 1 else "docs/results")
+    # RESULTS_COMMIT: the commit a past run's JSON were made at, when the tables are made again from them.
+    text, files, result = main(sys.argv[1] if len(sys.argv) > 1 else "docs/results",
+                               os.environ.get("RESULTS_COMMIT"))
     sys.stdout.write(text)
-    for path, text in FILES.items():
-        tmp = path.with_name(path.name + ".tmp")
-        tmp.write_text(text)
-        os.replace(tmp, path)
+    for path, text in files.items():
+        write_atomically(path, text)
     if len(sys.argv) > 2:
         update_readme(sys.argv[2], *result)
