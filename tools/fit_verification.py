@@ -12,13 +12,17 @@ calibration error (ECE, 10 equal-width bins over every pair) and the recall@1 / 
 Eq. 1 and the oracle (the true overlap at the true pose).
 
 Usage: fit_verification.py --tuning A.csv B.csv ... --validation C.csv ... [--plot docs/reliability.png]
-                           [--objective listwise|pointwise] [--features qo,mo,...]
+                           [--objective listwise|pointwise] [--features qo,mo,...] [--quadratic]
+                           [--fit-on tuning|validation]
+--quadratic adds every product of two terms; --fit-on validation fits on the validation sets themselves, an
+upper bound of what a model of these terms can rank there, not a model to ship (docs/NOTES.md).
 Prints the coefficients as C++ for verification.cc and a Markdown table.
 """
 import argparse
 import numpy as np
 
 FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms", "qfit", "mfit"]
+QUADRATIC = False
 
 
 def load(path):
@@ -26,7 +30,11 @@ def load(path):
 
 
 def features(a, prefix="r_", names=None):
-    return np.stack([a[prefix + n] for n in (names or FEATURES)], axis=1)
+    x = np.stack([a[prefix + n] for n in (names or FEATURES)], axis=1)
+    if not QUADRATIC:
+        return x
+    i, j = np.triu_indices(x.shape[1])
+    return np.hstack([x, x[:, i] * x[:, j]])
 
 
 def labels(a):
@@ -134,12 +142,21 @@ def main():
                     help="listwise: the relevant map's right pose first in its task (kept); pointwise: a "
                     "logistic regression of each row's label (the first model)")
     ap.add_argument("--features", default=",".join(FEATURES), help="comma-separated terms (ablations)")
+    ap.add_argument("--quadratic", action="store_true", help="every product of two terms too (ablations)")
+    ap.add_argument("--fit-on", choices=["tuning", "validation"], default="tuning",
+                    help="validation: fit on the validation sets, a bound on what these terms can rank there")
+    ap.add_argument("--iterations", type=int, default=600, help="steps of the listwise fit")
     o = ap.parse_args()
+    global QUADRATIC
     FEATURES[:] = o.features.split(",")
+    QUADRATIC = o.quadratic
+    names = ("tuning", "validation")
+    if o.fit_on == "validation":
+        o.tuning, o.validation, names = o.validation, o.tuning, names[::-1]
     tuning = [load(p) for p in o.tuning]
     xs = [features(a) for a in tuning]
     if o.objective == "listwise":
-        w = fit_listwise(tuning, xs)
+        w = fit_listwise(tuning, xs, iterations=o.iterations)
     else:
         w = fit_logistic(np.vstack(xs), np.concatenate([labels(a) for a in tuning]))
     # Platt scaling on what the ranker reports: each pair's best pose (the maximum over its poses), so that the
@@ -160,8 +177,10 @@ def main():
     print("| set | split | ANR Eq. 1 | ANR verified | ANR oracle | R@1 Eq. 1 | R@1 verified | R@1 oracle | ECE |")
     print("|---|---|---|---|---|---|---|---|---|")
     all_p, all_y = [], []
-    for split, paths, sets in (("tuning", o.tuning, tuning), ("validation", o.validation, None)):
+    means = []
+    for fitted, split, paths, sets in ((True, names[0], o.tuning, tuning), (False, names[1], o.validation, None)):
         sets = sets or [load(p) for p in paths]
+        figures = []
         for path, a in zip(paths, sets):
             p = predict(w, features(a))
             keep = pair_max(a, p)  # the pose each pair answers with
@@ -171,12 +190,15 @@ def main():
             ora = rank_figures(a, a["t_qo"])
             print("| %s | %s | %.1f | %.1f | %.1f | %.2f | %.2f | %.2f | %.3f |" % (
                 path.split("/")[-1].replace(".csv", ""), split, eq1[0], ver[0], ora[0], eq1[1], ver[1], ora[1], e))
-            if split == "validation":
+            figures.append(ver)
+            if not fitted:
                 all_p.append(p[keep])
                 all_y.append(labels(a)[keep])
+        means.append("%s mean: ANR %.2f, R@1 %.3f" % (split, *np.mean(figures, axis=0)))
+    print("\n" + "; ".join(means))
     p, yv = np.concatenate(all_p), np.concatenate(all_y)
     e, rows = ece(p, yv)
-    print("\nvalidation, all pairs: ECE %.4f over %d pairs" % (e, len(p)))
+    print("%s (not fitted on), all pairs: ECE %.4f over %d pairs" % (names[1], e, len(p)))
     for mp, fy, n in rows:
         print("  predicted %.3f  observed %.3f  pairs %d" % (mp, fy, n))
     if o.plot:
