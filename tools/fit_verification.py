@@ -172,7 +172,8 @@ def main():
     w = np.concatenate([[ab[0] + ab[1] * w[0]], ab[1] * w[1:]])
     print("// fitted by tools/fit_verification.py on", " ".join(p.split("/")[-1] for p in o.tuning))
     print("constexpr double kIntercept = %.4f;" % w[0])
-    print("constexpr double kWeights[] = {%s};  // %s" % (", ".join("%.4f" % v for v in w[1:]), ", ".join(FEATURES)))
+    print("constexpr double kWeights[] = {%s};  // %s%s" % (", ".join("%.4f" % v for v in w[1:]), ", ".join(FEATURES),
+          ", then the products of terms i <= j in row order" if QUADRATIC else ""))
     print()
     print("| set | split | ANR Eq. 1 | ANR verified | ANR oracle | R@1 Eq. 1 | R@1 verified | R@1 oracle | ECE |")
     print("|---|---|---|---|---|---|---|---|---|")
