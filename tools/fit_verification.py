@@ -12,17 +12,18 @@ calibration error (ECE, 10 equal-width bins over every pair) and the recall@1 / 
 Eq. 1 and the oracle (the true overlap at the true pose).
 
 Usage: fit_verification.py --tuning A.csv B.csv ... --validation C.csv ... [--plot docs/reliability.png]
-                           [--objective listwise|pointwise] [--features qo,mo,...] [--quadratic]
+                           [--objective listwise|pointwise] [--features qo,mo,...] [--no-quadratic]
                            [--fit-on tuning|validation]
---quadratic adds every product of two terms; --fit-on validation fits on the validation sets themselves, an
-upper bound of what a model of these terms can rank there, not a model to ship (docs/NOTES.md).
+The defaults fit the product's model: the twelve terms and every product of two of them (--no-quadratic: the
+terms alone); --fit-on validation fits on the validation sets themselves, an upper bound of what a model of
+these terms can rank there, not a model to ship (docs/NOTES.md).
 Prints the coefficients as C++ for verification.cc and a Markdown table.
 """
 import argparse
 import numpy as np
 
-FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms", "qfit", "mfit"]
-QUADRATIC = False
+FEATURES = ["qo", "mo", "qf", "mf", "qs", "ms", "qfit", "mfit", "qc", "mc", "qcfit", "mcfit"]
+QUADRATIC = True
 
 
 def load(path):
@@ -142,10 +143,11 @@ def main():
                     help="listwise: the relevant map's right pose first in its task (kept); pointwise: a "
                     "logistic regression of each row's label (the first model)")
     ap.add_argument("--features", default=",".join(FEATURES), help="comma-separated terms (ablations)")
-    ap.add_argument("--quadratic", action="store_true", help="every product of two terms too (ablations)")
+    ap.add_argument("--quadratic", action=argparse.BooleanOptionalAction, default=True,
+                    help="every product of two terms too (the product's model)")
     ap.add_argument("--fit-on", choices=["tuning", "validation"], default="tuning",
                     help="validation: fit on the validation sets, a bound on what these terms can rank there")
-    ap.add_argument("--iterations", type=int, default=600, help="steps of the listwise fit")
+    ap.add_argument("--iterations", type=int, default=1500, help="steps of the listwise fit")
     o = ap.parse_args()
     global QUADRATIC
     FEATURES[:] = o.features.split(",")
@@ -171,8 +173,8 @@ def main():
     ab = fit_logistic(np.concatenate(z)[:, None], np.concatenate(yz))
     w = np.concatenate([[ab[0] + ab[1] * w[0]], ab[1] * w[1:]])
     print("// fitted by tools/fit_verification.py on", " ".join(p.split("/")[-1] for p in o.tuning))
-    print("constexpr double kIntercept = %.4f;" % w[0])
-    print("constexpr double kWeights[] = {%s};  // %s%s" % (", ".join("%.4f" % v for v in w[1:]), ", ".join(FEATURES),
+    print("constexpr double kIntercept = %.6g;" % w[0])
+    print("constexpr double kWeights[] = {%s};  // %s%s" % (", ".join("%.6g" % v for v in w[1:]), ", ".join(FEATURES),
           ", then the products of terms i <= j in row order" if QUADRATIC else ""))
     print()
     print("| set | split | ANR Eq. 1 | ANR verified | ANR oracle | R@1 Eq. 1 | R@1 verified | R@1 oracle | ECE |")

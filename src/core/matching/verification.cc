@@ -1,11 +1,13 @@
 #include "core/matching/verification.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "core/error.h"
+#include "core/maps/local_shape.h"
 #include "core/matching/scan_matcher.h"
 
 namespace partslam {
@@ -28,27 +30,36 @@ void walk_cells(int ax, int ay, int bx, int by, Visit&& visit) {
   }
 }
 
-SideTerms side_terms(const Points2& points, const VerifyMap& other, const Pose2& T_other_points) {
-  SideTerms t;
-  if (points.empty()) return t;
+// What `from`'s points say of `other` moved by T_other_from: the shares on its cells (SideTerms), and the
+// mean of `other_field` at the points, plain and weighted by the points' cornerness.
+struct SideReading {
+  SideTerms terms;
+  double fit = 0, corner_fit = 0;
+};
+SideReading read_side(const VerifyMap& from, const VerifyMap& other, const LikelihoodField& other_field,
+                      const Pose2& T_other_from) {
+  SideReading r;
+  const Points2& points = from.points();
+  if (points.empty()) return r;
+  const std::vector<double>& c = from.cornerness();
   int occupied = 0, free = 0;
-  for (const Vec2& p : points) {
-    const std::uint8_t s = other.at(T_other_points * p);
+  double fit = 0, weight = 0, corner = 0, corner_fit = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec2 p = T_other_from * points[i];
+    const std::uint8_t s = other.at(p);
+    const double f = other_field.at(p);
     occupied += s == VerifyMap::kOccupied;
     free += s == VerifyMap::kFree;
+    fit += f;
+    weight += c[i], corner += c[i] * (s == VerifyMap::kOccupied), corner_fit += c[i] * f;
   }
   const double n = static_cast<double>(points.size());
-  t.occupied = occupied / n;
-  t.free = free / n;
-  t.seen = (occupied + free) / n;
-  return t;
-}
-
-// The mean of `field` at the points moved by T_field_points (0 for no points).
-double mean_field(const LikelihoodField& field, const Points2& points, const Pose2& T_field_points) {
-  double sum = 0;
-  for (const Vec2& p : points) sum += field.at(T_field_points * p);
-  return points.empty() ? 0.0 : sum / static_cast<double>(points.size());
+  r.terms.occupied = occupied / n;
+  r.terms.free = free / n;
+  r.terms.seen = (occupied + free) / n;
+  r.fit = fit / n;
+  if (weight > 0) r.terms.corner = corner / weight, r.corner_fit = corner_fit / weight;
+  return r;
 }
 
 double logistic(double z) { return 1.0 / (1.0 + std::exp(-z)); }
@@ -81,6 +92,8 @@ void validate(const VerifyConfig& c) {
     throw InputError("verify config: alternative_distance must be in [0, 100] m");
   if (!(c.alternative_angle >= 0.0) || c.alternative_angle > 4.0)
     throw InputError("verify config: alternative_angle must be in [0, 4] rad");
+  if (!(c.corner_radius >= 0.05) || c.corner_radius > 10.0)
+    throw InputError("verify config: corner_radius must be in [0.05, 10] m");
 }
 
 void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin) {
@@ -109,6 +122,7 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
     for (const Vec2& p : *set)
       if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
   if (points.empty()) return;
+  cornerness_ = partslam::cornerness(points, config.corner_radius);
   has_beams_ = !origins.empty();
   const int d = config.dilation;
   allocate({&points, &origins}, d + 1);
@@ -160,6 +174,7 @@ VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_
     if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
   if (points.empty() && free_points.empty()) return m;
   m.points_ = points;
+  m.cornerness_ = partslam::cornerness(points, config.corner_radius);
   m.allocate({&points, &free_points}, config.dilation + 1);
   for (const Vec2& p : points) m.mark_occupied(m.cell_of(p), config.dilation);
   for (const Vec2& p : free_points) {
@@ -188,9 +203,10 @@ VerifyMap VerifyMap::cropped(const Vec2& lo, const Vec2& hi) const {
         row, row + out.width_,
         out.cells_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0) * out.width_));
   }
-  for (const Vec2& p : points_) {
-    const Eigen::Vector2i c = cell_of(p);
-    if (c.x() >= x0 && c.x() <= x1 && c.y() >= y0 && c.y() <= y1) out.points_.push_back(p);
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Vector2i c = cell_of(points_[i]);
+    if (c.x() >= x0 && c.x() <= x1 && c.y() >= y0 && c.y() <= y1)
+      out.points_.push_back(points_[i]), out.cornerness_.push_back(cornerness_[i]);
   }
   return out;
 }
@@ -207,26 +223,43 @@ PairFields::PairFields(const VerifyMap& query_map, const VerifyMap& map_map) {
 
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
                        const Pose2& T_map_query) {
+  const SideReading q = read_side(query, map, fields.map, T_map_query);
+  const SideReading m = read_side(map, query, fields.query, T_map_query.inverse());
   MatchTerms t;
-  t.query = side_terms(query.points(), map, T_map_query);
-  t.map = side_terms(map.points(), query, T_map_query.inverse());
-  t.query_fit = mean_field(fields.map, query.points(), T_map_query);
-  t.map_fit = mean_field(fields.query, map.points(), T_map_query.inverse());
+  t.query = q.terms, t.map = m.terms;
+  t.query_fit = q.fit, t.map_fit = m.fit;
+  t.query_corner_fit = q.corner_fit, t.map_corner_fit = m.corner_fit;
   t.beams = query.has_beams() && map.has_beams();
   return t;
 }
 
 double same_place_probability(const MatchTerms& t) {
-  // Fitted by tools/fit_verification.py (listwise, then Platt-scaled) on the tuning split: data sets #1..#5,
-  // 200 tasks each, N = 100, seed 1, build/verify_features rows; docs/NOTES.md, "Verifying a match". Bare
-  // points (no beams) have no free or seen shares: their free terms are 0 and their seen shares equal their
+  // Logistic in the twelve terms and every product of two of them, fitted by tools/fit_verification.py
+  // (listwise, then Platt-scaled) on the tuning split: data sets #1..#5, 200 tasks each, N = 100, seed 1,
+  // build/verify_features rows; docs/NOTES.md, "Verifying a match" and "Corner-weighted terms". Bare points
+  // (no beams) have no free or seen shares: their free terms are 0 and their seen shares equal their
   // occupied ones.
-  constexpr double kIntercept = -7.7109;
-  constexpr double kQueryOccupied = 1.0615, kMapOccupied = 0.1485, kQueryFree = -4.2506, kMapFree = -3.8222,
-                   kQuerySeen = 0.1554, kMapSeen = -2.0241, kQueryFit = 4.9938, kMapFit = 3.8559;
-  return logistic(kIntercept + kQueryOccupied * t.query.occupied + kMapOccupied * t.map.occupied +
-                  kQueryFree * t.query.free + kMapFree * t.map.free + kQuerySeen * t.query.seen +
-                  kMapSeen * t.map.seen + kQueryFit * t.query_fit + kMapFit * t.map_fit);
+  constexpr double kIntercept = -12.2275;
+  constexpr std::array<double, 90> kWeights = {
+      2.5258,   1.85797,    4.58989,   -2.02774,   4.30424,   1.32101,   6.31873,   4.00456,  0.555093,
+      0.373035, 3.52568,    0.244908,  -1.0587,    -1.53589,  0.230385,  -8.67516,  -1.03338, -2.04159,
+      -0.78056, 0.589359,   1.12086,   -1.15176,   -0.505791, -1.93281,  -0.921887, -3.02583, -6.79223,
+      -1.61086, -1.16735,   1.52232,   -0.726561,  -1.19618,  1.18056,   -0.436645, 0.570961, -16.2244,
+      -7.02866, -4.31308,   -2.86,     12.5872,    -16.0326,  -12.4719,  2.38751,   -1.68875, 16.0034,
+      -2.03037, -4.95197,   -2.18158,  -0.0398623, 19.8118,   3.41474,   -15.8044,  7.45294,  7.9846,
+      -1.33976, -2.32846,   -0.456316, 0.146782,   0.794117,  -0.901198, -0.503952, -1.23044, -1.38501,
+      1.57592,  0.00449871, -0.945204, 0.532352,   -0.105135, 0.763488,  -0.712346, 3.2637,   0.322237,
+      2.29226,  -1.47973,   0.613349,  -0.0579004, 0.909177,  0.914824,  1.70991,   0.462413, -1.43754,
+      -1.04428, 1.25089,    0.496879,  -1.95767,   2.36431,   0.312473,  -2.19442,  1.07954,  -1.06558};
+  const std::array<double, 12> x = {t.query.occupied, t.map.occupied, t.query.free,       t.map.free,
+                                    t.query.seen,     t.map.seen,     t.query_fit,        t.map_fit,
+                                    t.query.corner,   t.map.corner,   t.query_corner_fit, t.map_corner_fit};
+  double z = kIntercept;
+  std::size_t k = 0;
+  for (const double v : x) z += kWeights[k++] * v;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i; j < x.size(); ++j) z += kWeights[k++] * x[i] * x[j];  // the products, row order
+  return logistic(z);
 }
 
 Verified verify_at(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,

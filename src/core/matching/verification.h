@@ -7,8 +7,12 @@
 //   - at T_map_query the query's points are looked up in the map's grid and the map's points in the query's:
 //     the shares that land on structure, on free space (a beam of the other map passed through that wall) and
 //     on cells the other map saw at all (their common field of view);
-//   - each map's points are read on the other's likelihood field (the front end's, 0.05 m cells): a smooth fit
+//   - each map's points are read on the other's likelihood field (the front end's, 0.05 m cells): a smooth
+//   fit
 //     that tells walls laid on each other from walls that only fall inside one another's dilation;
+//   - the same share on structure and fit, with each point weighted by how little it lies on a line
+//     (core/maps/local_shape.h): straight walls are what every corridor shares, corners, door jambs and
+//     clutter tell two corridors apart (docs/NOTES.md, "Corner-weighted terms");
 //   - a logistic model of those terms (weights fitted on the tuning split to rank each task's right answer
 //     first, then Platt-scaled; docs/NOTES.md) turns them into the probability that the two maps show the
 //     same place at that pose.
@@ -44,6 +48,8 @@ struct VerifyConfig {
   /// after refinement is the answer; 1: only the most probable at the lattice (a right pose a cell or a degree
   /// off often fits worse there than a wrong one sitting on the lattice)
   int refined = 4;
+  /// a point's cornerness is read off its neighbours within this radius [m]
+  double corner_radius = 0.7;
 };
 
 /// Throws InputError naming the offending field.
@@ -56,9 +62,10 @@ class VerifyMap {
 
   VerifyMap() = default;
   /// From the map's points and laser origins in its own frame (no origins: no free space, every cell not
-  /// occupied is unknown). Each point is cast from the origin whose beam to it crosses the fewest occupied
-  /// cells (the nearest among equals): a submap's origins lie along a short path, and the one that saw a
-  /// point has a clear line to it. Throws InputError for non-finite points or a grid of more than 2^24 cells.
+  /// occupied is unknown); each point's cornerness over its neighbours within config.corner_radius. Each
+  /// point is cast from the origin whose beam to it crosses the fewest occupied cells (the nearest among
+  /// equals): a submap's origins lie along a short path, and the one that saw a point has a clear line to it.
+  /// Throws InputError for non-finite points or a grid of more than 2^24 cells.
   VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config = {});
   /// A map that knows its free space already (a building map's free cells, e.g. a map_server map): occupied
   /// cells from `points` (dilated), free ones under `free_points` where not occupied. Throws as the above.
@@ -79,6 +86,8 @@ class VerifyMap {
                : kUnknown;
   }
   const Points2& points() const { return points_; }
+  /// points()[i]'s cornerness (LocalShape::cornerness), read on the whole map before any crop
+  const std::vector<double>& cornerness() const { return cornerness_; }
   bool has_beams() const { return has_beams_; }
   double resolution() const { return resolution_; }
   std::size_t free_cells() const;
@@ -102,13 +111,15 @@ class VerifyMap {
   int x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> cells_;
   Points2 points_;
+  std::vector<double> cornerness_;
   bool has_beams_ = false;
 };
 
 /// What one map says of the other at a pose: shares of its points that land on the other's occupied, free and
-/// seen (free or occupied) cells.
+/// seen (free or occupied) cells, and the share on occupied cells with each point weighted by its cornerness.
 struct SideTerms {
   double occupied = 0, free = 0, seen = 0;
+  double corner = 0;  ///< cornerness-weighted share on occupied cells (0 when no point has any)
 };
 
 struct MatchTerms {
@@ -116,6 +127,8 @@ struct MatchTerms {
   SideTerms map;         ///< the map's points in the query's grid
   double query_fit = 0;  ///< mean of the map's likelihood field at the query's points, in [0, 1]
   double map_fit = 0;    ///< mean of the query's likelihood field at the map's points
+  double query_corner_fit = 0;  ///< query_fit with each point weighted by its cornerness
+  double map_corner_fit = 0;    ///< map_fit with each point weighted by its cornerness
   bool beams = false;    ///< both maps had laser origins (the free and seen shares are meaningful)
 };
 

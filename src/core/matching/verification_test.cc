@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -52,6 +53,9 @@ TEST(VerifyMap, RefusesNonFinitePointsAndBadConfig) {
   c.alternatives = -1;
   EXPECT_THROW(validate(c), InputError);
   c = {};
+  c.corner_radius = 0;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
   c.alternative_bar = 2;
   try {
     validate(c);
@@ -95,6 +99,34 @@ TEST(MatchTerms, TheFitTellsWallsOnEachOtherFromWallsInsideTheDilation) {
   EXPECT_LT(off.query_fit, 0.75);
   EXPECT_LT(off.map_fit, 0.75);
   EXPECT_GT(same_place_probability(same), same_place_probability(off));
+}
+
+TEST(MatchTerms, TheCornerTermsWeighTheCornersOverTheWalls) {
+  const VerifyMap a(corridor(), axis_origins());
+  ASSERT_EQ(a.cornerness().size(), a.points().size());
+  const PairFields fields(a, a);
+  const MatchTerms same = match_terms(a, a, fields, Pose2{});
+  EXPECT_DOUBLE_EQ(same.query.corner, 1.0);
+  EXPECT_GT(same.query_corner_fit, 0.95);
+  // Along the corridor: its long walls still lie on each other, its corners at the cross wall do not.
+  const MatchTerms along = match_terms(a, a, fields, Pose2{0.5, 0.0, 0.0});
+  EXPECT_GT(along.query.occupied, 0.8);
+  EXPECT_LT(along.query.corner, along.query.occupied - 0.2);
+  EXPECT_LT(along.map.corner, along.map.occupied - 0.2);
+  EXPECT_LT(along.query_corner_fit, along.query_fit - 0.2);
+  EXPECT_LT(along.map_corner_fit, along.map_fit - 0.2);
+}
+
+TEST(VerifyMap, ACropKeepsEachPointsCornernessFromTheWholeMap) {
+  const VerifyMap a(corridor(), axis_origins());
+  const VerifyMap crop = a.cropped({3.0, -2.0}, {5.0, 2.0});
+  ASSERT_EQ(crop.cornerness().size(), crop.points().size());
+  ASSERT_FALSE(crop.points().empty());
+  for (std::size_t i = 0; i < crop.points().size(); ++i) {
+    const auto at = std::find(a.points().begin(), a.points().end(), crop.points()[i]);
+    ASSERT_NE(at, a.points().end());
+    EXPECT_EQ(crop.cornerness()[i], a.cornerness()[static_cast<std::size_t>(at - a.points().begin())]);
+  }
 }
 
 TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <map>
 #include <set>
 #include <tuple>
 
 #include "core/error.h"
-#include "core/timing.h"
+#include "core/maps/local_shape.h"
 #include "core/maps/submap.h"
+#include "core/timing.h"
 
 namespace partslam {
 namespace {
@@ -100,41 +100,15 @@ Part describe(const Box2& keypoint_box, const Vec2& crop_origin, const DmmResult
 
 Points2 find_corners(const Points2& map_points, const CpdConfig& config) {
   const Points2 pts = voxel_downsample(map_points, kMapResolution);
-  const double r = config.corner_radius, r2 = r * r;
-  // Points bucketed by cells of side r: a neighbourhood lies in the 3 x 3 cells around its centre.
-  const auto cell_of = [r](const Vec2& p) {
-    return std::make_pair(static_cast<long>(std::floor(p.x() / r)), static_cast<long>(std::floor(p.y() / r)));
-  };
-  std::map<std::pair<long, long>, std::vector<std::size_t>> buckets;
-  for (std::size_t k = 0; k < pts.size(); ++k) buckets[cell_of(pts[k])].push_back(k);
+  const std::vector<LocalShape> shapes = local_shapes(pts, config.corner_radius);
   struct Scored {
     double response;
     Vec2 p;
   };
   std::vector<Scored> scored;
-  for (const Vec2& p : pts) {
-    // Structure tensor of the neighbourhood: its smaller eigenvalue is large only where walls meet.
-    double sxx = 0, sxy = 0, syy = 0, mx = 0, my = 0;
-    int n = 0;
-    const auto [cx, cy] = cell_of(p);
-    for (long bx = cx - 1; bx <= cx + 1; ++bx) {
-      for (long by = cy - 1; by <= cy + 1; ++by) {
-        const auto bucket = buckets.find({bx, by});
-        if (bucket == buckets.end()) continue;
-        for (std::size_t k : bucket->second) {
-          const Vec2 d = pts[k] - p;
-          if (d.squaredNorm() > r2) continue;
-          mx += d.x(), my += d.y(), sxx += d.x() * d.x(), sxy += d.x() * d.y(), syy += d.y() * d.y(), ++n;
-        }
-      }
-    }
-    if (n < 8) continue;
-    mx /= n, my /= n;
-    sxx = sxx / n - mx * mx, sxy = sxy / n - mx * my, syy = syy / n - my * my;
-    const double half_trace = (sxx + syy) / 2;
-    const double lambda_min = half_trace - std::sqrt(std::max(0.0, half_trace * half_trace - (sxx * syy - sxy * sxy)));
-    scored.push_back({lambda_min, p});
-  }
+  // The smaller eigenvalue of the neighbourhood's scatter is large only where walls meet.
+  for (std::size_t k = 0; k < pts.size(); ++k)
+    if (shapes[k].neighbours >= 8) scored.push_back({shapes[k].lambda_min, pts[k]});
   // Strongest first; ties by position so the order never depends on the input order.
   std::sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
     if (a.response != b.response) return a.response > b.response;

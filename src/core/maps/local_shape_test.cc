@@ -1,0 +1,63 @@
+#include "core/maps/local_shape.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace partslam {
+namespace {
+
+// Points every 0.05 m along an L: a wall along x from (0, 0) to (2, 0) and one along y from (0, 0) to (0, 2),
+// shifted far from the origin (the moments must stay well conditioned there).
+Points2 l_shape(const Vec2& at) {
+  Points2 p;
+  for (int i = 0; i <= 40; ++i) p.push_back(at + Vec2(0.05 * i, 0.0));
+  for (int i = 1; i <= 40; ++i) p.push_back(at + Vec2(0.0, 0.05 * i));
+  return p;
+}
+
+TEST(LocalShape, WallPointsAreLinesAndTheCornerIsNot) {
+  const Points2 p = l_shape({1000.0, -2000.0});
+  const std::vector<double> c = cornerness(p, 0.5);
+  ASSERT_EQ(c.size(), p.size());
+  EXPECT_GT(c[0], 0.2);    // the corner
+  EXPECT_LT(c[30], 1e-6);  // 1.5 m along the x wall
+  EXPECT_LT(c[70], 1e-6);  // 1.5 m along the y wall
+  EXPECT_GT(c[5], c[10]);  // falls off along the wall
+}
+
+TEST(LocalShape, CountsNeighboursWithinTheRadiusAcrossBuckets) {
+  // Bucket cells of side 0.5 m: points on either side of a cell border still see each other.
+  const Points2 p{{0.49, 0.0}, {0.51, 0.0}, {0.98, 0.0}, {1.2, 0.0}, {-0.3, 0.0}};
+  const std::vector<LocalShape> s = local_shapes(p, 0.5);
+  EXPECT_EQ(s[0].neighbours, 3);  // itself, 0.51 and 0.98 (0.49 m away, next cell); not -0.3 (0.79 m)
+  EXPECT_EQ(s[1].neighbours, 3);  // itself, 0.49 (previous cell), 0.98
+  EXPECT_EQ(s[2].neighbours, 4);  // itself, 0.49, 0.51, 1.2
+  EXPECT_EQ(s[3].neighbours, 2);  // itself, 0.98
+  EXPECT_EQ(s[4].neighbours, 1);
+  EXPECT_LT(s[2].cornerness(), 1e-9);        // collinear
+  EXPECT_DOUBLE_EQ(s[4].cornerness(), 1.0);  // alone: nothing says it lies on a line
+}
+
+TEST(LocalShape, EigenvaluesOfASquareAndAnOrderThatDoesNotMatter) {
+  const Points2 square{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  const std::vector<LocalShape> s = local_shapes(square, 2.0);
+  for (const LocalShape& shape : s) {
+    EXPECT_EQ(shape.neighbours, 4);
+    EXPECT_NEAR(shape.lambda_min, 0.25, 1e-12);
+    EXPECT_NEAR(shape.lambda_max, 0.25, 1e-12);
+    EXPECT_NEAR(shape.cornerness(), 1.0, 1e-12);
+  }
+  Points2 reversed(square.rbegin(), square.rend());
+  EXPECT_EQ(cornerness(reversed, 2.0), cornerness(square, 2.0));
+  EXPECT_TRUE(local_shapes({}, 1.0).empty());
+}
+
+TEST(LocalShape, RejectsAnAbsurdRadius) {
+  EXPECT_THROW(local_shapes({{0, 0}}, 0.0), InputError);
+  EXPECT_THROW(local_shapes({{0, 0}}, -1.0), InputError);
+  EXPECT_THROW(local_shapes({{0, 0}}, std::nan("")), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
