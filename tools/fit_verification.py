@@ -13,8 +13,9 @@ Eq. 1 and the oracle (the true overlap at the true pose).
 
 Usage: fit_verification.py --tuning A.csv B.csv ... --validation C.csv ... [--plot docs/reliability.png]
                            [--objective listwise|pointwise] [--features qo,mo,...] [--no-quadratic]
-                           [--fit-on tuning|validation]
-The defaults fit the product's model: the twelve terms and every product of two of them (--no-quadratic: the
+                           [--fit-on tuning|validation] [--bare]
+--bare reports the model (fitted as ever) on rows whose free shares are zeroed, as maps without laser origins
+give them. The defaults fit the product's model: the twelve terms and every product of two of them (--no-quadratic: the
 terms alone); --fit-on validation fits on the validation sets themselves, an upper bound of what a model of
 these terms can rank there, not a model to ship (docs/NOTES.md).
 Prints the coefficients as C++ for verification.cc and a Markdown table.
@@ -28,6 +29,16 @@ QUADRATIC = True
 
 def load(path):
     return np.genfromtxt(path, delimiter=",", names=True)
+
+
+def bare(a):
+    """The rows as maps of bare points would give them (no laser origins, so no free space): free shares 0, seen
+    shares equal to the occupied ones; the other terms do not read free space."""
+    b = a.copy()
+    for side in ("q", "m"):
+        b["r_%sf" % side] = 0
+        b["r_%ss" % side] = b["r_%so" % side]
+    return b
 
 
 def features(a, prefix="r_", names=None):
@@ -148,6 +159,8 @@ def main():
     ap.add_argument("--fit-on", choices=["tuning", "validation"], default="tuning",
                     help="validation: fit on the validation sets, a bound on what these terms can rank there")
     ap.add_argument("--iterations", type=int, default=1500, help="steps of the listwise fit")
+    ap.add_argument("--bare", action="store_true",
+                    help="report the fitted model on the rows as bare points would give them (no free space)")
     o = ap.parse_args()
     global QUADRATIC
     FEATURES[:] = o.features.split(",")
@@ -185,6 +198,7 @@ def main():
         sets = sets or [load(p) for p in paths]
         figures = []
         for path, a in zip(paths, sets):
+            a = bare(a) if o.bare else a
             p = predict(w, features(a))
             keep = pair_max(a, p)  # the pose each pair answers with
             e, _ = ece(p[keep], labels(a)[keep])

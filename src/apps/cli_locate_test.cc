@@ -129,6 +129,16 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
   EXPECT_NEAR(robot["y"].get<double>(), truth.y, 0.3);
   EXPECT_NEAR(wrap_angle(robot["theta"].get<double>() - truth.theta), 0.0, 0.05);
   EXPECT_GT(j["located"][0]["confidence"].get<double>(), 0.0);
+  // Every term the probability reads, in [0, 1]; at the right place most of the query lies on the map.
+  const nlohmann::json& terms = j["located"][0]["terms"];
+  for (const char* term :
+       {"query_occupied", "query_free", "query_seen", "map_occupied", "map_free", "map_seen", "query_fit",
+        "map_fit", "query_corner", "map_corner", "query_corner_fit", "map_corner_fit"}) {
+    ASSERT_TRUE(terms.contains(term)) << term;
+    EXPECT_GE(terms[term].get<double>(), 0.0) << term;
+    EXPECT_LE(terms[term].get<double>(), 1.0) << term;
+  }
+  EXPECT_GT(terms["query_corner"].get<double>(), 0.5);
   // --every sweeps the log; --until keeps the first scans only.
   run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;

@@ -13,8 +13,8 @@ namespace partslam {
 
 struct LocalShape {
   int neighbours = 0;  ///< points within the radius, the point itself included
-  double lambda_min =
-      0;  ///< smaller eigenvalue of their covariance [m^2] (a rounding error below 0 on a line)
+  /// smaller eigenvalue of their covariance [m^2] (may be a rounding error below 0 on a line)
+  double lambda_min = 0;
   double lambda_max = 0;  ///< larger one [m^2]
 
   /// lambda_min / lambda_max: 0 on a straight wall, up to 1 in a corner or clutter; 1 with fewer than three

@@ -35,7 +35,8 @@ DmmConfig localizer_dmm_config();
 /// wrong answer there; docs/NOTES.md, "Locate").
 inline constexpr double kConfidentLocalization = 0.2;
 /// ... and, where its probability is calibrated (free space on both sides), at least this probable: chosen on
-/// fr079, above every wrong or out-of-map answer's probability there (at most 0.023; docs/NOTES.md, "Locate").
+/// fr079, above every wrong or out-of-map answer's probability there (at most 0.023 then, 0.004 with the
+/// corner-weighted terms; kept, docs/NOTES.md, "Corner-weighted terms").
 inline constexpr double kConfidentLocalizationProbability = 0.025;
 
 /// The verification of the answer, refined within +-0.15 m (a lattice step and a half): with +-0.3 m the fit terms
