@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <utility>
 
 #include "core/error.h"
@@ -21,7 +22,11 @@ std::vector<LocalShape> local_shapes(const Points2& points, double radius) {
   };
   std::vector<std::pair<Cell, std::size_t>> sorted;
   sorted.reserve(points.size());
-  for (std::size_t k = 0; k < points.size(); ++k) sorted.emplace_back(cell_of(points[k]), k);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (!((points[k] / radius).array().abs() < 1e15).all())
+      throw InputError("local shape: point " + std::to_string(k) + " is not finite or lies too far out");
+    sorted.emplace_back(cell_of(points[k]), k);
+  }
   std::sort(sorted.begin(), sorted.end());
   std::vector<LocalShape> shapes(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {

@@ -26,7 +26,7 @@ struct LocalShape {
 
 /// The shape around every point, over its neighbours within `radius` [m] (points bucketed in cells of that
 /// side, so the cost is the number of neighbour pairs). Throws InputError for a radius that is not positive
-/// and finite.
+/// and finite, or a point that is not finite or lies more than 1e15 radii out.
 std::vector<LocalShape> local_shapes(const Points2& points, double radius);
 
 /// local_shapes(points, radius)[i].cornerness() for every i.

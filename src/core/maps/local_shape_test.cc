@@ -57,6 +57,8 @@ TEST(LocalShape, RejectsAnAbsurdRadius) {
   EXPECT_THROW(local_shapes({{0, 0}}, 0.0), InputError);
   EXPECT_THROW(local_shapes({{0, 0}}, -1.0), InputError);
   EXPECT_THROW(local_shapes({{0, 0}}, std::nan("")), InputError);
+  EXPECT_THROW(local_shapes({{0, 0}, {std::nan(""), 0}}, 1.0), InputError);
+  EXPECT_THROW(local_shapes({{1e300, 0}}, 1.0), InputError);
 }
 
 }  // namespace

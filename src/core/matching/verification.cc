@@ -122,10 +122,10 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
     for (const Vec2& p : *set)
       if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
   if (points.empty()) return;
-  cornerness_ = partslam::cornerness(points, config.corner_radius);
   has_beams_ = !origins.empty();
   const int d = config.dilation;
-  allocate({&points, &origins}, d + 1);
+  allocate({&points, &origins}, d + 1);  // throws for points spread too far
+  cornerness_ = partslam::cornerness(points, config.corner_radius);
   // The points' own cells (for choosing each beam's origin), then the dilated occupied grid.
   std::vector<std::uint8_t> hit(cells_.size(), 0);
   std::vector<Eigen::Vector2i> point_cells;
@@ -174,8 +174,8 @@ VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_
     if (!p.allFinite()) throw InputError("verify map: a point or origin is not finite");
   if (points.empty() && free_points.empty()) return m;
   m.points_ = points;
+  m.allocate({&points, &free_points}, config.dilation + 1);  // throws for points spread too far
   m.cornerness_ = partslam::cornerness(points, config.corner_radius);
-  m.allocate({&points, &free_points}, config.dilation + 1);
   for (const Vec2& p : points) m.mark_occupied(m.cell_of(p), config.dilation);
   for (const Vec2& p : free_points) {
     const Eigen::Vector2i c = m.cell_of(p);
