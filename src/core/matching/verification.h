@@ -1,21 +1,20 @@
 // Verifying a match (docs/NOTES.md, "Verifying a match"): is the query the same place as a stored map at a
 // given pose? Eq. 1 only counts query points that land on the map's structure, so any cluttered map explains
 // a query well. The verification reads both directions and the free space the beams crossed:
-//   - each map is a grid of unknown / free / occupied cells: occupied as dMM's (dilated) grid, free where a
-//   beam
-//     from one of the map's laser origins (Submap::origins) passed on its way to a point;
+//   - each map is a grid of unknown / free / occupied cells: occupied as dMM's (dilated) grid, free where
+//     a beam from one of the map's laser origins (Submap::origins) passed on its way to a point;
 //   - at T_map_query the query's points are looked up in the map's grid and the map's points in the query's:
 //     the shares that land on structure, on free space (a beam of the other map passed through that wall) and
 //     on cells the other map saw at all (their common field of view);
-//   - each map's points are read on the other's likelihood field (the front end's, 0.05 m cells): a smooth
-//   fit
-//     that tells walls laid on each other from walls that only fall inside one another's dilation;
+//   - each map's points are read on the other's likelihood field (the front end's, 0.05 m cells): a
+//     smooth fit that tells walls laid on each other from walls that only fall inside one another's
+//     dilation;
 //   - the same share on structure and fit, with each point weighted by how little it lies on a line
 //     (core/maps/local_shape.h): straight walls are what every corridor shares, corners, door jambs and
 //     clutter tell two corridors apart (docs/NOTES.md, "Corner-weighted terms");
-//   - a logistic model of those terms (weights fitted on the tuning split to rank each task's right answer
-//     first, then Platt-scaled; docs/NOTES.md) turns them into the probability that the two maps show the
-//     same place at that pose.
+//   - a logistic model of those terms and their products (weights fitted on the tuning split to rank each
+//     task's right answer first, then Platt-scaled; docs/NOTES.md) turns them into the probability that
+//     the two maps show the same place at that pose.
 // refine_match moves a lattice pose to the smooth optimum (the front end's correlative + Gauss-Newton matcher
 // on a likelihood field of the map's points), below the lattice that limits Eq. 1.
 #pragma once
