@@ -14,6 +14,8 @@ namespace partslam {
 namespace {
 
 constexpr double kMaxCells = double(1 << 24);
+// A cell index's magnitude at most this, so that an index plus a grid's width stays an int.
+constexpr double kMaxCellIndex = double(1 << 30);
 
 // Visits the cells of the segment from cell a to cell b (Amanatides & Woo on the cell centres), b excluded;
 // visit(x, y) returns false to stop early.
@@ -97,15 +99,23 @@ void validate(const VerifyConfig& c) {
 }
 
 void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin) {
-  Eigen::Vector2i lo(std::numeric_limits<int>::max(), std::numeric_limits<int>::max()), hi = -lo;
+  // The cell bounds in double first: a finite point far out has no int cell index.
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const Points2* set : sets)
-    for (const Vec2& p : *set) lo = lo.cwiseMin(cell_of(p)), hi = hi.cwiseMax(cell_of(p));
+    for (const Vec2& p : *set) {
+      const Eigen::Vector2d c = (p * inv_resolution_).array().floor();
+      lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
+    }
   lo.array() -= margin, hi.array() += margin;
-  const double w = double(hi.x()) - lo.x() + 1, h = double(hi.y()) - lo.y() + 1;
+  const double w = hi.x() - lo.x() + 1, h = hi.y() - lo.y() + 1;
   if (!(w * h <= kMaxCells))
     throw InputError("verify map: points and origins spread over " + std::to_string(w * resolution_) + " x " +
                      std::to_string(h * resolution_) + " m, more than 2^24 cells");
-  x0_ = lo.x(), y0_ = lo.y(), width_ = static_cast<int>(w), height_ = static_cast<int>(h);
+  if (!(lo.cwiseAbs().maxCoeff() <= kMaxCellIndex && hi.cwiseAbs().maxCoeff() <= kMaxCellIndex))
+    throw InputError("verify map: a point or origin lies more than " +
+                     std::to_string(kMaxCellIndex * resolution_) + " m from the map's origin");
+  x0_ = static_cast<int>(lo.x()), y0_ = static_cast<int>(lo.y());
+  width_ = static_cast<int>(w), height_ = static_cast<int>(h);
   cells_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), kUnknown);
 }
 
@@ -189,11 +199,15 @@ VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_
 VerifyMap VerifyMap::cropped(const Vec2& lo, const Vec2& hi) const {
   VerifyMap out;
   out.resolution_ = resolution_, out.inv_resolution_ = inv_resolution_, out.has_beams_ = has_beams_;
-  const int x0 = std::max(x0_, static_cast<int>(std::floor(lo.x() * inv_resolution_)));
-  const int y0 = std::max(y0_, static_cast<int>(std::floor(lo.y() * inv_resolution_)));
-  const int x1 = std::min(x0_ + width_ - 1, static_cast<int>(std::floor(hi.x() * inv_resolution_)));
-  const int y1 = std::min(y0_ + height_ - 1, static_cast<int>(std::floor(hi.y() * inv_resolution_)));
-  if (x1 < x0 || y1 < y0) return out;
+  if (lo.hasNaN() || hi.hasNaN()) return out;
+  // The box's cells clamped to the grid in double (a box far out has no int cell), then cast.
+  const double x0d = std::max<double>(x0_, std::floor(lo.x() * inv_resolution_));
+  const double y0d = std::max<double>(y0_, std::floor(lo.y() * inv_resolution_));
+  const double x1d = std::min<double>(x0_ + width_ - 1, std::floor(hi.x() * inv_resolution_));
+  const double y1d = std::min<double>(y0_ + height_ - 1, std::floor(hi.y() * inv_resolution_));
+  if (!(x1d >= x0d && y1d >= y0d)) return out;
+  const int x0 = static_cast<int>(x0d), y0 = static_cast<int>(y0d);
+  const int x1 = static_cast<int>(x1d), y1 = static_cast<int>(y1d);
   out.x0_ = x0, out.y0_ = y0, out.width_ = x1 - x0 + 1, out.height_ = y1 - y0 + 1;
   out.cells_.resize(static_cast<std::size_t>(out.width_) * static_cast<std::size_t>(out.height_));
   for (int y = y0; y <= y1; ++y) {

@@ -64,7 +64,8 @@ class VerifyMap {
   /// occupied is unknown); each point's cornerness over its neighbours within config.corner_radius. Each
   /// point is cast from the origin whose beam to it crosses the fewest occupied cells (the nearest among
   /// equals): a submap's origins lie along a short path, and the one that saw a point has a clear line to it.
-  /// Throws InputError for non-finite points or a grid of more than 2^24 cells.
+  /// Throws InputError for non-finite points, a grid of more than 2^24 cells, or a point more than 2^30 cells
+  /// from the frame's origin.
   VerifyMap(const Points2& points, const Points2& origins, const VerifyConfig& config = {});
   /// A map that knows its free space already (a building map's free cells, e.g. a map_server map): occupied
   /// cells from `points` (dilated), free ones under `free_points` where not occupied. Throws as the above.
@@ -72,14 +73,16 @@ class VerifyMap {
                                    const VerifyConfig& config = {});
 
   /// The part of the map inside the box [lo, hi] (its frame): the cells there and the points in them, as if
-  /// the map had only seen that much (a building map cut to the neighbourhood of a local map).
+  /// the map had only seen that much (a building map cut to the neighbourhood of a local map). An empty map
+  /// when the box misses the grid or a corner is NaN.
   VerifyMap cropped(const Vec2& lo, const Vec2& hi) const;
 
+  /// The state of the cell holding p (kUnknown outside the grid, or for a p that is not finite). The cell is
+  /// found in double: a point far out has no int cell index.
   std::uint8_t at(const Vec2& p) const {
-    const int cx = static_cast<int>(std::floor(p.x() * inv_resolution_)) - x0_;
-    const int cy = static_cast<int>(std::floor(p.y() * inv_resolution_)) - y0_;
-    return static_cast<unsigned>(cx) < static_cast<unsigned>(width_) &&
-                   static_cast<unsigned>(cy) < static_cast<unsigned>(height_)
+    const double cx = std::floor(p.x() * inv_resolution_) - x0_;
+    const double cy = std::floor(p.y() * inv_resolution_) - y0_;
+    return cx >= 0 && cx < width_ && cy >= 0 && cy < height_
                ? cells_[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) +
                         static_cast<std::size_t>(cx)]
                : kUnknown;
@@ -93,7 +96,7 @@ class VerifyMap {
 
  private:
   /// An unknown grid over the cells of every point in `sets`, grown by `margin` cells (the map's points are
-  /// set by the caller). Throws InputError for more than 2^24 cells.
+  /// set by the caller). Throws InputError for more than 2^24 cells or a cell index beyond 2^30.
   void allocate(std::initializer_list<const Points2*> sets, int margin);
   Eigen::Vector2i cell_of(const Vec2& p) const {
     return {static_cast<int>(std::floor(p.x() * inv_resolution_)),

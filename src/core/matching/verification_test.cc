@@ -117,6 +117,35 @@ TEST(MatchTerms, TheCornerTermsWeighTheCornersOverTheWalls) {
   EXPECT_LT(along.map_corner_fit, along.map_fit - 0.2);
 }
 
+TEST(VerifyMap, APointFarOutIsRefusedOrReadAsUnknown) {
+  // A finite point whose cell index would not fit an int is refused by name, not cast.
+  Points2 far = corridor(), far_origins = axis_origins();
+  for (Points2* set : {&far, &far_origins})
+    for (Vec2& p : *set) p.x() += 1e12;
+  try {
+    VerifyMap m(far, far_origins);
+    FAIL() << "a map 1e12 m out was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("from the map's origin"), std::string::npos) << e.what();
+  }
+  // Reading a map anywhere, or a crop of it anywhere, is defined: unknown outside the grid.
+  const VerifyMap m(corridor(), axis_origins());
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(m.at({1e12, 0.0}), VerifyMap::kUnknown);
+  EXPECT_EQ(m.at({-1e300, 1e300}), VerifyMap::kUnknown);
+  EXPECT_EQ(m.at({nan, 0.0}), VerifyMap::kUnknown);
+  EXPECT_TRUE(m.cropped({1e12, 1e12}, {2e12, 2e12}).points().empty());
+  EXPECT_TRUE(m.cropped({nan, -2.0}, {2.0, 2.0}).points().empty());
+  EXPECT_EQ(m.cropped({-inf, -inf}, {inf, inf}).points().size(), m.points().size());
+  // A map 1e7 m away (its cells still int) shares nothing with it at the identity.
+  Points2 away = corridor();
+  for (Vec2& p : away) p.y() -= 1e7;
+  const VerifyMap other(away, {});
+  const MatchTerms t = match_terms(m, other, PairFields(m, other), Pose2());
+  EXPECT_EQ(t.query.occupied, 0.0);
+  EXPECT_EQ(t.map.seen, 0.0);
+}
+
 TEST(VerifyMap, ACropKeepsEachPointsCornernessFromTheWholeMap) {
   const VerifyMap a(corridor(), axis_origins());
   const VerifyMap crop = a.cropped({3.0, -2.0}, {5.0, 2.0});
