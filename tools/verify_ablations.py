@@ -9,6 +9,7 @@ Usage: verify_ablations.py --tuning A.csv ... --validation B.csv ...
   but not answered, no right candidate) and how far the winning map lies from the query;
 - selector: a listwise model fitted over the relevant pairs' candidate poses only, to pick each map's pose;
 - extra terms: log point counts and the pair's pose ambiguity beside the twelve terms;
+- second pose: each map scored by its best pose's probability minus alpha times its second-best pose's;
 - hubness: the score minus lambda times the stored map's mean score against the other tasks' queries where it is
   not relevant (an upper bound: it reads the evaluation's ground truth).
 The product's model is read from src/core/matching/verification.cc.
@@ -132,6 +133,32 @@ def extra(tuning, validation):
             " + ".join(groups) or "the twelve terms", *out))
 
 
+def second_pose(tuning, validation, w):
+    alphas = (0.0, 0.25, 0.5, 1.0)
+    for split, paths in (("tuning", tuning), ("validation", validation)):
+        figures = []
+        for path in paths:
+            a = fv.load(path)
+            z = w[0] + fv.features(a) @ w[1:]
+            key = a["task"].astype(np.int64) * 1000003 + a["map"].astype(np.int64)
+            order = np.lexsort((-z, key))
+            k, zs = key[order], z[order]
+            first = np.nonzero(np.r_[True, k[1:] != k[:-1]])[0]  # each pair's best pose, then its others
+            after = np.minimum(first + 1, len(k) - 1)
+            has_second = (first + 1 < len(k)) & (k[after] == k[first])
+            p1 = 1 / (1 + np.exp(-zs[first]))
+            p2 = np.where(has_second, 1 / (1 + np.exp(-zs[after])), 0.0)
+            rows = order[first]
+            row = []
+            for alpha in alphas:
+                score = np.zeros(len(a))
+                score[rows] = np.log(np.maximum(p1 - alpha * p2, 1e-12))
+                row.append(r1_of(a, score, rows))
+            figures.append(row)
+        print("%s R@1 means: %s" % (split, ", ".join("alpha %.2f %.3f" % (al, r)
+                                                     for al, r in zip(alphas, np.mean(figures, axis=0)))))
+
+
 def hubness(tuning, validation, w):
     lambdas = (0.0, 0.25, 0.5, 1.0)
     for split, paths in (("tuning", tuning), ("validation", validation)):
@@ -165,6 +192,8 @@ def main():
     selector(o.tuning, o.validation, w)
     print("\n## Extra terms\n")
     extra(o.tuning, o.validation)
+    print("\n## The second pose's probability subtracted\n")
+    second_pose(o.tuning, o.validation, w)
     print("\n## Hubness correction (upper bound: reads the ground truth)\n")
     hubness(o.tuning, o.validation, w)
 
