@@ -133,51 +133,45 @@ def extra(tuning, validation):
             " + ".join(groups) or "the twelve terms", *out))
 
 
-def second_pose(tuning, validation, w):
-    alphas = (0.0, 0.25, 0.5, 1.0)
+def r1_sweep(tuning, validation, w, knob, values, scores):
+    """R@1 split means of rankings scores(a, z, value) -> (score, rows) over `values` of a knob (z: the model's
+    logit per row)."""
     for split, paths in (("tuning", tuning), ("validation", validation)):
         figures = []
         for path in paths:
             a = fv.load(path)
             z = w[0] + fv.features(a) @ w[1:]
-            key = a["task"].astype(np.int64) * 1000003 + a["map"].astype(np.int64)
-            order = np.lexsort((-z, key))
-            k, zs = key[order], z[order]
-            first = np.nonzero(np.r_[True, k[1:] != k[:-1]])[0]  # each pair's best pose, then its others
-            after = np.minimum(first + 1, len(k) - 1)
-            has_second = (first + 1 < len(k)) & (k[after] == k[first])
-            p1 = 1 / (1 + np.exp(-zs[first]))
-            p2 = np.where(has_second, 1 / (1 + np.exp(-zs[after])), 0.0)
-            rows = order[first]
-            row = []
-            for alpha in alphas:
-                score = np.zeros(len(a))
-                score[rows] = np.log(np.maximum(p1 - alpha * p2, 1e-12))
-                row.append(r1_of(a, score, rows))
-            figures.append(row)
-        print("%s R@1 means: %s" % (split, ", ".join("alpha %.2f %.3f" % (al, r)
-                                                     for al, r in zip(alphas, np.mean(figures, axis=0)))))
+            figures.append([r1_of(*scores(a, z, v)) for v in values])
+        print("%s R@1 means: %s" % (split, ", ".join("%s %.2f %.3f" % (knob, v, r)
+                                                     for v, r in zip(values, np.mean(figures, axis=0)))))
 
 
-def hubness(tuning, validation, w):
-    lambdas = (0.0, 0.25, 0.5, 1.0)
-    for split, paths in (("tuning", tuning), ("validation", validation)):
-        figures = []
-        for path in paths:
-            a = fv.load(path)
-            z = w[0] + fv.features(a) @ w[1:]
-            keep = fv.pair_max(a, z)
-            a, z = a[keep], z[keep]
-            maps, rel = a["map"].astype(int), a["relevant"] == 1
-            total, count = np.zeros(maps.max() + 1), np.zeros(maps.max() + 1)
-            np.add.at(total, maps[~rel], z[~rel])
-            np.add.at(count, maps[~rel], 1)
-            # leave the pair's own task out
-            others = count[maps] - (~rel)
-            mu = np.where(others > 0, (total[maps] - np.where(rel, 0, z)) / np.maximum(others, 1), np.median(z))
-            figures.append([r1_of(a, z - lam * mu, np.arange(len(a))) for lam in lambdas])
-        print("%s R@1 means: %s" % (split, ", ".join("lambda %.2f %.3f" % (lam, r)
-                                                     for lam, r in zip(lambdas, np.mean(figures, axis=0)))))
+def second_pose(a, z, alpha):
+    key = a["task"].astype(np.int64) * 1000003 + a["map"].astype(np.int64)
+    order = np.lexsort((-z, key))
+    k, zs = key[order], z[order]
+    first = np.nonzero(np.r_[True, k[1:] != k[:-1]])[0]  # each pair's best pose, then its others
+    after = np.minimum(first + 1, len(k) - 1)
+    has_second = (first + 1 < len(k)) & (k[after] == k[first])
+    p1 = 1 / (1 + np.exp(-zs[first]))
+    p2 = np.where(has_second, 1 / (1 + np.exp(-zs[after])), 0.0)
+    rows = order[first]
+    score = np.zeros(len(a))
+    score[rows] = np.log(np.maximum(p1 - alpha * p2, 1e-12))
+    return a, score, rows
+
+
+def hubness(a, z, lam):
+    keep = fv.pair_max(a, z)
+    a, z = a[keep], z[keep]
+    maps, rel = a["map"].astype(int), a["relevant"] == 1
+    total, count = np.zeros(maps.max() + 1), np.zeros(maps.max() + 1)
+    np.add.at(total, maps[~rel], z[~rel])
+    np.add.at(count, maps[~rel], 1)
+    # leave the pair's own task out
+    others = count[maps] - (~rel)
+    mu = np.where(others > 0, (total[maps] - np.where(rel, 0, z)) / np.maximum(others, 1), np.median(z))
+    return a, z - lam * mu, np.arange(len(a))
 
 
 def main():
@@ -193,9 +187,9 @@ def main():
     print("\n## Extra terms\n")
     extra(o.tuning, o.validation)
     print("\n## The second pose's probability subtracted\n")
-    second_pose(o.tuning, o.validation, w)
+    r1_sweep(o.tuning, o.validation, w, "alpha", (0.0, 0.25, 0.5, 1.0), second_pose)
     print("\n## Hubness correction (upper bound: reads the ground truth)\n")
-    hubness(o.tuning, o.validation, w)
+    r1_sweep(o.tuning, o.validation, w, "lambda", (0.0, 0.25, 0.5, 1.0), hubness)
 
 
 if __name__ == "__main__":
