@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Measurements on the rows of build/verify_features that did not change the product (docs/NOTES.md, "Three more
-levers measured on the rows"): where the product's model fails, and three levers tried against it.
+"""Measurements on the rows of build/verify_features (docs/NOTES.md, "Four more levers measured on the rows" and
+"Pose ambiguity"): where the product's model fails, four levers tried against it, and how well a map's runner-up
+pose flags a wrong answered pose (VerifiedDmm::runner_up, pose_ambiguous).
 
 Usage: verify_ablations.py --tuning A.csv ... --validation B.csv ...
 (the rows of `build/verify_features LOG OUT.csv 200 100 1 2`, as for tools/fit_verification.py).
@@ -10,6 +11,8 @@ Usage: verify_ablations.py --tuning A.csv ... --validation B.csv ...
 - selector: a listwise model fitted over the relevant pairs' candidate poses only, to pick each map's pose;
 - extra terms: log point counts and the pair's pose ambiguity beside the twelve terms;
 - second pose: each map scored by its best pose's probability minus alpha times its second-best pose's;
+- pose ambiguity: over the relevant pairs, the share of wrong and of right answered poses whose runner-up pose
+  (the most probable other candidate) reaches a share of the answer's probability;
 - hubness: the score minus lambda times the stored map's mean score against the other tasks' queries where it is
   not relevant (an upper bound: it reads the evaluation's ground truth).
 The product's model is read from src/core/matching/verification.cc.
@@ -174,6 +177,33 @@ def hubness(a, z, lam):
     return a, z - lam * mu, np.arange(len(a))
 
 
+def pose_ambiguity(tuning, validation, w, shares=tuple(np.round(np.arange(0.2, 0.71, 0.05), 2)), false_alarms=0.15):
+    """The flag's share (kAmbiguousPoseShare) is the smallest that flags at most `false_alarms` of the tuning
+    split's right answered poses."""
+    chosen = None
+    for split, paths in (("tuning", tuning), ("validation", validation)):
+        right, wrong = [], []  # runner-up / answer probability of the relevant pairs, by answered pose
+        for path in paths:
+            a = fv.load(path)
+            p = fv.predict(w, fv.features(a))
+            lab = fv.labels(a)
+            rel = np.nonzero(a["relevant"] == 1)[0]
+            for t in np.unique(a["task"][rel]):
+                rows = rel[a["task"][rel] == t]
+                order = rows[np.argsort(-p[rows], kind="stable")]
+                ratio = p[order[1]] / p[order[0]] if len(order) > 1 else 0.0
+                (right if lab[order[0]] > 0 else wrong).append(ratio)
+        right, wrong = np.array(right), np.array(wrong)
+        auc = np.mean([(x > right).mean() + 0.5 * (x == right).mean() for x in wrong])
+        if chosen is None:
+            chosen = min(s for s in shares if (right >= s).mean() <= false_alarms)
+        print("%s: %d right and %d wrong answered poses, AUC %.3f; flagged at share" % (
+            split, len(right), len(wrong), auc))
+        for s in shares:
+            print("  %.2f: wrong %.3f, right %.3f%s" % (s, (wrong >= s).mean(), (right >= s).mean(),
+                                                       "  (chosen on tuning)" if s == chosen else ""))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tuning", nargs="+", required=True)
@@ -188,6 +218,8 @@ def main():
     extra(o.tuning, o.validation)
     print("\n## The second pose's probability subtracted\n")
     r1_sweep(o.tuning, o.validation, w, "alpha", (0.0, 0.25, 0.5, 1.0), second_pose)
+    print("\n## Pose ambiguity: the runner-up pose flags a wrong answered pose\n")
+    pose_ambiguity(o.tuning, o.validation, w)
     print("\n## Hubness correction (upper bound: reads the ground truth)\n")
     r1_sweep(o.tuning, o.validation, w, "lambda", (0.0, 0.25, 0.5, 1.0), hubness)
 

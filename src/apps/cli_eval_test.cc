@@ -261,6 +261,15 @@ TEST_F(CliEvalTest, MatchRanksANewLocalMapFromALog) {
   EXPECT_DOUBLE_EQ(j["ranking"][0]["inlier_fraction"].get<double>(), 1.0);
   EXPECT_NEAR(j["ranking"][0]["T_map_query"]["x"].get<double>(), 0.0, 0.1);
   EXPECT_EQ(j["method"], "dmm");
+  // Each verified row says how probable the map's best other pose is, and whether that makes its pose
+  // ambiguous (as the warning under the table says of the best row).
+  for (const nlohmann::json& row : j["ranking"]) {
+    const double p = row["probability"].get<double>(), runner_up = row["runner_up_probability"].get<double>();
+    EXPECT_LE(runner_up, p);
+    EXPECT_EQ(row["pose_ambiguous"].get<bool>(), runner_up >= 0.5 * p);
+  }
+  EXPECT_EQ(run.output.find("warning: the pose of map") != std::string::npos,
+            j["ranking"][0]["pose_ambiguous"].get<bool>());
   // --at: a log time instead of travel.
   EXPECT_EQ(run_partslam("match " + quoted(db) + " --query-log sim:1 --at 30 --method succinct").exit_code, 0);
   for (const std::string& bad : {std::string(" --query 3 --query-log sim:1 --from 1 --to 3"), std::string(" --query-log sim:1"),

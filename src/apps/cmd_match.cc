@@ -10,30 +10,31 @@
 // For a pose, the implied world offset compares where the match puts the query (T_world_map * T_map_query)
 // with the query's own stored pose; "dist" is the stored distance between the two maps' centres.
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
 #include <set>
 #include <span>
 
 #include "apps/commands.h"
-#include "apps/json_text.h"
 #include "apps/cpd_options.h"
 #include "apps/db_hints.h"
+#include "apps/json_text.h"
 #include "apps/mpi_split.h"
 #include "apps/query_options.h"
-#include "io/descriptor_store.h"
-#include "core/matching/localizer.h"  // kConfidentLocalization: the confidence called confident
-#include "core/ranking/query.h"
-#include "core/parts/descriptor_layout.h"
 #include "core/error.h"
+#include "core/matching/localizer.h"     // kConfidentLocalization: the confidence called confident
+#include "core/matching/verification.h"  // pose_ambiguous
+#include "core/parts/descriptor_layout.h"
+#include "core/ranking/query.h"
 #include "core/timing.h"
 #include "io/atomic_file.h"
+#include "io/descriptor_store.h"
 #include "io/map_database.h"
 #include "plot/answer_image.h"
 
@@ -79,6 +80,12 @@ struct Candidate {
   const Submap* map = nullptr;
   std::string dataset;
 };
+
+// A verified row whose map is as probable at another pose (VerifiedDmm::runner_up): its pose is not to be
+// trusted.
+bool ambiguous(const QueryRow& row) {
+  return row.probability && row.runner_up && pose_ambiguous(*row.probability, *row.runner_up);
+}
 
 void print_row(std::size_t rank, const QueryRow& row, const Candidate& c, const Submap& query,
                const std::string& dataset, bool all, bool pose, bool calibrated) {
@@ -226,6 +233,10 @@ nlohmann::json ranking_json(const Query& q, const MethodSpec& method, const Quer
     nlohmann::json j = {{"rank", r + 1}, {"map", c.map->id}, {"dataset", c.dataset}};
     if (row.stage_score) j["descriptor_score"] = *row.stage_score;
     if (row.probability) j["probability"] = *row.probability;
+    if (row.probability && row.runner_up) {
+      j["runner_up_probability"] = *row.runner_up;
+      j["pose_ambiguous"] = pose_ambiguous(*row.probability, *row.runner_up);
+    }
     if (row.pose) {
       const Pose2& T = row.pose->T_map_query;
       j["inliers"] = row.pose->inliers;
@@ -249,8 +260,10 @@ void write_match_plot(const std::string& path, const Query& q, const QueryAnswer
     panel.title = "#" + std::to_string(r + 1) + ": map " + std::to_string(c.map->id) + " (" + c.dataset + ")";
     char text[120];
     if (row.pose) {
-      const bool sure = r == 0 && answer.confidence &&
-                        *answer.confidence >= (answer.calibrated ? kConfidentProbability : kConfidentLocalization);
+      const bool sure =
+          r == 0 && answer.confidence &&
+          *answer.confidence >= (answer.calibrated ? kConfidentProbability : kConfidentLocalization) &&
+          !ambiguous(row);
       panel.layers.push_back({plot::transformed(q.map.points, row.pose->T_map_query),
                               sure ? plot::kGood : plot::kDoubtful, 1.5});
       std::snprintf(text, sizeof text, ", %.0f %% inliers", 100 * row.pose->inlier_fraction);
@@ -303,6 +316,13 @@ void print_table(const Query& q, const MethodSpec& method, const QueryAnswer& an
   } else if (answer.confidence) {
     std::printf("confidence %.3f (the best dMM inlier share minus the best one more than %.0f m away)\n",
                 *answer.confidence, OtherPlace{}.distance);
+  }
+  if (!answer.rows.empty() && ambiguous(answer.rows.front())) {
+    const QueryRow& best = answer.rows.front();
+    std::printf(
+        "warning: the pose of map %lld is ambiguous: another pose of it has probability %.3f against the "
+        "answer's %.3f (a corridor's half turn or shift); do not use that pose unchecked\n",
+        static_cast<long long>(q.candidates[best.candidate].map->id), *best.runner_up, *best.probability);
   }
 }
 

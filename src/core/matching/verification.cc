@@ -326,10 +326,18 @@ VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const
   std::stable_sort(lattice.begin(), lattice.end(),
                    [](const Verified& a, const Verified& b) { return a.probability > b.probability; });
   const std::size_t count = std::min(lattice.size(), static_cast<std::size_t>(config.refined));
-  for (std::size_t k = 0; k < count; ++k) {
-    Verified v = refined(query_verify, map_verify, fields, lattice[k], config);
-    if (k == 0 || v.probability > out.best.probability) out.best = std::move(v);
-  }
+  for (std::size_t k = 0; k < count; ++k)
+    lattice[k] = refined(query_verify, map_verify, fields, lattice[k], config);
+  const auto chosen =
+      std::max_element(lattice.begin(), lattice.begin() + static_cast<std::ptrdiff_t>(count),
+                       [](const Verified& a, const Verified& b) { return a.probability < b.probability; });
+  out.best = *chosen;
+  // The most probable pose elsewhere than the answer's, as dmm_poses tells poses apart.
+  for (const Verified& v : lattice)
+    if ((v.T_map_query.translation() - out.best.T_map_query.translation()).norm() >=
+            config.alternative_distance ||
+        std::abs(wrap_angle(v.T_map_query.theta - out.best.T_map_query.theta)) > config.alternative_angle)
+      out.runner_up = std::max(out.runner_up, v.probability);
   return out;
 }
 

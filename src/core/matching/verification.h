@@ -184,7 +184,19 @@ struct VerifiedDmm {
   DmmResult eq1;
   Verified best;
   int poses = 0;  ///< poses verified
+  /// The probability of the most probable other pose verified: at least alternative_distance [m] or more
+  /// than alternative_angle [rad] from best's (0 when there is none). Near best.probability, the map is the
+  /// same place at either pose and the answer's pose cannot be trusted (a corridor's half turn:
+  /// docs/NOTES.md, "Pose ambiguity").
+  double runner_up = 0;
 };
+
+/// Whether a verified answer's pose is ambiguous: its runner-up pose is at least kAmbiguousPoseShare of its
+/// probability (chosen on the tuning split; docs/NOTES.md, "Pose ambiguity").
+inline constexpr double kAmbiguousPoseShare = 0.5;
+inline bool pose_ambiguous(double probability, double runner_up) {
+  return probability > 0 && runner_up >= kAmbiguousPoseShare * probability;
+}
 VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
                        const VerifyMap& map_verify, const VerifyConfig& config = {});
 

@@ -187,6 +187,36 @@ TEST(VerifyDmm, FindsAndVerifiesTheTruePoseOfARealSubmap) {
   EXPECT_GT(v.best.probability,
             0.4);  // the fitted model tops out near 0.5 (docs/NOTES.md, "Verifying a match")
   EXPECT_GT(v.best.terms.query.occupied, 0.9);
+  // A real submap fits itself at one pose: no other pose comes near.
+  EXPECT_LE(v.runner_up, v.best.probability);
+  EXPECT_FALSE(pose_ambiguous(v.best.probability, v.runner_up))
+      << v.runner_up << " vs " << v.best.probability;
+}
+
+// A room that a half turn maps onto itself fits the query at the true pose and at the half turn alike: the
+// runner-up pose is as probable as the answer, and the answer's pose is ambiguous.
+TEST(VerifyDmm, ReportsThePoseOfASymmetricRoomAsAmbiguous) {
+  Points2 room;
+  for (double x = -4.0; x <= 4.001; x += 0.1) room.emplace_back(x, -1.5), room.emplace_back(x, 1.5);
+  for (double y = -1.4; y <= 1.401; y += 0.1) room.emplace_back(-4.0, y), room.emplace_back(4.0, y);
+  const Points2 origins = {{-1.0, 0.0}, {0.0, 0.0}, {1.0, 0.0}};
+  const Pose2 T_map_query{0.2, 0.1, 0.0};
+  const Points2 query_points = transform(T_map_query.inverse(), room);
+  const Points2 query_origins = transform(T_map_query.inverse(), origins);
+  const DmmConfig dmm;
+  const VerifiedDmm v = verify_dmm(prepare_query(query_points, dmm), prepare_map(room, dmm),
+                                   VerifyMap(query_points, query_origins), VerifyMap(room, origins));
+  EXPECT_GE(v.poses, 2);
+  EXPECT_GT(v.best.probability, 0.0);
+  EXPECT_LE(v.runner_up, v.best.probability);
+  EXPECT_GT(v.runner_up, 0.9 * v.best.probability);
+  EXPECT_TRUE(pose_ambiguous(v.best.probability, v.runner_up));
+}
+
+TEST(VerifyDmm, APoseIsAmbiguousWhenItsRunnerUpReachesHalfItsProbability) {
+  EXPECT_TRUE(pose_ambiguous(0.4, 0.2));
+  EXPECT_FALSE(pose_ambiguous(0.4, 0.19));
+  EXPECT_FALSE(pose_ambiguous(0.0, 0.0));  // nothing verified: nothing to call ambiguous
 }
 
 // Refining more of the verified poses never answers with a less probable one, and refining k of them answers

@@ -56,6 +56,7 @@ class DmmRanker final : public Ranker {
       const VerifyMap query_verify(*query.points, origins_of(query), verify_);
       results.resize(candidates.size());
       r.probability.resize(candidates.size());
+      r.runner_up.resize(candidates.size());
       parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
         const std::size_t c = candidates[j];
         const VerifiedDmm v = verify_dmm(prepared, maps_.at(c), query_verify, verify_maps_.at(c), verify_);
@@ -65,6 +66,7 @@ class DmmRanker final : public Ranker {
         d.inlier_fraction = v.best.terms.query.occupied;
         d.inliers = static_cast<int>(std::lround(d.inlier_fraction * prepared.num_points));
         r.probability[j] = v.best.probability;
+        r.runner_up[j] = v.runner_up;
       });
       r.match_ms = ms_since(t0);
       for (std::size_t j = 0; j < results.size(); ++j)

@@ -30,6 +30,7 @@ std::vector<QueryRow> rows_of(const Ranking& r, std::size_t first) {
     row.score = r.scores[i];
     if (!r.direct.empty()) row.pose = r.direct[i];
     if (!r.probability.empty()) row.probability = r.probability[i];
+    if (!r.runner_up.empty()) row.runner_up = r.runner_up[i];
     if (!r.shortlist_scores.empty()) {
       row.stage_score = r.shortlist_scores[i];
     } else if (r.direct.empty()) {

@@ -33,6 +33,7 @@ struct QueryRow {
   std::optional<double> stage_score;    ///< a succinct method's score (its own, or rerank's first stage)
   std::optional<DmmResult> pose;        ///< the direct match, where one ran
   std::optional<double> probability;    ///< the verified same-place probability, where the match was verified
+  std::optional<double> runner_up;      ///< there: the probability of the map's most probable other pose
 };
 
 struct QueryAnswer {

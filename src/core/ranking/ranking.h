@@ -78,6 +78,8 @@ struct Ranking {
   /// Per candidate where the match was verified: the probability that it is the same place at the direct
   /// match's pose (core/matching/verification.h); empty for methods that do not verify.
   std::vector<std::optional<double>> probability;
+  /// The same where verified: the probability of the most probable other pose of that map (VerifiedDmm).
+  std::vector<std::optional<double>> runner_up;
   std::vector<double> shortlist_scores;          ///< rerank: the first stage's scores; empty otherwise
   double prep_ms = 0;   ///< the query's own preparation (not its CPD) [ms]
   double match_ms = 0;  ///< matching the candidates [ms]

@@ -45,12 +45,14 @@ class RerankRanker final : public Ranker {
     r.direct.assign(candidates.size(), std::nullopt);
     r.tiers.assign(candidates.size(), 0);
     r.probability.assign(candidates.size(), std::nullopt);
+    r.runner_up.assign(candidates.size(), std::nullopt);
     // The top R move above every other map (tier 1), ordered by dMM; the first stage breaks dMM ties.
     for (std::size_t j = 0; j < order.size(); ++j) {
       r.tiers[order[j]] = 1;
       r.scores[order[j]] = d.scores[j];
       r.direct[order[j]] = d.direct[j];
       if (!d.probability.empty()) r.probability[order[j]] = d.probability[j];
+      if (!d.runner_up.empty()) r.runner_up[order[j]] = d.runner_up[j];
     }
     r.prep_ms += d.prep_ms;
     r.match_ms += d.match_ms;
