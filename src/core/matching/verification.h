@@ -190,6 +190,8 @@ struct VerifiedDmm {
   /// docs/NOTES.md, "Pose ambiguity").
   double runner_up = 0;
 };
+VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
+                       const VerifyMap& map_verify, const VerifyConfig& config = {});
 
 /// Whether a verified answer's pose is ambiguous: its runner-up pose is at least kAmbiguousPoseShare of its
 /// probability (chosen on the tuning split; docs/NOTES.md, "Pose ambiguity").
@@ -197,7 +199,5 @@ inline constexpr double kAmbiguousPoseShare = 0.5;
 inline bool pose_ambiguous(double probability, double runner_up) {
   return probability > 0 && runner_up >= kAmbiguousPoseShare * probability;
 }
-VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const VerifyMap& query_verify,
-                       const VerifyMap& map_verify, const VerifyConfig& config = {});
 
 }  // namespace partslam
