@@ -235,7 +235,7 @@ nlohmann::json ranking_json(const Query& q, const MethodSpec& method, const Quer
     if (row.probability) j["probability"] = *row.probability;
     if (row.probability && row.runner_up) {
       j["runner_up_probability"] = *row.runner_up;
-      j["pose_ambiguous"] = pose_ambiguous(*row.probability, *row.runner_up);
+      j["pose_ambiguous"] = ambiguous(row);
     }
     if (row.pose) {
       const Pose2& T = row.pose->T_map_query;
