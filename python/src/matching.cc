@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/matching/dmm.h"
 #include "core/matching/dmm_ransac.h"
+#include "core/matching/verification.h"
 #include "core/ranking/method_spec.h"
 #include "core/ranking/ranking.h"
 
@@ -43,20 +44,28 @@ class BoundRanker {
   }
 
   void prepare(std::optional<std::vector<Points2>> points,
-               std::optional<std::vector<std::vector<Part>>> parts, int threads) {
+               std::optional<std::vector<std::vector<Part>>> parts, int threads,
+               std::optional<std::vector<Points2>> origins) {
     std::unique_lock lock(mutex_);
     if (!points && !parts) throw InputError("prepare: give the stored maps' points, parts, or both");
     if (points && parts && points->size() != parts->size()) {
       throw InputError("prepare: " + std::to_string(points->size()) + " point sets but " +
                        std::to_string(parts->size()) + " part lists");
     }
+    if (origins && (!points || origins->size() != points->size())) {
+      throw InputError("prepare: " + std::to_string(origins->size()) + " origin sets but " +
+                       std::to_string(points ? points->size() : 0) +
+                       " point sets (the laser origins belong to the stored maps' points, one set each)");
+    }
     points_ = std::move(points);
     parts_ = std::move(parts);
+    origins_ = std::move(origins);
     const std::size_t n = points_ ? points_->size() : parts_->size();
     std::vector<MapView> views(n);
     for (std::size_t i = 0; i < n; ++i) {
       if (points_) views[i].points = &(*points_)[i];
       if (parts_) views[i].parts = &(*parts_)[i];
+      if (origins_) views[i].origins = &(*origins_)[i];
     }
     size_ = 0;
     ranker_->prepare(views, threads);
@@ -65,7 +74,8 @@ class BoundRanker {
 
   Ranking rank(const std::optional<Points2>& query_points,
                const std::optional<std::vector<Part>>& query_parts,
-               std::optional<std::vector<std::size_t>> candidates, int threads, int top_k) const {
+               std::optional<std::vector<std::size_t>> candidates, int threads, int top_k,
+               const std::optional<Points2>& query_origins) const {
     std::shared_lock lock(mutex_);
     // Without stored maps there is no ranking: an empty result would read as "nothing matched".
     if (size_ == 0) {
@@ -82,7 +92,9 @@ class BoundRanker {
                          std::to_string(size_) + " prepared)");
       }
     }
-    const MapView query{query_points ? &*query_points : nullptr, query_parts ? &*query_parts : nullptr};
+    if (query_origins && !query_points) throw InputError("rank: query_origins given without query_points");
+    const MapView query{query_points ? &*query_points : nullptr, query_parts ? &*query_parts : nullptr,
+                        query_origins ? &*query_origins : nullptr};
     return ranker_->rank(query, *candidates, RankOptions{threads, top_k});
   }
 
@@ -91,6 +103,7 @@ class BoundRanker {
   std::unique_ptr<Ranker> ranker_;
   std::optional<std::vector<Points2>> points_;
   std::optional<std::vector<std::vector<Part>>> parts_;
+  std::optional<std::vector<Points2>> origins_;
   std::size_t size_ = 0;
   mutable std::shared_mutex mutex_;
 };
@@ -255,8 +268,29 @@ void define_ranking(py::module_& m) {
       .def_property_readonly(
           "shortlist_scores", [](const Ranking& r) { return to_array(r.shortlist_scores); },
           "rerank: the first stage's scores; empty otherwise")
+      .def_readonly(
+          "probability", &Ranking::probability,
+          "per candidate where dMM verified its match, the probability that it is the same place at "
+          "that pose (calibrated when both maps have laser origins), None where it did not (below "
+          "rerank's top R); empty for methods that do not verify (dmm:eq1, descriptors)")
+      .def_readonly("runner_up", &Ranking::runner_up,
+                    "where verified, the probability of the map's most probable other pose, else None")
+      .def_property_readonly(
+          "pose_ambiguous",
+          [](const Ranking& r) {
+            std::vector<std::optional<bool>> out(r.probability.size());
+            for (std::size_t i = 0; i < out.size(); ++i)
+              if (r.probability[i] && i < r.runner_up.size() && r.runner_up[i])
+                out[i] = pose_ambiguous(*r.probability[i], *r.runner_up[i]);
+            return out;
+          },
+          "where verified, whether another pose of the map is nearly as probable (pose_ambiguous), else None")
       .def_readonly("prep_ms", &Ranking::prep_ms, "the query's own preparation [ms]")
       .def_readonly("match_ms", &Ranking::match_ms, "matching the candidates [ms]");
+  m.attr("AMBIGUOUS_POSE_SHARE") = kAmbiguousPoseShare;
+  m.def("pose_ambiguous", &pose_ambiguous, "probability"_a, "runner_up"_a,
+        "Whether a verified pose cannot be trusted: the map's most probable other pose reaches "
+        "AMBIGUOUS_POSE_SHARE of its probability (a corridor's half turn).");
 
   py::class_<BoundRanker>(
       m, "Ranker",
@@ -268,25 +302,32 @@ void define_ranking(py::module_& m) {
       .def("__len__", &BoundRanker::size, "stored maps prepared")
       .def(
           "prepare", &BoundRanker::prepare, "points"_a = py::none(), "parts"_a = py::none(), "threads"_a = 1,
-          release_gil(),
+          "origins"_a = py::none(), release_gil(),
           "Prepares the stored maps: their points (list of (n, 2) arrays) and, for part methods, their parts "
-          "(list of lists of Part). Candidates of rank() index this list.")
+          "(list of lists of Part); origins: their laser origins (Submap.origins, one (k, 2) array per map), "
+          "from which dMM's verification casts each map's free space (without them its probability reads "
+          "structure only). Candidates of rank() index this list.")
       .def("rank", &BoundRanker::rank, "query_points"_a = py::none(), "query_parts"_a = py::none(),
-           "candidates"_a = py::none(), "threads"_a = 1, "top_k"_a = 0, release_gil(),
-           "Scores the candidates (default: every prepared map) for the query.");
+           "candidates"_a = py::none(), "threads"_a = 1, "top_k"_a = 0, "query_origins"_a = py::none(),
+           release_gil(),
+           "Scores the candidates (default: every prepared map) for the query; query_origins: its laser "
+           "origins, as prepare()'s origins.");
 
   m.def(
       "rank",
       [](const std::string& method, const Points2& query_points, std::vector<Points2> map_points, int threads,
          const RankingConfig& config, const std::optional<std::vector<Part>>& query_parts,
-         std::optional<std::vector<std::vector<Part>>> map_parts, int top_k) {
+         std::optional<std::vector<std::vector<Part>>> map_parts, int top_k,
+         const std::optional<Points2>& query_origins, std::optional<std::vector<Points2>> map_origins) {
         BoundRanker ranker(method, config);
-        ranker.prepare(std::move(map_points), std::move(map_parts), threads);
-        return ranker.rank(query_points, query_parts, std::nullopt, threads, top_k);
+        ranker.prepare(std::move(map_points), std::move(map_parts), threads, std::move(map_origins));
+        return ranker.rank(query_points, query_parts, std::nullopt, threads, top_k, query_origins);
       },
       "method"_a, "query_points"_a, "map_points"_a, "threads"_a = 1, "config"_a = RankingConfig{},
-      "query_parts"_a = py::none(), "map_parts"_a = py::none(), "top_k"_a = 0, release_gil(),
-      "Ranks the maps for the query with any registered method (make_ranker, prepare, rank); raises InputError "
+      "query_parts"_a = py::none(), "map_parts"_a = py::none(), "top_k"_a = 0, "query_origins"_a = py::none(),
+      "map_origins"_a = py::none(), release_gil(),
+      "Ranks the maps for the query with any registered method (make_ranker, prepare, rank); raises "
+      "InputError "
       "when map_points is empty.");
   m.def("ranking_order", py::overload_cast<const std::vector<double>&>(&ranking_order), "scores"_a,
         "Positions sorted by score, best first; ties keep their order.");

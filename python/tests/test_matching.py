@@ -237,3 +237,40 @@ def test_method_specs_and_their_errors():
     with pytest.raises(ValueError, match="2 point sets but 1 part lists"):
         partslam.Ranker("dmm").prepare([[[0.0, 0.0]], [[1.0, 1.0]]], [[]])
     assert partslam.ranking_order([1.0, 3.0, 1.0, 2.0]) == [1, 3, 0, 2]
+
+
+def test_dmm_gives_its_same_place_probability_and_reads_free_space_from_laser_origins(sim_submaps):
+    # The verified dMM's probability reaches Python with its runner-up pose; with the maps' laser origins their
+    # free space contradicts other places (a beam passing through the query's walls), without them it cannot.
+    query, stored = sim_submaps[250], sim_submaps[:200]
+    points = [m.points for m in stored]
+    bare = partslam.rank("dmm", query.points, points, threads=2)
+    seen = partslam.rank("dmm", query.points, points, threads=2, query_origins=query.origins,
+                         map_origins=[m.origins for m in stored])
+    centre = np.array(query.T_world_map[:2])
+    distance = [np.linalg.norm(np.array(m.T_world_map[:2]) - centre) for m in stored]
+    far = [i for i, d in enumerate(distance) if d > 10.0]
+    assert len(far) > 20
+    assert distance[seen.order[0]] < 1.5  # the simulated robot passed here before
+    for r in (bare, seen):
+        np.testing.assert_array_equal(r.scores, r.probability)  # dmm ranks by the probability
+        assert all(0.0 <= p <= 1.0 for p in r.probability)
+        assert len(r.runner_up) == len(r.pose_ambiguous) == len(points)
+        for p, q, a in zip(r.probability, r.runner_up, r.pose_ambiguous):
+            assert a == partslam.pose_ambiguous(p, q)
+    assert seen.probability[seen.order[0]] > 0.5 > max(seen.probability[i] for i in far)
+    assert np.mean([seen.probability[i] for i in far]) < 0.75 * np.mean([bare.probability[i] for i in far])
+    share = partslam.AMBIGUOUS_POSE_SHARE
+    assert partslam.pose_ambiguous(0.8, share * 0.8) and not partslam.pose_ambiguous(0.8, share * 0.8 - 1e-3)
+    eq1 = partslam.rank("dmm:eq1", query.points, points[:10])
+    assert eq1.probability == [] and eq1.runner_up == [] and eq1.pose_ambiguous == []
+
+
+def test_laser_origins_must_match_the_maps_they_belong_to(sim_submaps):
+    ranker = partslam.Ranker("dmm")
+    with pytest.raises(partslam.InputError, match="2 origin sets but 3 point sets"):
+        ranker.prepare([m.points for m in sim_submaps[:3]], origins=[m.origins for m in sim_submaps[:2]])
+    ranker.prepare([m.points for m in sim_submaps[:3]], origins=[m.origins for m in sim_submaps[:3]])
+    with pytest.raises(partslam.InputError, match="query_origins given without query_points"):
+        ranker.rank(query_origins=sim_submaps[0].origins)
+    assert len(ranker.rank(sim_submaps[0].points, query_origins=sim_submaps[0].origins).probability) == 3
