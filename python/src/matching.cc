@@ -327,8 +327,7 @@ void define_ranking(py::module_& m) {
       "query_parts"_a = py::none(), "map_parts"_a = py::none(), "top_k"_a = 0, "query_origins"_a = py::none(),
       "map_origins"_a = py::none(), release_gil(),
       "Ranks the maps for the query with any registered method (make_ranker, prepare, rank); raises "
-      "InputError "
-      "when map_points is empty.");
+      "InputError when map_points is empty; query_origins and map_origins: the laser origins, as Ranker's.");
   m.def("ranking_order", py::overload_cast<const std::vector<double>&>(&ranking_order), "scores"_a,
         "Positions sorted by score, best first; ties keep their order.");
 }
