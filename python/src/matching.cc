@@ -279,16 +279,15 @@ void define_ranking(py::module_& m) {
           "pose_ambiguous",
           [](const Ranking& r) {
             std::vector<std::optional<bool>> out(r.probability.size());
-            for (std::size_t i = 0; i < out.size(); ++i)
-              if (r.probability[i] && i < r.runner_up.size() && r.runner_up[i])
-                out[i] = pose_ambiguous(*r.probability[i], *r.runner_up[i]);
+            for (std::size_t i = 0; i < out.size() && i < r.runner_up.size(); ++i)
+              out[i] = pose_ambiguous(r.probability[i], r.runner_up[i]);
             return out;
           },
           "where verified, whether another pose of the map is nearly as probable (pose_ambiguous), else None")
       .def_readonly("prep_ms", &Ranking::prep_ms, "the query's own preparation [ms]")
       .def_readonly("match_ms", &Ranking::match_ms, "matching the candidates [ms]");
   m.attr("AMBIGUOUS_POSE_SHARE") = kAmbiguousPoseShare;
-  m.def("pose_ambiguous", &pose_ambiguous, "probability"_a, "runner_up"_a,
+  m.def("pose_ambiguous", py::overload_cast<double, double>(&pose_ambiguous), "probability"_a, "runner_up"_a,
         "Whether a verified pose cannot be trusted: the map's most probable other pose reaches "
         "AMBIGUOUS_POSE_SHARE of its probability (a corridor's half turn).");
 

@@ -83,9 +83,7 @@ struct Candidate {
 
 // A verified row whose map is as probable at another pose (VerifiedDmm::runner_up): its pose is not to be
 // trusted.
-bool ambiguous(const QueryRow& row) {
-  return row.probability && row.runner_up && pose_ambiguous(*row.probability, *row.runner_up);
-}
+bool ambiguous(const QueryRow& row) { return pose_ambiguous(row.probability, row.runner_up).value_or(false); }
 
 void print_row(std::size_t rank, const QueryRow& row, const Candidate& c, const Submap& query,
                const std::string& dataset, bool all, bool pose, bool calibrated) {

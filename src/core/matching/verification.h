@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -198,6 +199,13 @@ VerifiedDmm verify_dmm(const PreparedQuery& query, const PreparedMap& map, const
 inline constexpr double kAmbiguousPoseShare = 0.5;
 inline bool pose_ambiguous(double probability, double runner_up) {
   return probability > 0 && runner_up >= kAmbiguousPoseShare * probability;
+}
+/// The same for a ranked candidate that may not have been verified (Ranking::probability, ::runner_up): none
+/// unless both are known.
+inline std::optional<bool> pose_ambiguous(const std::optional<double>& probability,
+                                          const std::optional<double>& runner_up) {
+  if (!probability || !runner_up) return std::nullopt;
+  return pose_ambiguous(*probability, *runner_up);
 }
 
 }  // namespace partslam
