@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -177,6 +180,45 @@ TEST_F(CliLocateTest, QueryPointsFromAFile) {
   Vec2 centre = Vec2::Zero();
   for (const Vec2& p : file_points) centre += p / static_cast<double>(file_points.size());
   EXPECT_LT((T_map_source * centre - centre).norm(), 0.1);
+}
+
+// A query whose own Manhattan frame is half a quarter turn from the stored map's (three long diagonal walls
+// added to stored map 20 outweigh its axis walls): match searches the ranking's eight rotation families by
+// default, as eval and the Python Ranker do, and finds the place at 45 degrees; four families (the multiples
+// of 90 degrees only) cannot.
+TEST_F(CliLocateTest, MatchSearchesEightRotationFamiliesByDefault) {
+  const fs::path db = dir_ / "t.db", exported = dir_ / "map20.csv", points = dir_ / "diagonal.csv";
+  ASSERT_EQ(run_partslam("submaps sim:1 --db " + quoted(db)).exit_code, 0);
+  ASSERT_EQ(
+      run_partslam("export " + quoted(db) + " --map 20 --frame world --out " + quoted(exported)).exit_code,
+      0);
+  Points2 query = io::read_points(exported);
+  ASSERT_FALSE(query.empty());
+  Vec2 centre = Vec2::Zero();
+  for (const Vec2& p : query) centre += p / static_cast<double>(query.size());
+  const Vec2 along = Vec2(1.0, 1.0).normalized(), across(-along.y(), along.x());
+  for (const double offset : {-1.5, 0.0, 1.5})
+    for (int i = -80; i <= 80; ++i) query.push_back(centre + 0.05 * i * along + offset * across);
+  std::string csv = "x,y\n";
+  for (const Vec2& p : query) csv += std::to_string(p.x()) + "," + std::to_string(p.y()) + "\n";
+  write(points, csv);
+  std::map<std::string, nlohmann::json> best;
+  for (const std::string turns : {"", " --dmm-turns 8", " --dmm-turns 4"}) {
+    const fs::path json = dir_ / "turns.json";
+    const CliRun run = run_partslam("match " + quoted(db) + " --query-points " + quoted(points) +
+                                    " --method dmm:eq1 --top 1 --json " + quoted(json) + turns);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    best[turns] = read_json(json)["ranking"][0];
+  }
+  EXPECT_EQ(best[""], best[" --dmm-turns 8"]);
+  const double theta = best[""]["T_map_query"]["theta"].get<double>();
+  EXPECT_NEAR(std::remainder(theta - std::numbers::pi / 4, std::numbers::pi / 2), 0.0, 0.05) << theta;
+  EXPECT_NEAR(best[""]["map"].get<int>(), 20, 2);  // the place: map 20 or a neighbour along the path
+  EXPECT_GT(best[""]["inlier_fraction"].get<double>(), 0.5);
+  EXPECT_LT(best[" --dmm-turns 4"]["inlier_fraction"].get<double>(),
+            best[""]["inlier_fraction"].get<double>() - 0.2);
+  EXPECT_THAT(run_partslam("match " + quoted(db) + " --query 20 --dmm-turns 5").output,
+              HasSubstr("canonical_turns must be 4 or 8"));
 }
 
 // A stored map exported in either frame and either format gives the same local map (same points, same pose): the

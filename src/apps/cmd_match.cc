@@ -32,6 +32,7 @@
 #include "core/matching/verification.h"  // pose_ambiguous
 #include "core/parts/descriptor_layout.h"
 #include "core/ranking/query.h"
+#include "core/ranking/ranking.h"  // ranking_dmm_config
 #include "core/timing.h"
 #include "io/atomic_file.h"
 #include "io/descriptor_store.h"
@@ -55,7 +56,7 @@ struct MatchOptions {
   int query_parts = 0;
   int threads = 1;
   double gate = kDefaultOriginGate;
-  DmmConfig dmm;
+  DmmConfig dmm = ranking_dmm_config();  // eval's and the Python Ranker's search
   DmmRansacConfig ransac;
 };
 
@@ -409,8 +410,13 @@ void register_match(CLI::App& app) {
   cmd->add_option("--dmm-dilation", o->dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   cmd->add_option_function<double>(
          "--dmm-angular-window", [o](double deg) { o->dmm.angular_window = deg * std::numbers::pi / 180.0; },
-         "dMM: residual rotation window about each quarter turn [deg]")
+         "dMM: residual rotation window about each rotation family [deg]")
       ->default_str("3");
+  cmd->add_option(
+         "--dmm-turns", o->dmm.canonical_turns,
+         "dMM: rotation families searched about the canonical frame, 4 (quarter turns) or 8 (multiples of 45 "
+         "deg; eval's and the Python Ranker's default)")
+      ->capture_default_str();
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->footer(std::string("Columns: inliers, inl%: dMM's inlier count and share. ") + kPoseColumns + ". " +
               kDistColumn + ". " + kNewMapDash + ". " + kOtherDatasetDash + ". " + kRerankDash + ".");
