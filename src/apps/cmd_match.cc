@@ -24,6 +24,7 @@
 #include "apps/commands.h"
 #include "apps/cpd_options.h"
 #include "apps/db_hints.h"
+#include "apps/dmm_options.h"
 #include "apps/json_text.h"
 #include "apps/mpi_split.h"
 #include "apps/query_options.h"
@@ -407,16 +408,7 @@ void register_match(CLI::App& app) {
                   "(the paper)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1000.0));
-  cmd->add_option("--dmm-dilation", o->dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
-  cmd->add_option_function<double>(
-         "--dmm-angular-window", [o](double deg) { o->dmm.angular_window = deg * std::numbers::pi / 180.0; },
-         "dMM: residual rotation window about each rotation family [deg]")
-      ->default_str("3");
-  cmd->add_option(
-         "--dmm-turns", o->dmm.canonical_turns,
-         "dMM: rotation families searched about the canonical frame, 4 (quarter turns) or 8 (multiples of 45 "
-         "deg; eval's and the Python Ranker's default)")
-      ->capture_default_str();
+  add_dmm_options(*cmd, o->dmm);
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->footer(std::string("Columns: inliers, inl%: dMM's inlier count and share. ") + kPoseColumns + ". " +
               kDistColumn + ". " + kNewMapDash + ". " + kOtherDatasetDash + ". " + kRerankDash + ".");

@@ -1,26 +1,27 @@
 #include "apps/eval_run.h"
 
-#include "apps/cpd_options.h"
-#include "apps/log_inputs.h"
-#include "io/descriptor_store.h"
-
 #include <unistd.h>
 
 #include <chrono>
 #include <iomanip>
 #include <iostream>
+#include <numbers>
 
-#include "core/maps/dictionary.h"
-#include "core/ranking/ranking.h"
-#include "core/maps/submap.h"
-#include "io/ground_truth.h"
-#include "io/scan_source.h"
-#include "apps/scan_input.h"
+#include "apps/cpd_options.h"
+#include "apps/dmm_options.h"
+#include "apps/log_inputs.h"
 #include "apps/mpi_split.h"
 #include "apps/progress_bar.h"
+#include "apps/scan_input.h"
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
+#include "core/maps/dictionary.h"
+#include "core/maps/submap.h"
+#include "core/ranking/ranking.h"
 #include "core/slam/front_end.h"
+#include "io/descriptor_store.h"
+#include "io/ground_truth.h"
+#include "io/scan_source.h"
 
 namespace partslam::apps {
 
@@ -48,13 +49,7 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
       ->capture_default_str();
   cmd.add_option("--hmm-query-parts", o.config.ranking.parts.hmm_query_parts, "parts of an hMM query")->capture_default_str();
   add_cpd_options(cmd, o.config.cpd, "cpd-");
-  cmd.add_option("--dmm-dilation", o.config.ranking.dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
-  cmd.add_option("--dmm-angular-window", o.dmm_angular_window_deg, "dMM: residual rotation window [deg]")
-      ->capture_default_str();
-  cmd.add_option("--dmm-turns", o.config.ranking.dmm.canonical_turns,
-                 "dMM: rotation families searched about the canonical frame, 4 (quarter turns) or 8 (multiples of 45 "
-                 "deg)")
-      ->capture_default_str();
+  add_dmm_options(cmd, o.config.ranking.dmm);
   cmd.add_flag("--scan-match", o.scan_match, "input poses from scan matching seeded by odometry (raw logs)");
   cmd.add_option("--truth", o.truth,
                  "ground truth for submaps of a raw log: its corrected twin (scans associated by content) or its "
@@ -66,7 +61,6 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
 EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
   EvalRun run;
   run.options = o;
-  run.options.config.ranking.dmm.angular_window = o.dmm_angular_window_deg * std::numbers::pi / 180.0;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
   validate(o.config);
@@ -159,26 +153,25 @@ nlohmann::json to_json(const EvalRun& run) {
                       {"cpd_ms_per_map", r.cpd_ms_per_map},
                       {"seconds", run.seconds}};
   const EvalConfig& c = run.options.config;
-  j["parameters"] = {
-      {"radius", c.tasks.radius},
-      {"max_range", run.options.max_range},
-      {"min_travel_gap", c.tasks.min_travel_gap},
-      {"origin_gate", c.ranking.parts.origin_gate},
-      {"hmm_query_parts", c.ranking.parts.hmm_query_parts},
-      {"cpd",
-       {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
-        {"box_sizes", c.cpd.box_sizes},
-        {"corners", c.cpd.corners},
-        {"partitions", c.cpd.partitions},
-        {"mc", c.cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point"},
-        {"t_size", c.cpd.t_size},
-        {"gc", c.cpd.geometric_consistency},
-        {"seed", c.cpd.seed},
-        {"dilation", c.cpd.dmm.dilation}}},
-      {"dmm",
-       {{"dilation", c.ranking.dmm.dilation},
-        {"angular_window_deg", run.options.dmm_angular_window_deg},
-        {"canonical_turns", c.ranking.dmm.canonical_turns}}}};
+  j["parameters"] = {{"radius", c.tasks.radius},
+                     {"max_range", run.options.max_range},
+                     {"min_travel_gap", c.tasks.min_travel_gap},
+                     {"origin_gate", c.ranking.parts.origin_gate},
+                     {"hmm_query_parts", c.ranking.parts.hmm_query_parts},
+                     {"cpd",
+                      {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
+                       {"box_sizes", c.cpd.box_sizes},
+                       {"corners", c.cpd.corners},
+                       {"partitions", c.cpd.partitions},
+                       {"mc", c.cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point"},
+                       {"t_size", c.cpd.t_size},
+                       {"gc", c.cpd.geometric_consistency},
+                       {"seed", c.cpd.seed},
+                       {"dilation", c.cpd.dmm.dilation}}},
+                     {"dmm",
+                      {{"dilation", c.ranking.dmm.dilation},
+                       {"angular_window_deg", c.ranking.dmm.angular_window * 180.0 / std::numbers::pi},
+                       {"canonical_turns", c.ranking.dmm.canonical_turns}}}};
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {
     j["methods"].push_back({{"spec", m.method.spec},

@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <ostream>
-#include <numbers>
 #include <string>
 
 #include "core/evaluation/evaluation.h"
@@ -26,7 +25,6 @@ struct EvalOptions {
   bool quiet = false;
   bool scan_match = false;  ///< input poses from the front end (raw logs)
   std::string truth;        ///< corrected twin of the input: ground truth for submaps of a raw log
-  double dmm_angular_window_deg = EvalConfig{}.ranking.dmm.angular_window * 180.0 / std::numbers::pi;
 };
 
 /// Adds --input, --dict, --methods, --db-size, --tasks, --seed, --threads and the method parameters.
