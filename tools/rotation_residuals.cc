@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
     const Scans scans = io::load_scan_source(argv[1]).scans;
     const Localizer localizer(build_grid_map(scans));
     std::vector<double> families;
-    for (int k = 0; k < 8; ++k) families.push_back(k * std::numbers::pi / 4);
+    const int turns = localizer.config().dmm.canonical_turns;  // the localizer's own families
+    for (int k = 0; k < turns; ++k) families.push_back(k * 2 * std::numbers::pi / turns);
     for (const double w : localizer.wing_directions())
       for (int k = 0; k < 4; ++k) families.push_back(w + k * std::numbers::pi / 2);
     int maps = 0, over3 = 0, over6 = 0, over10 = 0, off_quarter = 0;
