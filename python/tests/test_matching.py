@@ -178,8 +178,10 @@ def test_rank_scores_are_the_dmm_inliers_and_the_same_map_comes_first(sim_submap
     query_index = 5
     ranking = partslam.rank("dmm:eq1", stored[query_index], stored, threads=2)
     assert ranking.order[0] == query_index
-    prepared = [partslam.prepare_map(p) for p in stored]
-    many = partslam.match_dmm_many(partslam.prepare_query(stored[query_index]), prepared)
+    search = partslam.RankingConfig().dmm  # the ranking's search: 8 rotation families, not DmmConfig's 4
+    assert search.canonical_turns == 8
+    prepared = [partslam.prepare_map(p, search) for p in stored]
+    many = partslam.match_dmm_many(partslam.prepare_query(stored[query_index], search), prepared)
     np.testing.assert_array_equal(ranking.scores, [r.inliers for r in many])
     assert [r.T_map_query for r in ranking.direct] == [r.T_map_query for r in many]
 
