@@ -14,7 +14,7 @@ trap 'rm -rf "$TMP"' EXIT
 mpi2() {
   ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:detect_leaks=0} mpirun --allow-run-as-root --oversubscribe -n 2 "$@"
 }
-ARGS=(eval --input sim:1 --dict sim:2 --tasks 30 --db-size 25 --methods dmm,hmm:3,succinct --quiet)
+ARGS=(eval --input sim:1 --dict sim:2 --tasks 12 --db-size 20 --methods dmm,hmm:3,succinct --quiet)
 "$BIN" "${ARGS[@]}" --json "$TMP/serial.json" > /dev/null
 mpi2 "$BIN" "${ARGS[@]}" --json "$TMP/ranks.json" > "$TMP/out.txt"
 grep -q "wrote $TMP/ranks.json" "$TMP/out.txt" || { echo "rank 0 did not report"; cat "$TMP/out.txt"; exit 1; }

@@ -23,8 +23,9 @@ namespace partslam {
 namespace {
 
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using testing::CliRun;
+using ::testing::HasSubstr;
+using testing::kNarrowDmm;
 using testing::quoted;
 using testing::run_partslam;
 
@@ -233,8 +234,8 @@ TEST_F(CliLocateTest, APointFileRoundTripsInEitherFrame) {
       const fs::path points = dir_ / ("map20_" + frame + "." + format), json = dir_ / ("r_" + frame + format + ".json");
       CliRun run = run_partslam("export " + quoted(db) + " --map 20 --frame " + frame + " --out " + quoted(points));
       ASSERT_EQ(run.exit_code, 0) << run.output;
-      run = run_partslam("match " + quoted(db) + " --query-points " + quoted(points) + " --method dmm --top 2 --json " +
-                         quoted(json));
+      run = run_partslam("match " + quoted(db) + " --query-points " + quoted(points) +
+                         " --method dmm --top 2 --json " + quoted(json) + kNarrowDmm);
       ASSERT_EQ(run.exit_code, 0) << run.output;
       const nlohmann::json j = read_json(json);
       EXPECT_EQ(j["ranking"][0]["map"].get<int>(), 20) << frame << " " << format;
