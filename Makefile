@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 WERROR ?= $(if $(PARTSLAM_WERROR),$(PARTSLAM_WERROR),OFF)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPARTSLAM_WERROR=$(WERROR)
-# make sanitize: ASan + UBSan (float-cast-overflow too, no recovery: any report fails its test) over the whole ctest
+# make sanitize: ASan + UBSan (float-cast-overflow too, no recovery: any report fails its test) over the ctest
 # suite, built with GCC into its own tree at -O1 without debug information (reports name functions) and with
 # assertions on (Eigen's off: EIGEN_NO_DEBUG), without the Python module (it would need the ASan runtime preloaded
 # into the interpreter), the benchmarks and the tools, which the suite does not run; the tests labelled compile-only

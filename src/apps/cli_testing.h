@@ -30,7 +30,7 @@ inline CliRun run_partslam(const std::string& args) {
 inline std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 
 /// dMM options for the tests whose subject is not the search (a file format, a stretch of a log, threads):
-/// the search `loops` makes (4 rotation families, +-3 degrees), about a quarter of the ranking's default
+/// the search `loops` makes (4 rotation families, +-3 degrees), about a third of the ranking's default
 /// cost, which the sanitizer build pays many times over (make sanitize).
 inline const std::string kNarrowDmm = " --dmm-turns 4 --dmm-angular-window 3";
 
