@@ -90,12 +90,9 @@ TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
 
 TEST_F(CliEvalTest, ThreadsDoNotChangeTheRanks) {
   const fs::path one = dir_ / "one.json", two = dir_ / "two.json";
-  ASSERT_EQ(
-      run_partslam(kEval + "--methods dmm,hmm:3 --threads 1 --json " + quoted(one) + kNarrowDmm).exit_code,
-      0);
-  ASSERT_EQ(
-      run_partslam(kEval + "--methods dmm,hmm:3 --threads 2 --json " + quoted(two) + kNarrowDmm).exit_code,
-      0);
+  const std::string eval = kEval + "--methods dmm,hmm:3" + kNarrowDmm;
+  ASSERT_EQ(run_partslam(eval + " --threads 1 --json " + quoted(one)).exit_code, 0);
+  ASSERT_EQ(run_partslam(eval + " --threads 2 --json " + quoted(two)).exit_code, 0);
   const nlohmann::json a = read_json(one), b = read_json(two);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(a["methods"][i]["normalized_ranks"], b["methods"][i]["normalized_ranks"]);
