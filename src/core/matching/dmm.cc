@@ -126,12 +126,37 @@ int bound_children(const PackedLevel& packed, const Range& r, const CellList& ce
   return count;
 }
 
-// The children of one node, bounded: at most sixteen, held without allocating.
-template <typename Item>
-struct SixteenChildren {
-  std::array<Item, 16> items;
-  std::size_t size = 0;
-  void push_back(const Item& c) { items[size++] = c; }
+// The children of one node, bounded: at most sixteen, held without allocating and without zeroing the
+// sixteen slots (a search makes one of these per node it expands). take_best hands them out highest `key`
+// first, ties in the order they were added (a stable sort's order), without sorting them: one integer per
+// slot (the key above the slot's rank, 0 once taken or when empty), and each take is a branch-free maximum
+// over the sixteen (a search often stops after the first few children).
+template <typename Item, int Item::*key>
+class SixteenChildren {
+ public:
+  void push_back(const Item& c) {
+    rank_[size_] = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.*key)) + 1) << 4 | (15u - size_);
+    slots_[size_++].item = c;
+  }
+  std::size_t size() const { return size_; }
+  /// The best child not taken yet, or nullptr when every child was taken.
+  const Item* take_best() {
+    std::uint64_t best = 0;
+    for (const std::uint64_t r : rank_) best = std::max(best, r);
+    if (best == 0) return nullptr;
+    const std::size_t slot = 15u - (best & 15u);
+    rank_[slot] = 0;
+    return &slots_[slot].item;
+  }
+
+ private:
+  union Slot {
+    Slot() {}  // left uninitialised: push_back writes a slot before anything reads it
+    Item item;
+  };
+  std::array<Slot, 16> slots_;
+  std::array<std::uint64_t, 16> rank_{};  // (key + 1) << 4 | (15 - slot); 0: taken or empty
+  std::size_t size_ = 0;
 };
 
 struct Candidate {
@@ -222,7 +247,7 @@ class BranchAndBound {
       std::pop_heap(heap.begin(), heap.end(), worse);
       Candidate c = heap.back().first;
       heap.pop_back();
-      descend(std::span<Candidate>(&c, 1), depth - 1);
+      descend(c, depth - 1);
     }
     return best_;
   }
@@ -290,49 +315,44 @@ class BranchAndBound {
                               });
   }
 
-  using Children = SixteenChildren<Candidate>;
+  using Children = SixteenChildren<Candidate, &Candidate::score>;
 
-  // `candidates` are nodes at depth d (d = 0: single translations), sorted by bound; their parent (at depth
-  // d + 1) left its cells and values in buffers_[d + 1], or in root_values_ for the roots.
-  void descend(std::span<Candidate> candidates, int d) {
-    const auto depth = static_cast<int>(buffers_.size());
-    for (const Candidate& c : candidates) {
-      if (c.score <= best_.score) break;  // sorted: no later candidate can beat the bar either
-      if (excluded(c, d)) continue;
-      if (d == 0) {
-        best_ = c;
-        break;  // the rest score no more than c
-      }
-      // This node's cells: its parent's cells that can score in it (exactly c.score of them). Filtering
-      // pays only when it drops at least half of them.
-      CellList parent;
-      const std::uint16_t* parent_values = nullptr;
-      if (d + 1 == depth) {
-        parent = full_cells(c.rotation);
-        parent_values = root_values_.get() + static_cast<std::size_t>(c.parent) * parent.size;
-      } else {
-        parent = lists_[static_cast<std::size_t>(d + 1)];
-        parent_values = buffers_[static_cast<std::size_t>(d + 1)].values.get();
-      }
-      Buffers& mine = buffers_[static_cast<std::size_t>(d)];
-      CellList& list = lists_[static_cast<std::size_t>(d)];
-      if (static_cast<std::size_t>(c.score) * 2 < parent.size) {
-        list = {mine.x.get(), mine.y.get(), filter_cells(parent, parent_values, c.bit, mine.x.get(), mine.y.get())};
-      } else {
-        list = parent;
-      }
-      Children children;
-      // Children at depth 0 are leaves: their values are not needed.
-      expand(c, d, list, d > 1 ? mine.values.get() : nullptr, best_.score, children);
-      // Stable insertion sort of at most 16 children, best bound first.
-      for (std::size_t a = 1; a < children.size; ++a) {
-        const Candidate item = children.items[a];
-        std::size_t b = a;
-        for (; b > 0 && children.items[b - 1].score < item.score; --b) children.items[b] = children.items[b - 1];
-        children.items[b] = item;
-      }
-      descend(std::span<Candidate>(children.items.data(), children.size), d - 1);
+  // Node c at depth d (d = 0: a single translation); its parent (at depth d + 1) left its cells and values in
+  // buffers_[d + 1], or in root_values_ for a root. Returns false when no sibling after c can beat the bar
+  // either (siblings are visited best bound first).
+  bool descend(const Candidate& c, int d) {
+    if (c.score <= best_.score) return false;
+    if (excluded(c, d)) return true;
+    if (d == 0) {
+      best_ = c;
+      return false;  // the siblings after c score no more than c
     }
+    const auto depth = static_cast<int>(buffers_.size());
+    // This node's cells: its parent's cells that can score in it (exactly c.score of them). Filtering
+    // pays only when it drops at least half of them.
+    CellList parent;
+    const std::uint16_t* parent_values = nullptr;
+    if (d + 1 == depth) {
+      parent = full_cells(c.rotation);
+      parent_values = root_values_.get() + static_cast<std::size_t>(c.parent) * parent.size;
+    } else {
+      parent = lists_[static_cast<std::size_t>(d + 1)];
+      parent_values = buffers_[static_cast<std::size_t>(d + 1)].values.get();
+    }
+    Buffers& mine = buffers_[static_cast<std::size_t>(d)];
+    CellList& list = lists_[static_cast<std::size_t>(d)];
+    if (static_cast<std::size_t>(c.score) * 2 < parent.size) {
+      list = {mine.x.get(), mine.y.get(), filter_cells(parent, parent_values, c.bit, mine.x.get(), mine.y.get())};
+    } else {
+      list = parent;
+    }
+    Children children;
+    // Children at depth 0 are leaves: their values are not needed.
+    expand(c, d, list, d > 1 ? mine.values.get() : nullptr, best_.score, children);
+    while (const Candidate* child = children.take_best()) {
+      if (!descend(*child, d - 1)) break;
+    }
+    return true;
   }
 
   const PreparedQuery& query_;
@@ -630,7 +650,7 @@ struct DmmSearch::State {
                              });
   }
 
-  using Children = SixteenChildren<Node>;
+  using Children = SixteenChildren<Node, &Node::bound>;
   struct Pusher {
     State& state;
     void push_back(const Node& c) { state.queue.push(c); }
@@ -643,23 +663,15 @@ struct DmmSearch::State {
     const int d = c.depth;
     std::uint16_t* values = d > 1 ? scratch[static_cast<std::size_t>(d)].values.get() : nullptr;
     children(c, cells, best.bound, values, -1, kids);
-    // Highest bound first, ties in the pass's order (a stable insertion sort: at most 16, no buffer to
-    // allocate).
-    for (std::size_t k = 1; k < kids.size; ++k) {
-      const Node kid = kids.items[k];
-      std::size_t at = k;
-      for (; at > 0 && kids.items[at - 1].bound < kid.bound; --at) kids.items[at] = kids.items[at - 1];
-      kids.items[at] = kid;
-    }
-    for (std::size_t k = 0; k < kids.size; ++k) {
-      const Node& kid = kids.items[k];
-      if (kid.bound <= best.bound) break;
-      if (excluded(kid)) continue;
-      if (kid.depth == 0) {
-        best = kid;
-        break;  // sorted: the rest score no more
+    // Highest bound first, ties in the pass's order.
+    while (const Node* kid = kids.take_best()) {
+      if (kid->bound <= best.bound) break;
+      if (excluded(*kid)) continue;
+      if (kid->depth == 0) {
+        best = *kid;
+        break;  // the rest score no more
       }
-      best_leaf(kid, node_cells(kid, {cells, values}, scratch[static_cast<std::size_t>(kid.depth)]), best);
+      best_leaf(*kid, node_cells(*kid, {cells, values}, scratch[static_cast<std::size_t>(kid->depth)]), best);
     }
   }
 
