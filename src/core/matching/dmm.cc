@@ -129,8 +129,8 @@ int bound_children(const PackedLevel& packed, const Range& r, const CellList& ce
 // The children of one node, bounded: at most sixteen, held without allocating and without zeroing the
 // sixteen slots (a search makes one of these per node it expands). take_best hands them out highest `key`
 // first, ties in the order they were added (a stable sort's order), without sorting them: one integer per
-// slot (the key above the slot's rank, 0 once taken or when empty), and each take is a branch-free maximum
-// over the sixteen (a search often stops after the first few children).
+// child (the key above the child's rank, 0 once taken), and each take is a branch-free maximum over them (a
+// search often stops after the first few children).
 template <typename Item, int Item::*key>
 class SixteenChildren {
  public:
@@ -142,7 +142,7 @@ class SixteenChildren {
   /// The best child not taken yet, or nullptr when every child was taken.
   const Item* take_best() {
     std::uint64_t best = 0;
-    for (const std::uint64_t r : rank_) best = std::max(best, r);
+    for (std::size_t k = 0; k < size_; ++k) best = std::max(best, rank_[k]);
     if (best == 0) return nullptr;
     const std::size_t slot = 15u - (best & 15u);
     rank_[slot] = 0;
@@ -155,7 +155,7 @@ class SixteenChildren {
     Item item;
   };
   std::array<Slot, 16> slots_;
-  std::array<std::uint64_t, 16> rank_{};  // (key + 1) << 4 | (15 - slot); 0: taken or empty
+  std::array<std::uint64_t, 16> rank_;  // (key + 1) << 4 | (15 - slot), 0 once taken; only [0, size_) written
   std::size_t size_ = 0;
 };
 
