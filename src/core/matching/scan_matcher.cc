@@ -49,13 +49,14 @@ Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pos
       const int a = (ka % 2 == 0 ? 1 : -1) * ((ka + 1) / 2);  // 0, -1, 1, -2, 2, ...: nearest first
       const Pose2 turn{center.x, center.y, wrap_angle(center.theta + a * g.angle_step)};
       for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(turn * points[i]);
+      Eigen::Vector2i lo = cells.empty() ? Eigen::Vector2i::Zero() : cells.front(), hi = lo;
+      for (const Eigen::Vector2i& q : cells) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
       double& best_score = best_of[static_cast<std::size_t>(ka)].first;
       Pose2& best = best_of[static_cast<std::size_t>(ka)].second;
       for (int sy = -g.shifts; sy <= g.shifts; ++sy) {
         for (int sx = -g.shifts; sx <= g.shifts; ++sx) {
           const int dx = sx * g.cell_step, dy = sy * g.cell_step;
-          double score = 0.0;
-          for (const Eigen::Vector2i& q : cells) score += field.cell_value(q.x() + dx, q.y() + dy);
+          double score = field.sum_shifted(cells, lo, hi, dx, dy);
           score -= 1e-9 * (sx * sx + sy * sy + a * a);  // ties: nearest the centre
           if (score > best_score) {
             best_score = score;
@@ -174,6 +175,22 @@ Eigen::Vector2i LikelihoodField::cell_of(const Vec2& q) const {
 float LikelihoodField::cell_value(int x, int y) const {
   if (x < 0 || y < 0 || x >= width_ || y >= height_) return 0.0f;
   return values_[static_cast<std::size_t>(y) * width_ + x];
+}
+
+double LikelihoodField::sum_shifted(std::span<const Eigen::Vector2i> cells, const Eigen::Vector2i& lo,
+                                    const Eigen::Vector2i& hi, int dx, int dy) const {
+  double sum = 0.0;
+  if (cells.empty()) return sum;
+  const std::int64_t x0 = std::int64_t{lo.x()} + dx, y0 = std::int64_t{lo.y()} + dy;
+  const std::int64_t x1 = std::int64_t{hi.x()} + dx, y1 = std::int64_t{hi.y()} + dy;
+  if (x0 >= 0 && y0 >= 0 && x1 < width_ && y1 < height_) {
+    const auto width = static_cast<std::size_t>(width_);
+    for (const Eigen::Vector2i& q : cells)
+      sum += values_[static_cast<std::size_t>(q.y() + dy) * width + static_cast<std::size_t>(q.x() + dx)];
+  } else {
+    for (const Eigen::Vector2i& q : cells) sum += cell_value(q.x() + dx, q.y() + dy);
+  }
+  return sum;
 }
 
 float LikelihoodField::at(const Vec2& q) const {

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/types.h"
@@ -40,6 +41,10 @@ class LikelihoodField {
   /// The cell holding q (may lie outside the grid), and a cell's value (0 outside the grid).
   Eigen::Vector2i cell_of(const Vec2& q) const;
   float cell_value(int x, int y) const;
+  /// The sum of cell_value(c.x + dx, c.y + dy) over `cells`, in their order (so the same double whichever path);
+  /// lo / hi: the cells' bounding box, tested once against the grid instead of every cell where it lies inside.
+  double sum_shifted(std::span<const Eigen::Vector2i> cells, const Eigen::Vector2i& lo, const Eigen::Vector2i& hi,
+                     int dx, int dy) const;
   /// Bilinear value at q and its gradient [1/m]; 0 outside the grid.
   double interpolate(const Vec2& q, Vec2* gradient) const;
   double resolution() const { return resolution_; }

@@ -31,6 +31,24 @@ TEST(LikelihoodField, IsOneOnPointsAndFallsOffWithDistance) {
   EXPECT_THROW(LikelihoodField({{0, 0}, {1e6, 1e6}}, 0.05, 0.1), InputError);  // 2^26-cell cap
 }
 
+TEST(LikelihoodField, ShiftedSumsAreTheCellsSumsInsideAndAcrossTheEdge) {
+  const LikelihoodField field(room(), 0.05, 0.1);  // the points grown by 3 sigma: 6 cells of margin
+  std::vector<Eigen::Vector2i> cells;
+  for (const Vec2& p : room()) cells.push_back(field.cell_of(p));
+  Eigen::Vector2i lo = cells.front(), hi = lo;
+  for (const Eigen::Vector2i& q : cells) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  // Shifts of 0-3 cells keep the box inside the grid (one test for all), 9 and 40 take it across the edge (a
+  // test per cell), 4000 wholly off it: each the same additions in the same order as cell by cell.
+  for (const int d : {0, 1, -3, 9, -40, 4000}) {
+    double expected = 0.0;
+    for (const Eigen::Vector2i& q : cells) expected += field.cell_value(q.x() + d, q.y() - d);
+    EXPECT_EQ(field.sum_shifted(cells, lo, hi, d, -d), expected) << d;
+  }
+  EXPECT_GT(field.sum_shifted(cells, lo, hi, 0, 0), 0.8 * static_cast<double>(cells.size()));
+  EXPECT_EQ(field.sum_shifted(cells, lo, hi, 4000, -4000), 0.0);
+  EXPECT_EQ(field.sum_shifted({}, lo, hi, 0, 0), 0.0);
+}
+
 TEST(ScanMatcher, RecoversAnOffsetInsideTheWindow) {
   const Points2 map = room();
   const LikelihoodField field(map, 0.05, 0.1);
