@@ -138,7 +138,6 @@ class SixteenChildren {
     rank_[size_] = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.*key)) + 1) << 4 | (15u - size_);
     slots_[size_++].item = c;
   }
-  std::size_t size() const { return size_; }
   /// The best child not taken yet, or nullptr when every child was taken.
   const Item* take_best() {
     std::uint64_t best = 0;

@@ -180,7 +180,6 @@ float LikelihoodField::cell_value(int x, int y) const {
 double LikelihoodField::sum_shifted(std::span<const Eigen::Vector2i> cells, const Eigen::Vector2i& lo,
                                     const Eigen::Vector2i& hi, int dx, int dy) const {
   double sum = 0.0;
-  if (cells.empty()) return sum;
   const std::int64_t x0 = std::int64_t{lo.x()} + dx, y0 = std::int64_t{lo.y()} + dy;
   const std::int64_t x1 = std::int64_t{hi.x()} + dx, y1 = std::int64_t{hi.y()} + dy;
   if (x0 >= 0 && y0 >= 0 && x1 < width_ && y1 < height_) {
