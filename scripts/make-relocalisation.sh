@@ -3,6 +3,7 @@
 # map_server map of its first visit (scans before the first revisit) and every later 2 m stretch located in it
 # with no initial pose (build/relocalisation_check) -> docs/results/relocalisation_LOG.txt, one line per query.
 # fr079 and intel are the floor's sets (the defaults were chosen on them); the buildings of corrected/ validate.
+# Then the in-map queries by true overlap (scripts/relocalisation_by_overlap.py).
 # Usage: scripts/make-relocalisation.sh. Needs ../shared/data and build/relocalisation_check (about 6 min).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,3 +36,7 @@ fine_share = 100.0 * fine / max(1, int(inmap))
 print(f"| {sys.argv[1]} | {q} | {inmap} | {correct} ({share} %) | {fine} ({fine_share:.1f} %) | {wrong} of {conf} | {outc} of {out} | {med} / {p95} |")
 PY
 done
+echo
+names=()
+for log in "${logs[@]}"; do names+=("$OUT/relocalisation_$(basename "$log" -corrected.log.gz).txt"); done
+/usr/bin/python3 scripts/relocalisation_by_overlap.py "${names[@]}"
