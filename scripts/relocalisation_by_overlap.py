@@ -19,16 +19,19 @@ def main(paths):
     print("|---|" + "---|" * len(BINS))
     for path in paths:
         counts = [[0, 0] for _ in BINS]
-        with open(path) as f:
-            for line in f:
-                m = LINE.match(line)
-                if not m:
-                    continue
-                overlap, err, deg = (float(g) for g in m.groups())
-                for (low, high, _), c in zip(BINS, counts):
-                    if low <= overlap < high:
-                        c[0] += err <= 0.3 and deg <= 3
-                        c[1] += 1
+        try:
+            lines = open(path).read().splitlines()
+        except (OSError, UnicodeDecodeError) as e:
+            sys.exit(f"{path}: cannot read it ({e})")
+        for line in lines:
+            m = LINE.match(line)
+            if not m:
+                continue
+            overlap, err, deg = (float(g) for g in m.groups())
+            for (low, high, _), c in zip(BINS, counts):
+                if low <= overlap < high:
+                    c[0] += err <= 0.3 and deg <= 3  # the printed errors, rounded as the lines print them
+                    c[1] += 1
         if not any(c[1] for c in counts):
             sys.exit(f"{path}: no per-query lines with an overlap of 30 % or more")
         name = os.path.basename(path).removeprefix("relocalisation_").removesuffix(".txt")
