@@ -17,10 +17,12 @@ logs=("$DATA/fr079/fr079-corrected.log.gz" "$DATA/intel/intel-corrected.log.gz")
 for b in acapulco belgioioso edmonton fhw freiburg-campus infinite-corridor orebro seattle; do
   logs+=("$DATA/corrected/$b-corrected.log.gz")
 done
+reports=()
 printf '| log | queries | in the map (overlap >= 30 %%) | pose within 0.3 m / 3 deg | within 0.1 m / 1 deg | confident wrong | outside, confident | median / p95 ms |\n|---|---|---|---|---|---|---|---|\n'
 for log in "${logs[@]}"; do
   name=$(basename "$log" -corrected.log.gz)
   build/relocalisation_check "$log" "$TMP" | sed "s|$DATA/||" > "$OUT/relocalisation_$name.txt"
+  reports+=("$OUT/relocalisation_$name.txt")
   /usr/bin/python3 - "$name" "$OUT/relocalisation_$name.txt" <<'PY'
 import re, sys
 t = open(sys.argv[2]).read()
@@ -37,6 +39,4 @@ print(f"| {sys.argv[1]} | {q} | {inmap} | {correct} ({share} %) | {fine} ({fine_
 PY
 done
 echo
-names=()
-for log in "${logs[@]}"; do names+=("$OUT/relocalisation_$(basename "$log" -corrected.log.gz).txt"); done
-/usr/bin/python3 scripts/relocalisation_by_overlap.py "${names[@]}"
+/usr/bin/python3 scripts/relocalisation_by_overlap.py "${reports[@]}"
