@@ -3,8 +3,9 @@
 # fr079, intel and aces, the raw log scan-matched into submaps (partslam submaps --scan-match), loop closures
 # among them checked against the corrected twin (partslam loops --truth) -> docs/results/loops_LOG.{json,png}
 # (the JSON without the hypothesis list, the curve thinned to 200 points);
-# and the whole chain (partslam slam --relations) -> docs/results/slam_LOG.json (relation errors) and
-# slam_LOG.png (the corrected map).
+# and the whole chain (partslam slam --relations) -> docs/results/slam_LOG.json (its slam.json: relation errors of
+# the corrected and the odometry's trajectories, closures, verdict, seconds) and slam_LOG.png (the corrected map).
+# Then the README's raw-log table from them (scripts/raw_logs_table.py).
 # Usage: scripts/make-raw-logs.sh [THREADS=2]. Needs ../shared/data and build/partslam (about 2 min).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,6 +35,7 @@ json.dump(out, open(sys.argv[2], "w"), indent=2)
 PY
   build/partslam slam "$DATA/$log/$log.clf.gz" --out "$TMP/slam_$log" --relations "$DATA/$log/$log.relations" \
     --threads "$THREADS" --quiet
-  cp "$TMP/slam_$log/relations_error.json" "$OUT/slam_$log.json"
+  cp "$TMP/slam_$log/slam.json" "$OUT/slam_$log.json"
   cp "$TMP/slam_$log/map.png" "$OUT/slam_$log.png"
 done
+/usr/bin/python3 scripts/raw_logs_table.py --readme README.md "$OUT"

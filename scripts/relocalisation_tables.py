@@ -14,7 +14,8 @@ import os
 import re
 import sys
 
-BEGIN, END = "<!-- relocalisation:begin -->", "<!-- relocalisation:end -->"
+import readme_block
+
 FINE = (0.1, 1.0)  # the second tolerance column [m, deg]: the refined pose, as `locate`'s floor asks
 BINS = ((0.3, 0.5, "30-50 %"), (0.5, 0.7, "50-70 %"), (0.7, 1.01, ">= 70 %"))
 QUERY = re.compile(r"^\s+[\d.]+ m\s+overlap ([\d.]+) .* err ([\d.]+) m ([\d.]+) deg")
@@ -93,41 +94,12 @@ def by_overlap_table(reports):
     return "\n".join(lines) + "\n"
 
 
-def readme_block(path):
-    try:
-        text = open(path).read()
-    except (OSError, UnicodeDecodeError) as e:
-        sys.exit(f"{path}: cannot read it ({e})")
-    begin, end = text.find(BEGIN), text.find(END)
-    if begin < 0 or end < begin:
-        sys.exit(f"{path}: no '{BEGIN}' ... '{END}' block")
-    return text, begin + len(BEGIN) + 1, end
-
-
-def main(args):
-    mode = None
-    if args and args[0] in ("--readme", "--check"):
-        if len(args) < 2:
-            sys.exit(f"{args[0]} needs a file")
-        mode, readme, args = args[0], args[1], args[2:]
-    if not args:
+def tables(paths):
+    if not paths:
         sys.exit(__doc__.strip().splitlines()[-3])
-    reports = [Report(p) for p in args]
-    table = per_log_table(reports)
-    if mode:
-        text, start, stop = readme_block(readme)
-        if mode == "--check":
-            if text[start:stop] != table:
-                sys.exit(f"{readme}: the relocalisation table is not the one the reports give "
-                         "(make relocalisation rewrites it)")
-            return
-        tmp = readme + ".tmp"
-        with open(tmp, "w") as f:
-            f.write(text[:start] + table + text[stop:])
-        os.replace(tmp, readme)
-    print(table)
-    print(by_overlap_table(reports), end="")
+    reports = [Report(p) for p in paths]
+    return per_log_table(reports), "\n" + by_overlap_table(reports)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    readme_block.run(sys.argv[1:], "relocalisation", tables, "make relocalisation")

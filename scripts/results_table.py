@@ -11,6 +11,8 @@ import pathlib
 import subprocess
 import sys
 
+import readme_block
+
 # The paper's Table A (ANR %, data sets #1..#5). Our #2..#5 use other buildings (see the header).
 PAPER = {
     "Max-Max hMM cpd:3": [36.2, 30.9, 40.1, 32.8, 34.1],
@@ -96,13 +98,6 @@ def pooled_reliability(results, label):
     rows = {b: (sp / n, sy / n, n) for b, (sp, sy, n) in sorted(bins.items())}
     ece = sum(n * abs(p - y) for p, y, n in rows.values()) / total if total else None
     return rows, ece
-
-
-def write_atomically(path, text):
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
 
 
 def reliability_svg(curves, title):
@@ -329,8 +324,8 @@ def main(folder, commit=None):
     return "\n".join(out) + "\n", files, (sets, by, val2, tune4, val4)
 
 
-def update_readme(readme, sets, by, val2, tune4, val4):
-    """Replaces the block between the results markers of README.md with the headline ANR table."""
+def readme_table(sets, by, val2, tune4, val4):
+    """The headline ANR table: the block between the results markers of README.md."""
     v_by, t4_by, v4_by = [by_label(s) for s in val2], [by_label(s) for s in tune4], [by_label(s) for s in val4]
     rows = ["ANR % (lower is better, random = 50 %), "
             f"{sets[0]['tasks'] if sets[0] else '?'} tasks, N = {sets[0]['db_size'] if sets[0] else '?'}, 8 m usable "
@@ -355,22 +350,22 @@ def update_readme(readme, sets, by, val2, tune4, val4):
         m1 = by[0].get(label)
         rows.append(f"| {label} | " + " | ".join(cells) + f" | {fmt(vm)} | {fmt(t4)} / {fmt(v4)}" +
                     (f" | {m1['bits_per_map']:.0f} | {m1['ms_per_pair']*1e3:.3f} |" if m1 else " | – | – |"))
-    text = pathlib.Path(readme).read_text()
-    begin, end = "<!-- results:begin -->", "<!-- results:end -->"
-    a, b = text.index(begin) + len(begin), text.index(end)
-    write_atomically(readme, text[:a] + "\n" + "\n".join(rows) + "\n" + text[b:])
+    return "\n".join(rows) + "\n"
 
 
-def check(folder, results_md):
-    """--check: docs/RESULTS.md and the files beside it are what this script makes from the committed JSON
-    (with the commit named in RESULTS.md), and each set's pooled reliability gives back its own ECE. Returns the
-    problems found."""
+def check(folder, results_md, readme=None):
+    """--check: docs/RESULTS.md and the files beside it (and README.md's results block, when given) are what
+    this script makes from the committed JSON (with the commit named in RESULTS.md), and each set's pooled
+    reliability gives back its own ECE. Returns the problems found."""
     problems = []
     stamp = pathlib.Path(results_md).read_text()
     commit = stamp.split("at commit `", 1)[1].split("`", 1)[0] if "at commit `" in stamp else "?"
-    text, files, (sets, _, val2, _, _) = main(folder, commit)
+    text, files, result = main(folder, commit)
+    sets, _, val2, _, _ = result
     if text != stamp:
         problems.append(f"{results_md} differs from what scripts/results_table.py makes of {folder}")
+    if readme and not readme_block.is_current(readme, "results", readme_table(*result)):
+        problems.append(f"{readme}'s results table differs from what scripts/results_table.py makes of {folder}")
     for path, text in files.items():
         if not path.exists() or path.read_text() != text:
             problems.append(f"{path} differs from what scripts/results_table.py makes of {folder}")
@@ -384,9 +379,10 @@ def check(folder, results_md):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 1 and sys.argv[1] == "--check":  # --check [FOLDER [RESULTS.md]]
+    if len(sys.argv) > 1 and sys.argv[1] == "--check":  # --check [FOLDER [RESULTS.md [README.md]]]
         folder = sys.argv[2] if len(sys.argv) > 2 else "docs/results"
-        found = check(folder, sys.argv[3] if len(sys.argv) > 3 else "docs/RESULTS.md")
+        found = check(folder, sys.argv[3] if len(sys.argv) > 3 else "docs/RESULTS.md",
+                      sys.argv[4] if len(sys.argv) > 4 else None)
         for problem in found:
             sys.stderr.write(f"results_table --check: {problem}\n")
         sys.exit(1 if found else 0)
@@ -395,6 +391,6 @@ if __name__ == "__main__":
                                os.environ.get("RESULTS_COMMIT"))
     sys.stdout.write(text)
     for path, text in files.items():
-        write_atomically(path, text)
+        readme_block.write_atomically(path, text)
     if len(sys.argv) > 2:
-        update_readme(sys.argv[2], *result)
+        readme_block.replace(sys.argv[2], "results", readme_table(*result))
