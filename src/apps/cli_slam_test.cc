@@ -102,8 +102,8 @@ TEST(CliSlam, RefusesAbsurdThreadCounts) {
 
 // --print-config writes every setting; --config reads that file back, flags given override it, and a file with an
 // unknown key or a bad value is refused naming the file and the key (slam, loops and locate alike). The runs read
-// the simulated building's first 400 scans (it closes a few loops there): what is checked is which settings slam
-// ran with, and the whole building would cost the sanitizer build half a minute a run.
+// the simulated building's first 400 scans, written as a log: what is checked is which settings slam ran with,
+// and the whole building would cost the sanitizer build half a minute a run.
 TEST(CliSlam, SettingsFilesReadBackAndFlagsOverrideThem) {
   const io::testing::TempDir dir;
   Scans scans = simulate().scans;
