@@ -1,4 +1,8 @@
-"""The SLAM bench's table (scripts/slam-bench.sh): one row per run of build/slam_bench, from its JSON lines."""
+"""The SLAM bench's table (scripts/slam-bench.sh): one row per run of build/slam_bench, from its JSON lines.
+Usage: /usr/bin/python3 scripts/slam_bench_table.py [--check TABLE.md] RUNS.jsonl
+  (prints the table; --check prints nothing and exits 1 when TABLE.md is not the table of RUNS.jsonl)"""
+import contextlib
+import io
 import json
 import os
 import sys
@@ -63,4 +67,17 @@ def main(path):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    if len(sys.argv) == 4 and sys.argv[1] == "--check":
+        made = io.StringIO()
+        with contextlib.redirect_stdout(made):
+            main(sys.argv[3])
+        try:
+            current = open(sys.argv[2]).read()
+        except (OSError, UnicodeDecodeError) as e:
+            sys.exit(f"{sys.argv[2]}: cannot read it ({e})")
+        if current != made.getvalue():
+            sys.exit(f"{sys.argv[2]} is not the table of {sys.argv[3]} (make slam-bench rewrites both)")
+    elif len(sys.argv) == 2:
+        main(sys.argv[1])
+    else:
+        sys.exit(__doc__.strip().splitlines()[-2])
