@@ -21,17 +21,23 @@ GRAPH_MAPPING = {"fr079": "0.056 ± 0.042 m, 0.6 ± 0.6°", "intel": "0.031 ± 0
                  "aces": "0.044 ± 0.044 m, 0.4 ± 0.4°"}
 
 
-def load(path, *keys):
-    """The value at `keys` of the JSON file `path`; exits naming the file and the key when it is not there."""
-    try:
-        value = json.loads(pathlib.Path(path).read_text())
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise SystemExit(f"{path}: cannot read it ({e})")
-    for k in keys:
-        if not isinstance(value, dict) or k not in value:
-            raise SystemExit(f"{path}: no '{'.'.join(keys)}' (make raw-logs writes it)")
-        value = value[k]
-    return value
+class Json:
+    """One JSON file, read once; field(*keys) exits naming the file and the key when it is not there."""
+
+    def __init__(self, path):
+        self.path = path
+        try:
+            self.value = json.loads(pathlib.Path(path).read_text())
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+            raise SystemExit(f"{path}: cannot read it ({e})")
+
+    def field(self, *keys):
+        value = self.value
+        for k in keys:
+            if not isinstance(value, dict) or k not in value:
+                raise SystemExit(f"{self.path}: no '{'.'.join(keys)}' (make raw-logs writes it)")
+            value = value[k]
+        return value
 
 
 def table(folder):
@@ -41,10 +47,10 @@ def table(folder):
             "places closed by `loops` at 100 % precision | slam's front end + loops + graph [s] |",
             "|---|---|---|---|---|---|---|---|"]
     for log in LOGS:
-        slam = folder / f"slam_{log}.json"
-        ours, odometry = load(slam, "relations", "slam"), load(slam, "relations", "odometry")
-        seconds = load(slam, "seconds")
-        closed = load(folder / f"loops_{log}.json", "evaluation", "query_recall_at_full_precision")
+        slam = Json(folder / f"slam_{log}.json")
+        ours, odometry = slam.field("relations", "slam"), slam.field("relations", "odometry")
+        seconds = slam.field("seconds")
+        closed = Json(folder / f"loops_{log}.json").field("evaluation", "query_recall_at_full_precision")
         t, r = ours["translation_m"], ours["rotation_deg"]
         rows.append(f"| {log} | {t['mean']:.4f} ± {t['std']:.3f} | {r['mean']:.2f} ± {r['std']:.2f} | "
                     f"{CARTOGRAPHER[log]} | {GRAPH_MAPPING[log]} | {odometry['translation_m']['mean']:.2f} | "

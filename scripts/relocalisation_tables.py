@@ -6,7 +6,8 @@ through scripts/make-relocalisation.sh):
 - per log, the in-map queries split by their true overlap with the map (30-50, 50-70, >= 70 %): whether a log's
   misses are partial views or places the query sees whole.
 The in-map overlap and the tolerance are read from each report's own summary line ("in the map (overlap >= 30 %):
-N, pose within 0.30 m / 3 deg: ..."), so the tables count with what relocalisation_check counted with.
+N, pose within 0.30 m / 3 deg: ..."), so the tables count with what relocalisation_check counted with. Rows:
+the tuning logs first (fr079, intel), then the others by name, in whatever order the reports are given.
 Usage: /usr/bin/python3 scripts/relocalisation_tables.py [--readme README.md | --check README.md] REPORT...
   --readme FILE  also replaces the block between FILE's relocalisation markers with the per-log table
   --check FILE   prints nothing; exits 1 when FILE's block is not the per-log table of the reports"""
@@ -16,6 +17,7 @@ import sys
 
 import readme_block
 
+TUNING = ("fr079", "intel")  # the logs the defaults were chosen on: first in the tables, the others by name
 FINE = (0.1, 1.0)  # the second tolerance column [m, deg]: the refined pose, as `locate`'s floor asks
 BINS = ((0.3, 0.5, "30-50 %"), (0.5, 0.7, "50-70 %"), (0.7, 1.01, ">= 70 %"))
 QUERY = re.compile(r"^\s+[\d.]+ m\s+overlap ([\d.]+) .* err ([\d.]+) m ([\d.]+) deg")
@@ -97,7 +99,8 @@ def by_overlap_table(reports):
 def tables(paths):
     if not paths:
         sys.exit(__doc__.strip().splitlines()[-3])
-    reports = [Report(p) for p in paths]
+    reports = sorted((Report(p) for p in paths),
+                     key=lambda r: (TUNING.index(r.name) if r.name in TUNING else len(TUNING), r.name))
     return per_log_table(reports), "\n" + by_overlap_table(reports)
 
 
