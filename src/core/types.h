@@ -17,6 +17,8 @@ using Vec2 = Eigen::Vector2d;
 inline constexpr double kMapResolution = 0.1;
 /// Side of the square crop of a submap around its centroid [m]; map points lie within +-kCropSize / 2.
 inline constexpr double kCropSize = 12.8;
+/// One degree [rad].
+inline constexpr double kDegree = std::numbers::pi / 180;
 /// A 2D point set [m]. std::vector is fine for Vector2d under C++17 aligned new.
 using Points2 = std::vector<Vec2>;
 

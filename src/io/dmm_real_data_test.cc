@@ -76,10 +76,9 @@ TEST_F(Fr079Submaps, BranchAndBoundEqualsExhaustive) {
 // A real submap against itself moved by a known pose (a quarter turn plus a residual, and a shift).
 TEST_F(Fr079Submaps, RecoversAKnownOffsetOfARealSubmap) {
   const DmmConfig config;
-  const double kDeg = std::numbers::pi / 180;
   for (std::size_t m = 3; m < maps_->size(); m += maps_->size() / 6) {
     const Points2& map_points = (*maps_)[m].points;
-    const Pose2 T_map_query{1.3, -0.8, -std::numbers::pi / 2 + 1.7 * kDeg};
+    const Pose2 T_map_query{1.3, -0.8, -std::numbers::pi / 2 + 1.7 * kDegree};
     const Points2 query_points = transform(T_map_query.inverse(), map_points);
     const PreparedQuery q = prepare_query(query_points, config);
     const DmmResult r = match_dmm(q, prepare_map(map_points, config));

@@ -8,16 +8,12 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "plot/testing/pixels.h"
 
 namespace partslam::plot {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::uint32_t pixel(cairo_surface_t* s, int x, int y) {
-  const unsigned char* data = cairo_image_surface_get_data(s);
-  return reinterpret_cast<const std::uint32_t*>(data + y * cairo_image_surface_get_stride(s))[x] & 0xFFFFFFu;
-}
 
 std::uint32_t rgb(const Rgb& c) {
   const auto byte = [](double v) { return static_cast<std::uint32_t>(std::lround(v * 255)); };

@@ -11,8 +11,8 @@
 namespace partslam::plot {
 namespace {
 
-constexpr int kTitleHeight = 24;
-constexpr int kGap = 16;
+constexpr int kGridTitleHeight = 24;
+constexpr int kGridGap = 16;
 
 // The state of a block of cells: occupied when any cell is, else free when any is, else unknown.
 CellState block_state(const GridMap& m, int column, int row, int f) {
@@ -39,13 +39,13 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     max_height = std::max(max_height, g.map->height);
   }
   const int f = std::max(1, std::max((total_width + max_side - 1) / max_side, (max_height + max_side - 1) / max_side));
-  int width = kGap * (static_cast<int>(grids.size()) - 1), height = 0;
+  int width = kGridGap * (static_cast<int>(grids.size()) - 1), height = 0;
   for (const TitledGrid& g : grids) {
     width += (g.map->width + f - 1) / f;
     height = std::max(height, (g.map->height + f - 1) / f);
   }
   width = std::max(width, 200);
-  height += kTitleHeight;
+  height += kGridTitleHeight;
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
@@ -59,7 +59,7 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     const int w = (m.width + f - 1) / f, h = (m.height + f - 1) / f;
     for (int py = 0; py < h; ++py) {
       const int row = (h - 1 - py) * f;  // row 0 of the grid is the lowest y: the image's last row
-      auto* line = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(py + kTitleHeight) * stride);
+      auto* line = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(py + kGridTitleHeight) * stride);
       for (int px = 0; px < w; ++px) {
         const CellState c = block_state(m, px * f, row, f);
         line[left + px] = c == CellState::kOccupied ? 0x000000u : c == CellState::kFree ? 0xFFFFFFu : 0xB4B4B4u;
@@ -72,7 +72,7 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     cairo_move_to(cr, left + 4, 17);
     cairo_show_text(cr, g.title.c_str());
     cairo_surface_flush(surface);
-    left += w + kGap;
+    left += w + kGridGap;
   }
   cairo_destroy(cr);
   write_png_atomically(path, surface);

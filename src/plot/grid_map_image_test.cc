@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "plot/testing/pixels.h"
 
 namespace partslam::plot {
 namespace {
@@ -23,11 +24,6 @@ GridMap test_grid() {
     for (int x = 0; x < 20; ++x) m.cells[static_cast<std::size_t>(y * 40 + x)] = CellState::kFree;
   m.cells[30] = CellState::kOccupied;
   return m;
-}
-
-std::uint32_t pixel(cairo_surface_t* s, int x, int y) {
-  const unsigned char* data = cairo_image_surface_get_data(s);
-  return reinterpret_cast<const std::uint32_t*>(data + y * cairo_image_surface_get_stride(s))[x] & 0xFFFFFFu;
 }
 
 TEST(GridMapImage, DrawsFreeOccupiedAndUnknownNorthUpSideBySide) {

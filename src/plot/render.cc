@@ -13,7 +13,7 @@
 namespace partslam::plot {
 namespace {
 
-constexpr double kMargin = 24;   // panel margin [px]
+constexpr double kPanelMargin = 24;   // panel margin [px]
 constexpr double kCaption = 30;  // caption band above a panel [px]
 constexpr double kPalette[][3] = {
     {0.84, 0.15, 0.16}, {0.12, 0.47, 0.71}, {0.17, 0.63, 0.17}, {1.0, 0.5, 0.05},   {0.58, 0.4, 0.74},
@@ -191,18 +191,18 @@ void draw_dictionary_panel(cairo_t* cr, const Viewport& view, const PartsFigure&
 
 void write_parts_figure(const std::filesystem::path& path, const PartsFigure& f, const RenderConfig& c) {
   validate(c);
-  const double inner_w = c.width - 2 * kMargin;
+  const double inner_w = c.width - 2 * kPanelMargin;
   // A panel of `world` below y = top: as wide as the image, as tall as the world's aspect asks up to max_h.
   auto panel_below = [&](const Box2& world, double top, double max_h) {
     const double h = std::min(max_h, inner_w * world.height() / std::max(world.width(), 1e-3));
-    return fit(world, kMargin, top + kCaption, inner_w, std::max(h, 40.0));
+    return fit(world, kPanelMargin, top + kCaption, inner_w, std::max(h, 40.0));
   };
-  auto bottom = [](const Viewport& v) { return v.top + v.height + kMargin; };
+  auto bottom = [](const Viewport& v) { return v.top + v.height + kPanelMargin; };
 
   Box2 map_world = f.map_points.empty() ? Box2{-1, 1, -1, 1} : bounding_box(f.map_points);
   for (const Part& p : f.parts) map_world = grow(map_world, p.keypoint_box);
   const Viewport map_view =
-      panel_below(pad(map_world, 0.3), kMargin, c.map_panel_height - kCaption - kMargin);
+      panel_below(pad(map_world, 0.3), kPanelMargin, c.map_panel_height - kCaption - kPanelMargin);
   double height = bottom(map_view);
 
   // The whole dictionary, and a zoom on the descriptor boxes when they cover a small part of it.
@@ -222,7 +222,7 @@ void write_parts_figure(const std::filesystem::path& path, const PartsFigure& f,
       zoom = zoom_world.area() < 0.25 * world.area();
     }
     if (zoom) {
-      zoom_view = panel_below(zoom_world, height, c.map_panel_height - kCaption - kMargin);
+      zoom_view = panel_below(zoom_world, height, c.map_panel_height - kCaption - kPanelMargin);
       height = bottom(zoom_view);
     }
   }

@@ -11,9 +11,8 @@
 namespace partslam {
 
 OdometryNoise odometry_noise(const std::string& level) {
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
-  if (level == "mild") return {0.01, 0.3 * kDeg, 0.01, 0.2 * kDeg, 2.0, 0.1, 2.0 * kDeg};
-  if (level == "harsh") return {0.05, 2.0 * kDeg, 0.03, 1.0 * kDeg, 20.0, 0.3, 11.0 * kDeg};
+  if (level == "mild") return {0.01, 0.3 * kDegree, 0.01, 0.2 * kDegree, 2.0, 0.1, 2.0 * kDegree};
+  if (level == "harsh") return {0.05, 2.0 * kDegree, 0.03, 1.0 * kDegree, 20.0, 0.3, 11.0 * kDegree};
   throw InputError("odometry noise: unknown level '" + level + "' (mild or harsh)");
 }
 

@@ -10,8 +10,6 @@
 namespace partslam {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
-
 // Signed difference to the nearest multiple of 90 degrees [rad], in [-45, 45) degrees.
 double residual_mod_quarter(double a) {
   const double q = std::numbers::pi / 2;
@@ -27,9 +25,9 @@ TEST(ManhattanAngle, AxisAlignedRectangleNeedsNoRotation) {
     points.emplace_back(0.05, 0.06 * i);
     points.emplace_back(5.05, 0.06 * i);
   }
-  EXPECT_NEAR(residual_mod_quarter(manhattan_angle(points)), 0.0, 0.1 * kDeg);
-  const double a = manhattan_angle(transform(Pose2{0.0, 0.0, 25.0 * kDeg}, points));
-  EXPECT_NEAR(residual_mod_quarter(a + 25.0 * kDeg), 0.0, 0.1 * kDeg);
+  EXPECT_NEAR(residual_mod_quarter(manhattan_angle(points)), 0.0, 0.1 * kDegree);
+  const double a = manhattan_angle(transform(Pose2{0.0, 0.0, 25.0 * kDegree}, points));
+  EXPECT_NEAR(residual_mod_quarter(a + 25.0 * kDegree), 0.0, 0.1 * kDegree);
   EXPECT_GE(a, 0.0);
   EXPECT_LT(a, std::numbers::pi / 2);
 }
@@ -51,18 +49,18 @@ TEST(WallDirections, FindsAWingBuiltAtAnotherAngleAndNothingInAManhattanBuilding
   add_wall(building, {0.0, 12.0}, {8.0, 20.0});  // a diagonal wall: searched by the eight families anyway
   EXPECT_TRUE(wall_directions(building).empty());
   Points2 with_wing = building;
-  const Pose2 wing{30.0, 0.0, 20.0 * kDeg};
+  const Pose2 wing{30.0, 0.0, 20.0 * kDegree};
   for (int k = 0; k < 4; ++k) {
     add_wall(with_wing, wing * Vec2(0.0, 2.0 * k), wing * Vec2(12.0, 2.0 * k));
     add_wall(with_wing, wing * Vec2(3.0 * k, 0.0), wing * Vec2(3.0 * k, 6.0));
   }
   const std::vector<double> directions = wall_directions(with_wing);
   ASSERT_EQ(directions.size(), 1u);
-  EXPECT_NEAR(directions[0], 20.0 * kDeg, 1.0 * kDeg);
+  EXPECT_NEAR(directions[0], 20.0 * kDegree, 1.0 * kDegree);
   // Turned by a quarter turn, the same wing is at the same direction (modulo 90 degrees).
-  const std::vector<double> turned = wall_directions(transform(Pose2{0.0, 0.0, 90.0 * kDeg}, with_wing));
+  const std::vector<double> turned = wall_directions(transform(Pose2{0.0, 0.0, 90.0 * kDegree}, with_wing));
   ASSERT_EQ(turned.size(), 1u);
-  EXPECT_NEAR(turned[0], 20.0 * kDeg, 1.0 * kDeg);
+  EXPECT_NEAR(turned[0], 20.0 * kDegree, 1.0 * kDegree);
   WallDirectionConfig strict;
   strict.min_share = 0.9;
   EXPECT_TRUE(wall_directions(with_wing, strict).empty());
@@ -85,18 +83,18 @@ TEST(ManhattanAngle, RecoversKnownRotationsOfSimulatedSubmaps) {
   double worst = 0.0;
   for (std::size_t k = 0; k < maps.size(); k += 11) {
     for (const double degrees : {0.4, 3.0, 17.0, 45.0, 62.5, 89.7, -20.0, 135.0}) {
-      const double turn = degrees * kDeg;
+      const double turn = degrees * kDegree;
       const double a = manhattan_angle(transform(Pose2{0.0, 0.0, turn}, maps[k].points));
       ASSERT_GE(a, 0.0);
       ASSERT_LT(a, std::numbers::pi / 2);
       const double r = std::abs(residual_mod_quarter(a + turn));
       worst = std::max(worst, r);
-      EXPECT_LT(r, 1.0 * kDeg) << "submap " << k << " turned by " << degrees << " deg";
+      EXPECT_LT(r, 1.0 * kDegree) << "submap " << k << " turned by " << degrees << " deg";
       ++checked;
     }
   }
   EXPECT_GT(checked, 200);
-  RecordProperty("worst_residual_deg", std::to_string(worst / kDeg));
+  RecordProperty("worst_residual_deg", std::to_string(worst / kDegree));
 }
 
 }  // namespace

@@ -10,11 +10,9 @@
 namespace partslam {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
-
 struct Fixture {
   Points2 map_points, query_points;
-  Pose2 T_map_query{0.8, -0.5, 90.0 * kDeg + 1.0 * kDeg};
+  Pose2 T_map_query{0.8, -0.5, 90.0 * kDegree + 1.0 * kDegree};
 };
 
 // A small map (so random minimal samples hit the truth often) and the same points in a rotated query frame.
@@ -36,7 +34,7 @@ TEST(DmmRansac, FindsTheTruePoseOfACopy) {
   EXPECT_GT(r.inlier_fraction, 0.8);
   EXPECT_NEAR(r.T_map_query.x, f.T_map_query.x, 0.15);
   EXPECT_NEAR(r.T_map_query.y, f.T_map_query.y, 0.15);
-  EXPECT_NEAR(wrap_angle(r.T_map_query.theta - f.T_map_query.theta), 0.0, 2.0 * kDeg);
+  EXPECT_NEAR(wrap_angle(r.T_map_query.theta - f.T_map_query.theta), 0.0, 2.0 * kDegree);
   EXPECT_LE(r.candidates_scored, 3000);  // stops early once every point is an inlier
 }
 
@@ -52,7 +50,7 @@ TEST(DmmRansac, SeededAndScoreMatchesThePose) {
   EXPECT_EQ(a.T_map_query.theta, b.T_map_query.theta);
   EXPECT_EQ(count_inliers(f.query_points, map.inlier_grid, a.T_map_query), a.inliers);
   // Canonical: every hypothesis is within the window of a multiple of 90 degrees.
-  const double residual = a.T_map_query.theta - std::round(a.T_map_query.theta / (90 * kDeg)) * 90 * kDeg;
+  const double residual = a.T_map_query.theta - std::round(a.T_map_query.theta / (90 * kDegree)) * 90 * kDegree;
   EXPECT_LE(std::abs(residual), config.angular_window + 1e-12);
 }
 

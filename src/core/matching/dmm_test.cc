@@ -14,15 +14,13 @@
 namespace partslam {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
-
 double angle_error(double a, double b) { return std::abs(wrap_angle(a - b)); }
 
 // Small window so the exhaustive reference stays fast.
 DmmConfig small_config() {
   DmmConfig config;
   config.linear_window = 2.5;
-  config.angular_window = 2.0 * kDeg;
+  config.angular_window = 2.0 * kDegree;
   return config;
 }
 
@@ -78,40 +76,40 @@ TEST(DmmConfig, ValidateNamesTheField) {
 // canonical families (+- 3 degrees about each quarter turn) and found with the wing's direction searched too.
 TEST(MatchDmm, AnExtraDirectionReachesAQueryTurnedOffTheAxes) {
   DmmConfig config;
-  config.angular_window = 2.0 * kDeg;
-  config.angular_step = 1.0 * kDeg;
-  config.extra_directions = {-20.0 * kDeg};
-  config.extra_window = 2.0 * kDeg;
+  config.angular_window = 2.0 * kDegree;
+  config.angular_step = 1.0 * kDegree;
+  config.extra_directions = {-20.0 * kDegree};
+  config.extra_window = 2.0 * kDegree;
   const PreparedQuery q = prepare_query({{1.0, 0.0}, {0.0, 2.0}}, config);
   ASSERT_EQ(q.rotations.size(), 4u * 5u + 4u * 5u);  // the families, then the wing's: four quarter turns each
-  EXPECT_NEAR(q.rotations[20].angle, -22.0 * kDeg, 1e-12);
-  EXPECT_NEAR(q.rotations[27].angle, 70.0 * kDeg, 1e-12);
+  EXPECT_NEAR(q.rotations[20].angle, -22.0 * kDegree, 1e-12);
+  EXPECT_NEAR(q.rotations[27].angle, 70.0 * kDegree, 1e-12);
   std::mt19937_64 rng(5);
   const testing::SyntheticWorld world = testing::random_world(rng, 14.0, 10);
   const Points2 map_points = testing::sample_world(world, {-6, 6, -6, 6}, rng);
-  const Pose2 T_map_query{0.8, -0.4, -20.0 * kDeg};
+  const Pose2 T_map_query{0.8, -0.4, -20.0 * kDegree};
   const Points2 query_points = transform(T_map_query.inverse(), map_points);
   DmmConfig axes = small_config();
-  axes.angular_step = 0.5 * kDeg;
+  axes.angular_step = 0.5 * kDegree;
   DmmConfig wing = axes;
-  wing.extra_directions = {-20.0 * kDeg};
+  wing.extra_directions = {-20.0 * kDegree};
   const DmmResult missed = match_dmm(prepare_query(query_points, axes), prepare_map(map_points, axes));
   const DmmResult found = match_dmm(prepare_query(query_points, wing), prepare_map(map_points, wing));
   EXPECT_LT(missed.inlier_fraction, 0.6);
   EXPECT_GE(found.inlier_fraction, 0.95);
-  EXPECT_LT(angle_error(found.T_map_query.theta, T_map_query.theta), 0.5 * kDeg + 1e-9);
+  EXPECT_LT(angle_error(found.T_map_query.theta, T_map_query.theta), 0.5 * kDegree + 1e-9);
   EXPECT_NEAR(found.T_map_query.x, 0.8, 0.1 + 1e-9);
   EXPECT_NEAR(found.T_map_query.y, -0.4, 0.1 + 1e-9);
 }
 
 TEST(PrepareQuery, CanonicalRotationsAndAutoStep) {
   DmmConfig config;
-  config.angular_window = 2.0 * kDeg;
-  config.angular_step = 1.0 * kDeg;
+  config.angular_window = 2.0 * kDegree;
+  config.angular_step = 1.0 * kDegree;
   const PreparedQuery q = prepare_query({{1.0, 0.0}, {0.0, 2.0}}, config);
   ASSERT_EQ(q.rotations.size(), 4u * 5u);
-  EXPECT_NEAR(q.rotations[0].angle, -2.0 * kDeg, 1e-12);
-  EXPECT_NEAR(q.rotations[7].angle, 90.0 * kDeg, 1e-12);
+  EXPECT_NEAR(q.rotations[0].angle, -2.0 * kDegree, 1e-12);
+  EXPECT_NEAR(q.rotations[7].angle, 90.0 * kDegree, 1e-12);
   // (1, 0) -> (0, 1) and (0, 2) -> (-2, 0), sorted by row.
   EXPECT_EQ(q.rotations[7].x, (std::vector<int>{-20, 0}));
   EXPECT_EQ(q.rotations[7].y, (std::vector<int>{0, 10}));
@@ -119,7 +117,7 @@ TEST(PrepareQuery, CanonicalRotationsAndAutoStep) {
   const PreparedQuery a = prepare_query({{10.0, 0.0}}, config);
   EXPECT_NEAR(a.angular_step, 0.01, 1e-4);  // one cell at 10 m
   config.canonical = false;
-  config.angular_step = 10.0 * kDeg;
+  config.angular_step = 10.0 * kDegree;
   EXPECT_EQ(prepare_query({{1.0, 0.0}}, config).rotations.size(), 36u);
 }
 
@@ -160,7 +158,7 @@ TEST(MatchDmm, RecoversAnExactCellShift) {
   const Points2 query_points = transform(T_map_query.inverse(), map_points);
   DmmConfig config = small_config();
   config.dilation = 0;
-  config.angular_step = 1.0 * kDeg;
+  config.angular_step = 1.0 * kDegree;
   const DmmResult r = match_dmm(prepare_query(query_points, config), prepare_map(map_points, config));
   EXPECT_GE(r.inlier_fraction, 0.97);  // cell-boundary rounding may lose a few points
   EXPECT_NEAR(r.T_map_query.x, 1.2, 0.1 + 1e-9);
@@ -172,7 +170,7 @@ TEST(MatchDmm, RecoversAnExactCellShift) {
 // for relevant (overlapping) and irrelevant pairs, canonical and full-circle windows, several depths.
 TEST(MatchDmm, EqualsExhaustiveOnManyPairs) {
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> offset(-2.0, 2.0), residual(-1.5 * kDeg, 1.5 * kDeg);
+  std::uniform_real_distribution<double> offset(-2.0, 2.0), residual(-1.5 * kDegree, 1.5 * kDegree);
   std::uniform_int_distribution<int> quarter(0, 3);
   int pairs = 0;
   for (int w = 0; w < 6; ++w) {
@@ -225,7 +223,7 @@ TEST(MatchDmm, EqualsExhaustiveFullCircle) {
 // Known offsets: the pose is within one grid cell and one rotation step of the truth.
 TEST(MatchDmm, PoseWithinOneCellAndOneStepOfTruth) {
   std::mt19937_64 rng(21);
-  std::uniform_real_distribution<double> offset(-1.5, 1.5), residual(-2.5 * kDeg, 2.5 * kDeg);
+  std::uniform_real_distribution<double> offset(-1.5, 1.5), residual(-2.5 * kDegree, 2.5 * kDegree);
   std::uniform_int_distribution<int> quarter(0, 3);
   const DmmConfig config;  // the defaults
   for (int p = 0; p < 12; ++p) {
@@ -286,7 +284,7 @@ TEST(MatchDmm, ElsewhereEqualsBruteForceOutsideTheExcludedDisc) {
     const PreparedQuery q = prepare_query(pair.query, config);
     const PreparedMap m = prepare_map(pair.map, config);
     const DmmResult best = match_dmm(q, m);
-    const double min_distance = 0.25 + 0.25 * p, min_angle = 10 * kDeg;
+    const double min_distance = 0.25 + 0.25 * p, min_angle = 10 * kDegree;
     const DmmResult other = match_dmm_elsewhere(q, m, best.T_map_query, min_distance, min_angle);
     const double r = config.resolution;
     const auto outside = [&](double angle, int i, int j) {
@@ -329,7 +327,7 @@ TEST(DmmSearch, EachNextPoseIsTheBestElsewhereThanThoseBefore) {
     config.search_depth = p % 2 == 0 ? 0 : 2;
     const PreparedQuery q = prepare_query(pair.query, config);
     const PreparedMap m = prepare_map(pair.map, config);
-    const double min_distance = 0.5, min_angle = 1.5 * kDeg, r = config.resolution;
+    const double min_distance = 0.5, min_angle = 1.5 * kDegree, r = config.resolution;
     DmmSearch search(q, m, min_distance, min_angle);
     std::vector<Pose2> returned;
     const auto outside = [&](double angle, int i, int j) {
@@ -394,7 +392,7 @@ class MatchDmmMany : public ::testing::Test {
     std::mt19937_64 rng(13);
     std::uniform_real_distribution<double> offset(-3.0, 3.0);
     const testing::SyntheticWorld world = testing::random_world(rng, 30.0, 40);
-    query = testing::make_pair(world, rng, {0, 0}, {0, 0}, 0.3 * kDeg).query;
+    query = testing::make_pair(world, rng, {0, 0}, {0, 0}, 0.3 * kDegree).query;
     for (int m = 0; m < 16; ++m) {
       const testing::SyntheticWorld& source = m % 4 == 0 ? world : testing::random_world(rng, 30.0, 40);
       maps.push_back(prepare_map(testing::make_pair(source, rng, {offset(rng), offset(rng)}, {0, 0}, 0.0).map));

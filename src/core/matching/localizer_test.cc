@@ -10,8 +10,6 @@
 namespace partslam {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
-
 const Scans& building_scans() {
   static const Scans scans = simulate(SimulatorConfig{}).scans;
   return scans;
@@ -37,7 +35,7 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
     const Pose2 error = query.T_world_map.inverse() * l.T_map_query;  // map frame = the log's world frame
     ++tried;
     // Refined below the lattice: within 0.1 m / 1 degree.
-    if (std::hypot(error.x, error.y) < 0.1 && std::abs(error.theta) < 1 * kDeg) {
+    if (std::hypot(error.x, error.y) < 0.1 && std::abs(error.theta) < 1 * kDegree) {
       ++correct;
       confidence_correct += l.confidence;
     }
@@ -61,7 +59,7 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
     // centre, within 0.1 m of its frame's origin) or turned by more than 10 degrees.
     EXPECT_GT(
         (l.T_map_elsewhere.translation() - l.T_map_lattice.translation()).norm() +
-            (std::abs(wrap_angle(l.T_map_elsewhere.theta - l.T_map_lattice.theta)) > 10 * kDeg ? 10.0 : 0.0),
+            (std::abs(wrap_angle(l.T_map_elsewhere.theta - l.T_map_lattice.theta)) > 10 * kDegree ? 10.0 : 0.0),
         2.0 - 0.1);
   }
   EXPECT_EQ(tried, 5);
@@ -131,7 +129,7 @@ TEST(Localizer, BarePointsAreLocatedButNotCalibrated) {
   EXPECT_TRUE(beams.calibrated);
   const Pose2 error = query.T_world_map.inverse() * bare.T_map_query;
   EXPECT_LT(std::hypot(error.x, error.y), 0.1);
-  EXPECT_LT(std::abs(error.theta), 1 * kDeg);
+  EXPECT_LT(std::abs(error.theta), 1 * kDegree);
 }
 
 // A local map of another building fits nowhere in particular: its confidence is below the true matches'.

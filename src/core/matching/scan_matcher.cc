@@ -10,7 +10,7 @@
 namespace partslam {
 namespace {
 
-constexpr double kMaxCells = double(1 << 26);
+constexpr double kMaxFieldCells = double(1 << 26);
 constexpr std::size_t kSearchPoints = 100;
 
 void require_positive(double value, const char* field, const char* unit) {
@@ -136,7 +136,7 @@ LikelihoodField::LikelihoodField(const Points2& points, double resolution, doubl
   const Box2 box = bounding_box(points);
   const double w = std::ceil((box.width() + 2 * margin) / resolution) + 1;
   const double h = std::ceil((box.height() + 2 * margin) / resolution) + 1;
-  if (!(w * h <= kMaxCells)) {
+  if (!(w * h <= kMaxFieldCells)) {
     throw InputError("likelihood field: map points spread over " + std::to_string(box.width()) + " x " +
                      std::to_string(box.height()) + " m, more than 2^26 cells of " + std::to_string(resolution) +
                      " m");

@@ -13,7 +13,7 @@
 namespace partslam {
 namespace {
 
-constexpr double kMaxCells = double(1 << 24);
+constexpr double kMaxVerifyCells = double(1 << 24);
 // A cell index's magnitude at most this, so that an index plus a grid's width stays an int.
 constexpr double kMaxCellIndex = double(1 << 30);
 
@@ -108,7 +108,7 @@ void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin)
     }
   lo.array() -= margin, hi.array() += margin;
   const double w = hi.x() - lo.x() + 1, h = hi.y() - lo.y() + 1;
-  if (!(w * h <= kMaxCells))
+  if (!(w * h <= kMaxVerifyCells))
     throw InputError("verify map: points and origins spread over " + std::to_string(w * resolution_) + " x " +
                      std::to_string(h * resolution_) + " m, more than 2^24 cells");
   if (!(lo.cwiseAbs().maxCoeff() <= kMaxCellIndex && hi.cwiseAbs().maxCoeff() <= kMaxCellIndex))

@@ -10,7 +10,7 @@ namespace partslam {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kMaxCells = 1 << 22;
+constexpr int kMaxCasterCells = 1 << 22;
 // Segments are registered in every cell within this distance [m], so that a hit on a cell boundary is
 // found whichever side of it the grid walk rounds to.
 constexpr double kRegistrationMargin = 1e-6;
@@ -56,7 +56,7 @@ RayCaster::RayCaster(Segments2 segments, double cell_size) : segments_(std::move
     }
   }
   const double w = box.width() + 2.0 * cell_size, h = box.height() + 2.0 * cell_size;
-  cell_size_ = std::max(cell_size, std::sqrt(w * h / kMaxCells));
+  cell_size_ = std::max(cell_size, std::sqrt(w * h / kMaxCasterCells));
   x0_ = box.x_min - cell_size_;
   y0_ = box.y_min - cell_size_;
   nx_ = static_cast<int>(std::ceil((box.width() + 2.0 * cell_size_) / cell_size_));

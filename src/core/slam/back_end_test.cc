@@ -12,14 +12,14 @@ namespace {
 
 // Twice round a 20 m x 10 m rectangle, a submap every 0.5 m: the true frames, and the stored ones of a front
 // end whose heading drifts 0.002 rad per submap.
-struct Loop {
+struct RectangleLaps {
   std::vector<Pose2> truth;
   Submaps maps;
   std::size_t lap = 0;  // submaps per lap
 };
 
-Loop two_laps() {
-  Loop l;
+RectangleLaps rectangle_laps() {
+  RectangleLaps l;
   Pose2 pose;
   for (int lap = 0; lap < 2; ++lap)
     for (const double side : {20.0, 10.0, 20.0, 10.0}) {
@@ -41,21 +41,21 @@ Loop two_laps() {
 }
 
 // The second lap's submaps closed on the first's, every 5th, with the true relative pose.
-std::vector<LoopClosure> true_closures(const Loop& l) {
+std::vector<LoopClosure> true_closures(const RectangleLaps& l) {
   std::vector<LoopClosure> out;
   for (std::size_t i = 0; i < l.lap; i += 5)
     out.push_back({l.lap + i, i, l.truth[i].inverse() * l.truth[l.lap + i], 0.9, 0.9, 0.9});
   return out;
 }
 
-double max_error(const std::vector<Pose2>& frames, const std::vector<Pose2>& truth) {
+double max_frame_error(const std::vector<Pose2>& frames, const std::vector<Pose2>& truth) {
   double e = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) e = std::max(e, (frames[i].translation() - truth[i].translation()).norm());
   return e;
 }
 
 TEST(BackEnd, ClosesTheLoopAndSetsAsideHalfAsManyWrongClosures) {
-  const Loop l = two_laps();
+  const RectangleLaps l = rectangle_laps();
   std::vector<LoopClosure> closures = true_closures(l);
   const std::size_t good = closures.size();
   Rng rng(5);
@@ -68,18 +68,18 @@ TEST(BackEnd, ClosesTheLoopAndSetsAsideHalfAsManyWrongClosures) {
   const BackEndResult without = solve_back_end(l.maps, clean);
   const BackEndResult with = solve_back_end(l.maps, closures);
   EXPECT_EQ(without.verdict, "closed") << without.reason;
-  EXPECT_LT(max_error(without.frames, l.truth), 0.5);
-  EXPECT_LT(max_error(with.frames, without.frames), 1e-6);  // the wrong closures changed nothing
+  EXPECT_LT(max_frame_error(without.frames, l.truth), 0.5);
+  EXPECT_LT(max_frame_error(with.frames, without.frames), 1e-6);  // the wrong closures changed nothing
   for (std::size_t k = 0; k < closures.size(); ++k) EXPECT_EQ(with.used[k], k < good) << k;
   EXPECT_EQ(with.rejected, closures.size() - good);
   // The front end's drift alone is far off: the test can fail.
   std::vector<Pose2> stored;
   for (const Submap& m : l.maps) stored.push_back(m.T_world_map);
-  EXPECT_GT(max_error(stored, l.truth), 5.0);
+  EXPECT_GT(max_frame_error(stored, l.truth), 5.0);
 }
 
 TEST(BackEnd, WithoutClosuresKeepsTheFrontEndAndSaysTheLoopIsOpen) {
-  const Loop l = two_laps();
+  const RectangleLaps l = rectangle_laps();
   const BackEndResult r = solve_back_end(l.maps, {});
   EXPECT_EQ(r.verdict, "open");
   EXPECT_TRUE(r.trusted());
@@ -87,7 +87,7 @@ TEST(BackEnd, WithoutClosuresKeepsTheFrontEndAndSaysTheLoopIsOpen) {
 }
 
 TEST(BackEnd, ClosuresThatOutvoteTheTruthMakeTheVerdictDoubtful) {
-  const Loop l = two_laps();
+  const RectangleLaps l = rectangle_laps();
   std::vector<LoopClosure> closures = true_closures(l);
   // As many again, all saying the second lap lies 3 m further along (a corridor alias): they agree with each
   // other, not with the true ones, and either side bends the chain.

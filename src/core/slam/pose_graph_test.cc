@@ -11,13 +11,13 @@ namespace partslam {
 namespace {
 
 // A square loop of 4 x 10 nodes, odometry with a heading bias, one loop closure back to the start.
-struct Loop {
+struct SquareLoop {
   std::vector<Pose2> truth, drifted;
   std::vector<PoseGraphEdge> edges;
 };
 
-Loop square_loop(double heading_bias) {
-  Loop l;
+SquareLoop square_loop(double heading_bias) {
+  SquareLoop l;
   Pose2 p;
   for (int side = 0; side < 4; ++side) {
     for (int k = 0; k < 10; ++k) {
@@ -44,7 +44,7 @@ double max_error(const std::vector<Pose2>& a, const std::vector<Pose2>& b) {
 }
 
 TEST(PoseGraph, ALoopClosureUndoesTheDrift) {
-  Loop l = square_loop(0.01);
+  SquareLoop l = square_loop(0.01);
   const std::size_t last = l.truth.size() - 1;
   EXPECT_GT(max_error(l.drifted, l.truth), 1.0);
   // Without a closure the odometry edges are all satisfied as they are.
@@ -58,7 +58,7 @@ TEST(PoseGraph, ALoopClosureUndoesTheDrift) {
 }
 
 TEST(PoseGraph, TheRobustLossKeepsAWrongClosureFromBendingTheMap) {
-  Loop l = square_loop(0.0);
+  SquareLoop l = square_loop(0.0);
   l.edges.push_back({0, 20, Pose2{3.0, 3.0, 1.0}, 100.0, 1000.0, true});  // wildly wrong
   const std::vector<Pose2> robust = optimize_pose_graph(l.truth, l.edges, {0.1, 100});
   l.edges.back().robust = false;
