@@ -59,7 +59,8 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     const int w = (m.width + f - 1) / f, h = (m.height + f - 1) / f;
     for (int py = 0; py < h; ++py) {
       const int row = (h - 1 - py) * f;  // row 0 of the grid is the lowest y: the image's last row
-      auto* line = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(py + kGridTitleHeight) * stride);
+      auto* line = reinterpret_cast<std::uint32_t*>(
+          data + static_cast<std::ptrdiff_t>(py + kGridTitleHeight) * stride);
       for (int px = 0; px < w; ++px) {
         const CellState c = block_state(m, px * f, row, f);
         line[left + px] = c == CellState::kOccupied ? 0x000000u : c == CellState::kFree ? 0xFFFFFFu : 0xB4B4B4u;

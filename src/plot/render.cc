@@ -13,7 +13,7 @@
 namespace partslam::plot {
 namespace {
 
-constexpr double kPanelMargin = 24;   // panel margin [px]
+constexpr double kPanelMargin = 24;  // panel margin [px]
 constexpr double kCaption = 30;  // caption band above a panel [px]
 constexpr double kPalette[][3] = {
     {0.84, 0.15, 0.16}, {0.12, 0.47, 0.71}, {0.17, 0.63, 0.17}, {1.0, 0.5, 0.05},   {0.58, 0.4, 0.74},

@@ -16,21 +16,24 @@ void require_grid(bool ok, const std::string& message) {
 
 void validate(const GridMapConfig& c) {
   require_grid(std::isfinite(c.resolution) && c.resolution >= 0.005 && c.resolution <= 10.0,
-          "resolution must be in [0.005, 10] m, got " + std::to_string(c.resolution));
+               "resolution must be in [0.005, 10] m, got " + std::to_string(c.resolution));
   require_grid(std::isfinite(c.max_range) && c.max_range > 0.0, "max_range must be a positive finite number");
   require_grid(c.occupied_ratio > 0.0 && c.occupied_ratio <= 1.0, "occupied_ratio must be in (0, 1]");
-  require_grid(std::isfinite(c.margin) && c.margin >= 0.0 && c.margin <= 100.0, "margin must be in [0, 100] m");
+  require_grid(std::isfinite(c.margin) && c.margin >= 0.0 && c.margin <= 100.0,
+               "margin must be in [0, 100] m");
 }
 
 void validate(const GridMap& m) {
-  require_grid(std::isfinite(m.resolution) && m.resolution > 0.0, "resolution must be a positive finite number");
+  require_grid(std::isfinite(m.resolution) && m.resolution > 0.0,
+               "resolution must be a positive finite number");
   require_grid(std::isfinite(m.origin.x) && std::isfinite(m.origin.y) && std::isfinite(m.origin.theta) &&
-              std::abs(m.origin.x) <= kMaxCoordinate && std::abs(m.origin.y) <= kMaxCoordinate,
-          "origin must be finite and within " + std::to_string(kMaxCoordinate) + " m");
-  require_grid(m.width >= 0 && m.height >= 0 && m.cells.size() == static_cast<std::size_t>(m.width) * m.height,
-          "cells do not match width x height");
+                   std::abs(m.origin.x) <= kMaxCoordinate && std::abs(m.origin.y) <= kMaxCoordinate,
+               "origin must be finite and within " + std::to_string(kMaxCoordinate) + " m");
+  require_grid(
+      m.width >= 0 && m.height >= 0 && m.cells.size() == static_cast<std::size_t>(m.width) * m.height,
+      "cells do not match width x height");
   require_grid(m.width * m.resolution <= kMaxMapExtent && m.height * m.resolution <= kMaxMapExtent,
-          "the map spans more than " + std::to_string(kMaxMapExtent) + " m");
+               "the map spans more than " + std::to_string(kMaxMapExtent) + " m");
 }
 
 GridMap build_grid_map(const Scans& scans, const GridMapConfig& config) {
@@ -44,15 +47,17 @@ GridMap build_grid_map(const Scans& scans, const GridMapConfig& config) {
   }
   require_grid(!corners.empty(), "no beam endpoint within max_range: nothing to map");
   const Box2 box = bounding_box(corners);
-  require_grid(box.width() + 2 * config.margin <= kMaxMapExtent && box.height() + 2 * config.margin <= kMaxMapExtent,
-          "the scans span more than " + std::to_string(kMaxMapExtent) + " m (a stray pose?)");
+  require_grid(
+      box.width() + 2 * config.margin <= kMaxMapExtent && box.height() + 2 * config.margin <= kMaxMapExtent,
+      "the scans span more than " + std::to_string(kMaxMapExtent) + " m (a stray pose?)");
   const double r = config.resolution;
   GridMap map;
   map.resolution = r;
   map.origin = {std::floor((box.x_min - config.margin) / r) * r, std::floor((box.y_min - config.margin) / r) * r, 0.0};
   map.width = static_cast<int>(std::ceil((box.x_max + config.margin - map.origin.x) / r));
   map.height = static_cast<int>(std::ceil((box.y_max + config.margin - map.origin.y) / r));
-  require_grid(static_cast<double>(map.width) * map.height <= double(1 << 28), "more than 2^28 cells: use a coarser resolution");
+  require_grid(static_cast<double>(map.width) * map.height <= double(1 << 28),
+               "more than 2^28 cells: use a coarser resolution");
   std::vector<std::uint32_t> hits(static_cast<std::size_t>(map.width) * map.height, 0), passes(hits.size(), 0);
   const auto index = [&](int cx, int cy) { return static_cast<std::size_t>(cy) * map.width + cx; };
   for (const Scan& s : scans) {

@@ -37,19 +37,22 @@ int score(const Points2& points, const OccupancyGrid& grid, const Pose2& T) {
 
 void validate(const DmmRansacConfig& c) {
   require_ransac(c.iterations >= 0 && c.iterations <= 100000000,
-          "iterations must be in [0, 1e8], got " + std::to_string(c.iterations));
+                 "iterations must be in [0, 1e8], got " + std::to_string(c.iterations));
   require_ransac(c.inlier_distance >= 0.0 && std::isfinite(c.inlier_distance),
-          "inlier_distance must be a finite number >= 0, got " + std::to_string(c.inlier_distance));
+                 "inlier_distance must be a finite number >= 0, got " + std::to_string(c.inlier_distance));
   require_ransac(c.resolution > 0.0 && std::isfinite(c.resolution),
-          "resolution must be a positive finite number, got " + std::to_string(c.resolution));
-  require_ransac(c.inlier_distance / c.resolution <= 100, "inlier_distance / resolution must be <= 100 cells");
-  require_ransac(c.min_sample_distance >= 0.0 && std::isfinite(c.min_sample_distance),
-          "min_sample_distance must be a finite number >= 0, got " + std::to_string(c.min_sample_distance));
+                 "resolution must be a positive finite number, got " + std::to_string(c.resolution));
+  require_ransac(c.inlier_distance / c.resolution <= 100,
+                 "inlier_distance / resolution must be <= 100 cells");
+  require_ransac(
+      c.min_sample_distance >= 0.0 && std::isfinite(c.min_sample_distance),
+      "min_sample_distance must be a finite number >= 0, got " + std::to_string(c.min_sample_distance));
   require_ransac(c.length_tolerance >= 0.0 && std::isfinite(c.length_tolerance),
-          "length_tolerance must be a finite number >= 0, got " + std::to_string(c.length_tolerance));
+                 "length_tolerance must be a finite number >= 0, got " + std::to_string(c.length_tolerance));
   require_ransac(c.angular_window >= 0.0 && c.angular_window <= std::numbers::pi / 4,
-          "angular_window must be in [0, pi/4] rad, got " + std::to_string(c.angular_window));
-  require_ransac(c.max_draws >= 1 && c.max_draws <= 1000000, "max_draws must be in [1, 1e6], got " + std::to_string(c.max_draws));
+                 "angular_window must be in [0, pi/4] rad, got " + std::to_string(c.angular_window));
+  require_ransac(c.max_draws >= 1 && c.max_draws <= 1000000,
+                 "max_draws must be in [1, 1e6], got " + std::to_string(c.max_draws));
 }
 
 PreparedRansacMap prepare_ransac_map(const Points2& points_map, const DmmRansacConfig& config) {

@@ -50,7 +50,8 @@ TEST(DmmRansac, SeededAndScoreMatchesThePose) {
   EXPECT_EQ(a.T_map_query.theta, b.T_map_query.theta);
   EXPECT_EQ(count_inliers(f.query_points, map.inlier_grid, a.T_map_query), a.inliers);
   // Canonical: every hypothesis is within the window of a multiple of 90 degrees.
-  const double residual = a.T_map_query.theta - std::round(a.T_map_query.theta / (90 * kDegree)) * 90 * kDegree;
+  const double residual =
+      a.T_map_query.theta - std::round(a.T_map_query.theta / (90 * kDegree)) * 90 * kDegree;
   EXPECT_LE(std::abs(residual), config.angular_window + 1e-12);
 }
 
