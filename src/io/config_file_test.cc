@@ -128,6 +128,20 @@ TEST(ConfigFile, ValuesOutOfRangeAreRefusedNamingFieldAndFile) {
               HasSubstr("settings.yaml: locate config: localizer.dmm.resolution must be"));
   EXPECT_THAT(refusal<LocateConfig>(dir, "submaps:\n  window_length: 0\n"),
               HasSubstr("settings.yaml: locate config: submaps.window_length must be"));
+  // The loops' method is checked as the file is read, not after `slam`'s front end has run.
+  EXPECT_THAT(refusal<SlamConfig>(dir, "loops:\n  method: bogus\n"),
+              HasSubstr("settings.yaml: slam config: loops.method 'bogus': unknown scheme"));
+  EXPECT_THAT(refusal<LoopsConfig>(dir, "loops:\n  method: succinct\n"),
+              HasSubstr("settings.yaml: loops config: loops.method 'succinct' gives no dMM pose"));
+  EXPECT_THAT(refusal<SlamConfig>(dir, "loops:\n  method: rerank:5:3\n"),
+              HasSubstr("loops.method 'rerank:5:3' needs CPD parts"));
+}
+
+TEST(ConfigFile, StringsAreWrittenWithTheirControlCharactersEscaped) {
+  // A raw line break inside a double-quoted YAML scalar reads back as a space (found by fuzz_config).
+  LoopsConfig c;
+  c.loops.method = "a\nb\t\"c\\\x7f";
+  EXPECT_THAT(config_yaml(c), HasSubstr("\n  method: \"a\\x0ab\\x09\\\"c\\\\\\x7f\"\n"));
 }
 
 }  // namespace

@@ -102,6 +102,15 @@ void validate(const LoopClosureConfig& c) {
   for (const double v : {c.drift_offset, c.drift_rate, c.drift_turn, c.drift_turn_rate})
     if (!(v >= 0.0) || !std::isfinite(v))
       throw InputError("loop closure config: drift_offset, drift_rate, drift_turn, drift_turn_rate must be finite and >= 0");
+  // The method is checked here, not when the closures are sought: `slam` would find a bad one only after its
+  // front end, and a settings file's reader names its file for what validate throws.
+  const MethodSpec method = parse_method_spec(c.method);
+  if (!method.traits.gives_pose)
+    throw InputError("loop closure config: method '" + c.method +
+                     "' gives no dMM pose: use rerank:R[:SPEC] or dmm");
+  if (method.traits.needs_parts)
+    throw InputError("loop closure config: method '" + c.method +
+                     "' needs CPD parts; use a point-based shortlist");
 }
 
 namespace {
@@ -119,10 +128,6 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
                                             const Progress& progress, const WorkSplit& split) {
   validate(config);
   const MethodSpec method = parse_method_spec(config.method);
-  if (!method.traits.gives_pose)
-    throw InputError("loop closures: method '" + config.method + "' gives no dMM pose: use rerank:R[:SPEC] or dmm");
-  if (method.traits.needs_parts)
-    throw InputError("loop closures: method '" + config.method + "' needs CPD parts; use a point-based shortlist");
   // Off by default: verifying dMM's candidates doubles the time of `slam` and the SLAM bench measured no gain
   // (docs/NOTES.md, "Verifying a match", loops).
   RankingConfig ranking;

@@ -124,9 +124,13 @@ TEST(LoopClosure, VerifiedDmmGivesEachHypothesisItsProbability) {
 TEST(LoopClosure, RefusesMethodsWithoutAPoseAndAbsurdConfigs) {
   LoopClosureConfig c;
   c.method = "succinct";
+  EXPECT_THROW(validate(c), InputError);  // before any work, not when the closures are sought
   EXPECT_THROW(find_loop_closures(two_laps(), c), InputError);
   c.method = "rerank:5:3";  // needs CPD parts
+  EXPECT_THROW(validate(c), InputError);
   EXPECT_THROW(find_loop_closures(two_laps(), c), InputError);
+  c.method = "bogus";
+  EXPECT_THROW(validate(c), InputError);
   c = {};
   c.other_place = 0;
   EXPECT_THROW(validate(c), InputError);
