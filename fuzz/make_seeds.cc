@@ -1,6 +1,7 @@
 // Writes the seed corpus of every fuzz target (fuzz/run.sh calls it at `make fuzz` time; nothing of it is committed):
 // small files cut from the real data (the first lines of CARMEN logs and relation files, small databases, bags,
-// map_server maps and point files made from the first scans of a log) plus synthetic ones where there is none.
+// map_server maps and point files made from the first scans of a log, each command's default settings) plus
+// synthetic ones where there is none.
 // Usage: make_fuzz_seeds SHARED_DATA_DIR OUT_DIR   (OUT_DIR/<target>/...; a missing SHARED_DATA_DIR gives the
 // synthetic seeds only).
 #include <zlib.h>
@@ -20,6 +21,7 @@
 #include "core/maps/submap.h"
 #include "fuzz/fuzz_map_database.h"
 #include "io/carmen_log.h"
+#include "io/config_file.h"
 #include "io/line_reader.h"
 #include "io/map_server.h"
 #include "io/mcap_file.h"
@@ -294,6 +296,13 @@ void point_seeds(const Scans& scans) {
   fs::remove_all(dir);
 }
 
+// Each command's every setting at its default, as --print-config writes it (byte 0: 0 slam, 1 loops, 2 locate).
+void config_seeds() {
+  put("fuzz_config", "slam.yaml", std::string(1, '\0') + io::config_yaml(SlamConfig{}));
+  put("fuzz_config", "loops.yaml", std::string(1, '\x01') + io::config_yaml(io::LoopsConfig{}));
+  put("fuzz_config", "locate.yaml", std::string(1, '\x02') + io::config_yaml(io::LocateConfig{}));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -313,6 +322,7 @@ int main(int argc, char** argv) {
     ros2_seeds();
     map_server_seeds(scans);
     point_seeds(scans);
+    config_seeds();
   } catch (const std::exception& e) {
     std::cerr << "make_fuzz_seeds: " << e.what() << "\n";
     return 1;
