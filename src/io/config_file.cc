@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "io/yaml_text.h"
 
 namespace partslam::io {
 namespace {
@@ -265,24 +265,7 @@ class Writer {
   void field(const char* key, double v) { line(key) << number(v) << "\n"; }
   void field(const char* key, int v) { line(key) << v << "\n"; }
   void field(const char* key, bool v) { line(key) << (v ? "true" : "false") << "\n"; }
-  void field(const char* key, const std::string& v) {
-    // Double-quoted: a quote and a backslash escaped, and every control character as \xNN (a raw line break
-    // in a quoted scalar reads back as a space).
-    std::string quoted = "\"";
-    for (const char c : v) {
-      const auto u = static_cast<unsigned char>(c);
-      if (c == '"' || c == '\\') {
-        quoted += '\\', quoted += c;
-      } else if (u < 0x20 || u == 0x7f) {
-        char escaped[5];
-        std::snprintf(escaped, sizeof escaped, "\\x%02x", u);
-        quoted += escaped;
-      } else {
-        quoted += c;
-      }
-    }
-    line(key) << quoted << "\"\n";
-  }
+  void field(const char* key, const std::string& v) { line(key) << yaml_double_quoted(v) << "\n"; }
   template <class S>
   void section(const char* key, S& s) {
     out_ << indent() << key << ":\n";

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/yaml_text.h"
 
 namespace partslam::io {
 namespace {
@@ -212,10 +213,11 @@ void write_map_yaml(const std::filesystem::path& yaml_path, const GridMap& map) 
   write_atomically(yaml_path, [&](std::ostream& out) {
     char text[400];
     std::snprintf(text, sizeof text,
-                  "image: %s\nresolution: %.6f\norigin: [%.6f, %.6f, %.6f]\nnegate: 0\noccupied_thresh: 0.65\n"
+                  "resolution: %.6f\norigin: [%.6f, %.6f, %.6f]\nnegate: 0\noccupied_thresh: 0.65\n"
                   "free_thresh: 0.196\nmode: trinary\n",
-                  image_path.filename().string().c_str(), map.resolution, map.origin.x, map.origin.y, map.origin.theta);
-    out << text;
+                  map.resolution, map.origin.x, map.origin.y, map.origin.theta);
+    // Quoted: a file name such as "map: 2.pgm" or "#1.pgm" is no plain YAML scalar.
+    out << "image: " << yaml_double_quoted(image_path.filename().string()) << "\n" << text;
   });
 }
 

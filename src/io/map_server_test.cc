@@ -46,6 +46,16 @@ TEST(MapServer, WriteThenReadGivesTheSameMap) {
   EXPECT_EQ(m.cells, small_map().cells);
 }
 
+// The image's name is quoted in map.yaml: a plain scalar would read "m: 2 #1.pgm" as a map and "#1.pgm" as a
+// comment.
+TEST(MapServer, NamesThatArePlainYamlElsewhereReadBack) {
+  TempDir dir;
+  for (const char* name : {"m: 2 #1.yaml", "#1.yaml", "a\"b\\c.yaml", "[x].yaml"}) {
+    write_map_yaml(dir / name, small_map());
+    EXPECT_EQ(read_map_yaml(dir / name).cells, small_map().cells) << name;
+  }
+}
+
 // The image's first row is the top of the map; thresholds, negate and an ASCII PGM are honoured.
 TEST(MapServer, ReadsThresholdsNegateAndAsciiPgm) {
   TempDir dir;
