@@ -141,6 +141,28 @@ TEST_F(CliTest, BadMapIdExitsNonZeroWithMessage) {
   EXPECT_THAT(neither.output, HasSubstr("--map ID or --dictionary NAME"));
 }
 
+// An output named as one of the command's inputs is refused before any work: the database outlives the typo.
+TEST_F(CliTest, AnOutputThatIsTheInputIsRefusedAndTheInputKept) {
+  const auto size = fs::file_size(db_);
+  for (const std::string& args :
+       {"export " + quoted(db_) + " --map 1 --out " + quoted(db_), "match " + quoted(db_) + " --query 1 --json " + quoted(db_),
+        "loops " + quoted(db_) + " --json " + quoted(db_), "render " + quoted(db_) + " --map 1 --out " + quoted(db_)}) {
+    const CliRun run = run_partslam(args);
+    EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
+    EXPECT_THAT(run.output, HasSubstr("partslam: error: ")) << args;
+  }
+  EXPECT_EQ(fs::file_size(db_), size);
+  EXPECT_EQ(run_partslam("info " + quoted(db_)).exit_code, 0);
+  const CliRun both = run_partslam("loops " + quoted(db_) + " --json " + quoted(dir_ / "x.json") + " --g2o " +
+                                   quoted(dir_ / "x.json"));
+  EXPECT_EQ(both.exit_code, 1);
+  EXPECT_THAT(both.output, HasSubstr("given both as --json and as --g2o"));
+  const CliRun disagree = run_partslam("export " + quoted(db_) + " --map 1 --format csv --out " + quoted(dir_ / "m.ply"));
+  EXPECT_EQ(disagree.exit_code, 1);
+  EXPECT_THAT(disagree.output, HasSubstr("--format csv and --out"));
+  EXPECT_FALSE(fs::exists(dir_ / "m.ply"));
+}
+
 // Command-line errors (unknown option, a number that is not one, a missing argument) exit 1 with the same
 // prefix as bad input; --help and --version still exit 0.
 TEST_F(CliTest, ParseErrorsExitOneWithThePrefix) {

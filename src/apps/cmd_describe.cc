@@ -69,7 +69,7 @@ std::vector<int> checked_ks(DescribeOptions& o) {
   ks.insert(o.parts);
   o.cpd.max_parts = o.parts;
   validate(o.cpd);
-  if (!o.json.empty()) io::check_writable(o.json);
+  io::check_outputs({{"--json", o.json}}, {{"DB", o.db}});
   return {ks.begin(), ks.end()};
 }
 

@@ -29,7 +29,7 @@ struct DictionaryOptions {
 };
 
 void run_dictionary(const DictionaryOptions& o) {
-  if (!o.json.empty()) io::check_writable(o.json);
+  io::check_outputs({{"--db", o.db}, {"--json", o.json}}, {{"LOG", o.log}});
   Dictionary d;
   const std::filesystem::path path(o.log);
   if (path.extension() == ".yaml") {

@@ -25,8 +25,8 @@ namespace {
 
 void run_eval(const EvalOptions& o) {
   // Fail before hours of work, not after: output paths and parameters are checked first.
-  if (!o.json.empty()) io::check_writable(o.json);
-  if (!o.plot.empty()) io::check_writable(o.plot);
+  io::check_outputs({{"--json", o.json}, {"--plot", o.plot}},
+                    {{"--input", o.input}, {"--dict", o.dictionary}, {"--truth", o.truth}});
   const EvalRun run = run_evaluation(o, std::cerr);
   if (!is_reporting_process()) return;  // rank > 0 of mpirun: its slices are in rank 0's report
   print_table(run, std::cout);

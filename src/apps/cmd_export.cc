@@ -10,6 +10,7 @@
 #include "apps/commands.h"
 #include "apps/db_hints.h"
 #include "core/error.h"
+#include "io/atomic_file.h"
 #include "io/map_database.h"
 #include "io/point_export.h"
 
@@ -28,11 +29,17 @@ struct ExportOptions {
 
 io::PointFormat resolve_format(const ExportOptions& options) {
   if (!options.format.empty()) {
+    io::PointFormat format;
     try {
-      return io::parse_point_format(options.format);
+      format = io::parse_point_format(options.format);
     } catch (const InputError&) {
       throw InputError("--format: expected ply or csv, got '" + options.format + "'");
     }
+    // A file named .ply holding CSV (or the other way round) is read back by nothing, --query-points included.
+    const std::string extension = std::filesystem::path(options.out).extension().string();
+    if ((extension == ".ply" || extension == ".csv") && extension != "." + options.format)
+      throw InputError("--format " + options.format + " and --out '" + options.out + "' disagree");
+    return format;
   }
   return std::filesystem::path(options.out).extension() == ".ply" ? io::PointFormat::kPly
                                                                   : io::PointFormat::kCsv;
@@ -80,6 +87,7 @@ void run_export(const ExportOptions& options, std::ostream& log) {
   } else {
     T_world_points = T_world_map;
   }
+  io::check_outputs({{"--out", out}}, {{"DB", options.file}});
   io::write_points(out, points, format, T_world_points, origins);
   log << "wrote " << points.size() << " points";
   if (!origins.empty()) log << " and " << origins.size() << " laser origins";

@@ -43,11 +43,9 @@ void run_export_map(const ExportMapOptions& o) {
     throw InputError("--out must name the map's YAML file (e.g. map.yaml; the image goes beside it as .pgm)");
   std::filesystem::path image(o.out);
   image.replace_extension(".pgm");
-  io::check_writable(o.out);
-  io::check_writable(image);
   std::filesystem::path preview(o.out);
   preview.replace_extension(".png");
-  io::check_writable(preview);
+  io::check_outputs({{"--out", o.out}, {"--out's image", image}, {"--out's preview", preview}}, {{"LOG", o.log}});
   const auto t0 = Clock::now();
   Scans scans = load_scans(o.log, o.read).scans;
   if (o.scan_match) scans = scan_match_log(scans).scans;

@@ -155,8 +155,8 @@ void check_options(const LocateOptions& o) {
     throw InputError("--every goes with --query-log alone (it sweeps the whole log)");
   validate(o.submap);
   validate(o.localizer);
-  if (!o.json.empty()) io::check_writable(o.json);
-  if (!o.plot.empty()) io::check_writable(o.plot);
+  io::check_outputs({{"--json", o.json}, {"--plot", o.plot}},
+                    {{"--map", o.map}, {"--query-log", o.query.log}, {"--query-points", o.query.points}});
 }
 
 // --every M: a local map every M of travel along the whole log, located one after the other.

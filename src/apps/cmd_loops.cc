@@ -119,9 +119,8 @@ void apply_config_file(const CLI::App& cmd, LoopsOptions& o) {
 }
 
 void run_loops(const LoopsOptions& o) {
-  validate(o.config);
-  for (const std::string& path : {o.json, o.g2o, o.plot})
-    if (!path.empty()) io::check_writable(path);
+  io::validate(io::LoopsConfig{o.config, o.min_confidence, o.truth_config});  // before any work
+  io::check_outputs({{"--json", o.json}, {"--g2o", o.g2o}, {"--plot", o.plot}}, {{"DB", o.db}});
   const auto db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
   const io::DatasetInfo dataset = choose_dataset(db, o.dataset);
   const Submaps maps = db.load_submaps(dataset.id);

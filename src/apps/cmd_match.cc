@@ -160,8 +160,8 @@ void check_options(const MatchOptions& o, const MethodSpec& method) {
   if (new_map && method.traits.needs_parts)
     throw InputError("a new local map: method '" + o.method + "' needs the query's CPD parts; use a point-based one "
                      "(dmm, succinct, grid, sc, rerank:R)");
-  if (!o.json.empty()) io::check_writable(o.json);
-  if (!o.plot.empty()) io::check_writable(o.plot);
+  io::check_outputs({{"--json", o.json}, {"--plot", o.plot}},
+                    {{"DB", o.db}, {"--query-log", o.new_query.log}, {"--query-points", o.new_query.points}});
   if (world_split().size() > 1 && !method.traits.shardable)
     throw InputError("mpirun: method '" + o.method + "' cannot be sharded (it learns from all stored maps or "
                      "shortlists per rank); use dmm, dmm-ransac, imm, hmm, sc or grid without hub=, or one process");

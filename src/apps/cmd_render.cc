@@ -11,6 +11,7 @@
 #include "apps/commands.h"
 #include "apps/db_hints.h"
 #include "apps/cpd_options.h"
+#include "io/atomic_file.h"
 #include "io/descriptor_store.h"
 #include "core/parts/cpd.h"
 #include "core/error.h"
@@ -38,6 +39,7 @@ void run_render(RenderOptions o) {
   validate(o.render);
   if (std::filesystem::path(o.out).extension() != ".png")
     throw InputError("--out: expected a .png file, got '" + o.out + "'");
+  io::check_outputs({{"--out", o.out}}, {{"DB", o.db}});
   const io::MapDatabase db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kReadOnly);
   const io::MapLocation where = with_hint([&] { return db.locate(o.map_id); }, info_hint(o.db));
   const Submap submap = db.load_submap(o.map_id);

@@ -92,7 +92,8 @@ void run_submaps(SubmapsOptions o) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   validate(o.front_end);
-  if (!o.json.empty()) io::check_writable(o.json);
+  io::check_outputs({{"--db", o.db}, {"--json", o.json}},
+                    {{"LOG", o.log}, {"--relations", o.relations}, {"--raw", o.raw}});
   nlohmann::json report;
   io::ScanSource source = load_scans(o.log, o.read);
   const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -140,6 +140,14 @@ TEST(LoopClosure, RefusesMethodsWithoutAPoseAndAbsurdConfigs) {
   c = {};
   c.min_travel_gap = std::nan("");
   EXPECT_THROW(validate(c), InputError);
+  // A thread count OpenMP cannot start crashed the search (libgomp); 0 meant nothing either.
+  for (const int threads : {0, 1025, 100000}) {
+    c = {};
+    c.num_threads = threads;
+    EXPECT_THROW(validate(c), InputError) << threads;
+  }
+  c.num_threads = 1024;
+  EXPECT_NO_THROW(validate(c));
 }
 
 }  // namespace
