@@ -42,6 +42,24 @@ nlohmann::json read_json(const fs::path& p) {
   return nlohmann::json::parse(in);
 }
 
+// An N larger than the building holds is not reported as if it had been used.
+TEST_F(CliEvalTest, SaysWhenTheDatabasesHoldFewerMapsThanN) {
+  const fs::path json = dir_ / "big.json";
+  const CliRun run = run_partslam(
+      "eval --input sim:1 --dict sim:2 --tasks 4 --db-size 100000 --quiet --methods grid:11 --json " +
+      quoted(json));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("warning: N = 100000 asked, but the task databases hold"));
+  const nlohmann::json j = read_json(json);
+  EXPECT_EQ(j["db_size"], 100000);
+  const int smallest = j["database_sizes"][0], largest = j["database_sizes"][1];
+  EXPECT_GE(smallest, 2);
+  EXPECT_LE(smallest, largest);
+  EXPECT_LT(largest, j["maps"].get<int>());
+  // The R@1 % column goes by the databases' real sizes.
+  EXPECT_EQ(run.output.find("R@1%") != std::string::npos, largest >= 200) << run.output;
+}
+
 TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
   const fs::path json = dir_ / "out.json", plot = dir_ / "fig_d.png";
   const CliRun run = run_partslam(kEval + "--methods dmm,imm:2,hmm:3:maxmax,rerank:5:3 --json " + quoted(json) +
@@ -51,11 +69,13 @@ TEST_F(CliEvalTest, WritesTheJsonShapeAndThePlot) {
   // N = 20: R@1 % is R@1 (rank <= max(1, 1 % of N)), so the table leaves that column out and says so.
   EXPECT_THAT(run.output, HasSubstr("R@5%"));
   EXPECT_THAT(run.output, Not(HasSubstr("R@1%")));
-  EXPECT_THAT(run.output, HasSubstr("R@1 % is R@1 below N = 200"));
+  EXPECT_THAT(run.output, HasSubstr("R@1 % is left out: below N = 200 it is R@1 again"));
+  EXPECT_THAT(run.output, Not(HasSubstr("warning")));
   const nlohmann::json j = read_json(json);
   EXPECT_TRUE(j["input"].is_string());
   EXPECT_TRUE(j["dictionary"].is_string());
   EXPECT_EQ(j["db_size"], 20);
+  EXPECT_EQ(j["database_sizes"], nlohmann::json::array({20, 20}));
   EXPECT_EQ(j["tasks"], 12);
   EXPECT_EQ(j["seed"], 1);
   EXPECT_GT(j["maps"].get<int>(), 20);

@@ -98,14 +98,21 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
 
 void print_table(const EvalRun& run, std::ostream& out) {
   const EvalReport& r = run.report;
-  out << "input " << run.input_name << ", dictionary " << run.dictionary_name << ": " << r.maps << " maps (mean "
-      << std::fixed << std::setprecision(0) << r.mean_points << " points), " << r.relevant_pairs
-      << " relevant pairs (" << std::setprecision(1) << 100 * r.low_overlap_share
-      << " % under 30 % true overlap), " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size << ", seed "
-      << run.options.config.tasks.seed << (run.options.config.tasks.db_size < 200 ? " (R@1 % is R@1 below N = 200: not shown)" : "") << "\n";
+  out << "input " << run.input_name << ", dictionary " << run.dictionary_name << ": " << r.maps
+      << " maps (mean " << std::fixed << std::setprecision(0) << r.mean_points << " points), "
+      << r.relevant_pairs << " relevant pairs (" << std::setprecision(1) << 100 * r.low_overlap_share
+      << " % under 30 % true overlap), " << r.tasks << " tasks, N = " << run.options.config.tasks.db_size
+      << ", seed " << run.options.config.tasks.seed << "\n";
+  const std::size_t asked = static_cast<std::size_t>(run.options.config.tasks.db_size);
+  if (r.smallest_database < asked)
+    out << "warning: N = " << asked << " asked, but the task databases hold " << r.smallest_database << " to "
+        << r.largest_database
+        << " maps (only so many lie farther than 2R from a query); each task's figures divide by "
+           "its own\n";
   // R@1 % counts a rank <= max(1, 1 % of the task's N): below N = 200 that is rank 1, the R@1 column again, so it is
   // left out of the table (the JSON keeps recall_at_1pct).
-  const bool r1pct = run.options.config.tasks.db_size >= 200;
+  const bool r1pct = r.largest_database >= 200;
+  if (!r1pct) out << "(R@1 % is left out: below N = 200 it is R@1 again)\n";
   out << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "ANR %" << std::setw(8) << "R@1";
   if (r1pct) out << std::setw(8) << "R@1%";
   out << std::setw(8) << "R@5%" << std::setw(8) << "R@10%" << std::setw(12) << "us/pair" << std::setw(12)
@@ -144,6 +151,7 @@ nlohmann::json to_json(const EvalRun& run) {
   nlohmann::json j = {{"input", run.options.input},
                       {"dictionary", run.options.dictionary},
                       {"db_size", run.options.config.tasks.db_size},
+                      {"database_sizes", {r.smallest_database, r.largest_database}},
                       {"tasks", r.tasks},
                       {"seed", run.options.config.tasks.seed},
                       {"maps", r.maps},

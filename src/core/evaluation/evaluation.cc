@@ -224,6 +224,11 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
                      " m): the log has no loop closure");
   }
   report.tasks = tasks.size();
+  const auto [smallest, largest] =
+      std::minmax_element(tasks.begin(), tasks.end(),
+                          [](const Task& a, const Task& b) { return a.database.size() < b.database.size(); });
+  report.smallest_database = smallest->database.size();
+  report.largest_database = largest->database.size();
   report.oracle = oracle_ranks(maps, tasks, config.num_threads);
 
   bool need_parts = false, need_hmm_query = false;

@@ -115,6 +115,9 @@ struct EvalReport {
   std::size_t relevant_pairs = 0;  ///< relevant pairs found (tasks are sampled from them)
   double low_overlap_share = 0;    ///< share of relevant pairs whose true overlap is below 30 % (the ceiling)
   std::size_t tasks = 0;
+  /// Maps in the smallest and the largest task database: N, or fewer where fewer maps lie farther than 2R
+  /// from a query (ANR and the recalls divide by each task's own size).
+  std::size_t smallest_database = 0, largest_database = 0;
   /// The ceiling: ranking every task's database by the true overlap at the true pose (tasks.h, true_overlap).
   RankSummary oracle;
   double cpd_ms_per_map = 0;       ///< offline CPD per map [ms] (0 when no method uses parts)
