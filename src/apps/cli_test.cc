@@ -144,9 +144,10 @@ TEST_F(CliTest, BadMapIdExitsNonZeroWithMessage) {
 // An output named as one of the command's inputs is refused before any work: the database outlives the typo.
 TEST_F(CliTest, AnOutputThatIsTheInputIsRefusedAndTheInputKept) {
   const auto size = fs::file_size(db_);
-  for (const std::string& args :
-       {"export " + quoted(db_) + " --map 1 --out " + quoted(db_), "match " + quoted(db_) + " --query 1 --json " + quoted(db_),
-        "loops " + quoted(db_) + " --json " + quoted(db_), "render " + quoted(db_) + " --map 1 --out " + quoted(db_)}) {
+  for (const std::string& args : {"export " + quoted(db_) + " --map 1 --out " + quoted(db_),
+                                  "match " + quoted(db_) + " --query 1 --json " + quoted(db_),
+                                  "loops " + quoted(db_) + " --json " + quoted(db_),
+                                  "render " + quoted(db_) + " --map 1 --out " + quoted(db_)}) {
     const CliRun run = run_partslam(args);
     EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
     EXPECT_THAT(run.output, HasSubstr("partslam: error: ")) << args;
@@ -157,7 +158,8 @@ TEST_F(CliTest, AnOutputThatIsTheInputIsRefusedAndTheInputKept) {
                                    quoted(dir_ / "x.json"));
   EXPECT_EQ(both.exit_code, 1);
   EXPECT_THAT(both.output, HasSubstr("given both as --json and as --g2o"));
-  const CliRun disagree = run_partslam("export " + quoted(db_) + " --map 1 --format csv --out " + quoted(dir_ / "m.ply"));
+  const CliRun disagree =
+      run_partslam("export " + quoted(db_) + " --map 1 --format csv --out " + quoted(dir_ / "m.ply"));
   EXPECT_EQ(disagree.exit_code, 1);
   EXPECT_THAT(disagree.output, HasSubstr("--format csv and --out"));
   EXPECT_FALSE(fs::exists(dir_ / "m.ply"));

@@ -35,7 +35,8 @@ io::PointFormat resolve_format(const ExportOptions& options) {
     } catch (const InputError&) {
       throw InputError("--format: expected ply or csv, got '" + options.format + "'");
     }
-    // A file named .ply holding CSV (or the other way round) is read back by nothing, --query-points included.
+    // A file named .ply holding CSV (or the other way round) is read back by nothing, --query-points
+    // included.
     const std::string extension = std::filesystem::path(options.out).extension().string();
     if ((extension == ".ply" || extension == ".csv") && extension != "." + options.format)
       throw InputError("--format " + options.format + " and --out '" + options.out + "' disagree");

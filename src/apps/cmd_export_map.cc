@@ -45,7 +45,8 @@ void run_export_map(const ExportMapOptions& o) {
   image.replace_extension(".pgm");
   std::filesystem::path preview(o.out);
   preview.replace_extension(".png");
-  io::check_outputs({{"--out", o.out}, {"--out's image", image}, {"--out's preview", preview}}, {{"LOG", o.log}});
+  io::check_outputs({{"--out", o.out}, {"--out's image", image}, {"--out's preview", preview}},
+                    {{"LOG", o.log}});
   const auto t0 = Clock::now();
   Scans scans = load_scans(o.log, o.read).scans;
   if (o.scan_match) scans = scan_match_log(scans).scans;

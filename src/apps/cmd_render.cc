@@ -9,12 +9,12 @@
 #include <memory>
 
 #include "apps/commands.h"
-#include "apps/db_hints.h"
 #include "apps/cpd_options.h"
+#include "apps/db_hints.h"
+#include "core/error.h"
+#include "core/parts/cpd.h"
 #include "io/atomic_file.h"
 #include "io/descriptor_store.h"
-#include "core/parts/cpd.h"
-#include "core/error.h"
 #include "io/map_database.h"
 #include "plot/render.h"
 

@@ -20,7 +20,8 @@ bool is_stream(const fs::path& path) {
   return !ec && fs::exists(s) && !fs::is_regular_file(s) && !fs::is_directory(s);
 }
 
-// The file a write to path replaces: path with its symbolic links followed (a dangling link: the file it names).
+// The file a write to path replaces: path with its symbolic links followed (a dangling link: the file it
+// names).
 fs::path target(const fs::path& path) {
   if (path == "-") throw InputError("-: not an output file name (to print, give /dev/stdout)");
   fs::path p = path;
@@ -98,7 +99,8 @@ void check_outputs(const std::vector<NamedPath>& outputs, const std::vector<Name
                          " reads; writing it would destroy it: choose another output file");
     for (std::size_t j = 0; j < i; ++j) {
       const fs::path& other = outputs[j].path;
-      if (!other.empty() && !is_stream(out.path) && (same_file(out.path, other) || same_name(out.path, other)))
+      if (!other.empty() && !is_stream(out.path) &&
+          (same_file(out.path, other) || same_name(out.path, other)))
         throw InputError(out.path.string() + ": given both as " + outputs[j].flag + " and as " + out.flag);
     }
   }

@@ -1,9 +1,9 @@
 // Atomic file writes: content goes to a temporary file beside the target, which is renamed over the
 // target only once it is complete, so a failure never leaves a half-written output behind.
 //
-// A path that is a symbolic link is written through: the file it names is replaced, the link stays. A path that
-// names something other than a regular file (a FIFO, a device such as /dev/stdout) is written in place, as a
-// stream: there is nothing to replace atomically. "-" is refused (it would be a file named "-").
+// A path that is a symbolic link is written through: the file it names is replaced, the link stays. A path
+// that names something other than a regular file (a FIFO, a device such as /dev/stdout) is written in place,
+// as a stream: there is nothing to replace atomically. "-" is refused (it would be a file named "-").
 #pragma once
 
 #include <filesystem>

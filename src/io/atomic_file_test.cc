@@ -14,10 +14,10 @@ namespace partslam::io {
 namespace {
 
 namespace fs = std::filesystem;
-using testing::TempDir;
-using testing::read_bytes;
-using testing::write_bytes;
 using ::testing::HasSubstr;
+using testing::read_bytes;
+using testing::TempDir;
+using testing::write_bytes;
 
 void write_text(const fs::path& path, const std::string& text) {
   write_atomically(path, [&](std::ostream& out) { out << text; });
@@ -29,10 +29,11 @@ TEST(AtomicFile, ReplacesTheFileAndLeavesNothingBesideIt) {
   write_text(dir / "out.json", "new");
   EXPECT_EQ(read_bytes(dir / "out.json"), "new");
   // A writer that fails leaves the old file and no temporary file.
-  EXPECT_THROW(write_atomically(dir / "out.json", [](std::ostream& out) {
-                 out << "half";
-                 throw InputError("the writer failed");
-               }),
+  EXPECT_THROW(write_atomically(dir / "out.json",
+                                [](std::ostream& out) {
+                                  out << "half";
+                                  throw InputError("the writer failed");
+                                }),
                InputError);
   EXPECT_EQ(read_bytes(dir / "out.json"), "new");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir / ""), fs::directory_iterator()), 1);
@@ -119,7 +120,8 @@ TEST(AtomicFile, AnOutputThatIsAnInputOrAnotherOutputIsRefusedBeforeAnyWork) {
   refused({{"--json", dir / "maps.db"}}, {{"DB", dir / "alias.db"}}, "--json is the file DB reads");
   // Two outputs naming one file, whether it exists yet or not.
   refused({{"--db", dir / "new.db"}, {"--json", dir / "./new.db"}}, {}, "given both as --db and as --json");
-  refused({{"--json", dir / "maps.db"}, {"--plot", dir / "alias.db"}}, {}, "given both as --json and as --plot");
+  refused({{"--json", dir / "maps.db"}, {"--plot", dir / "alias.db"}}, {},
+          "given both as --json and as --plot");
   EXPECT_EQ(read_bytes(dir / "maps.db"), "db");
   // Apart, and the ones not given, are fine.
   EXPECT_NO_THROW(check_outputs({{"--json", dir / "out.json"}, {"--plot", ""}, {"--g2o", dir / "out.g2o"}},

@@ -373,7 +373,8 @@ std::vector<float> DescriptorDatabase::score_all(const MapDescriptor& query, Mat
 void DescriptorDatabase::score_all(const MapDescriptor& query, Matcher matcher, const ScoreOptions& options,
                                    std::vector<float>& scores) const {
   if (options.num_threads < 0 || options.num_threads > 1024)
-    throw InputError("score_all: num_threads must be in [0, 1024], got " + std::to_string(options.num_threads));
+    throw InputError("score_all: num_threads must be in [0, 1024], got " +
+                     std::to_string(options.num_threads));
   if (!(options.origin_gate >= 0) || !std::isfinite(options.origin_gate))
     throw InputError("score_all: origin_gate must be >= 0 [m]");
   const QueryBoxes q = prepare_query(query, matcher, config_.resolution, options.origin_gate);

@@ -97,7 +97,8 @@ void validate(const LoopClosureConfig& c) {
   if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
     throw InputError("loop closure config: min_score must be in [0, 1]");
   if (c.num_threads < 1 || c.num_threads > 1024)
-    throw InputError("loop closure config: num_threads must be in [1, 1024], got " + std::to_string(c.num_threads));
+    throw InputError("loop closure config: num_threads must be in [1, 1024], got " +
+                     std::to_string(c.num_threads));
   if (!(c.context >= 0.0 && c.context <= 100.0))
     throw InputError("loop closure config: context must be in [0, 100] m");
   for (const double v : {c.drift_offset, c.drift_rate, c.drift_turn, c.drift_turn_rate})
