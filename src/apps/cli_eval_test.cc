@@ -128,7 +128,7 @@ TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
       {"--methods dmm --gate nan", "origin_gate"},
       {"--methods hmm:3 --cpd-candidates circles", "--cpd-candidates: expected partitions or corners"},
       {"--methods hmm:3 --cpd-box-sizes 0", "box size"},
-      {"--methods dmm --radius -1", "radius (R) must be > 0"},
+      {"--methods dmm --radius -1", "radius (R, --radius) must be a positive number of metres, got -1"},
       {"--methods dmm --dmm-turns 5", "canonical_turns must be 4 or 8"},
   };
   for (const auto& [args, message] : cases) {
@@ -178,6 +178,22 @@ TEST_F(CliEvalTest, BadRelationsStoreNothing) {
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_THAT(run.output, HasSubstr("none.relations"));
   EXPECT_FALSE(fs::exists(db));  // a retry is not refused with "already exists"
+  // Another log's relations: the check runs, and says that none of them links a pair.
+  {
+    std::ofstream out(dir_ / "other.relations");
+    out << "1e9 2e9 0 0 0 0 0 0\n";
+  }
+  const std::string other = "submaps sim:1 --relations " + quoted(dir_ / "other.relations") + " --db ";
+  // A radius checked after the database was written left a database behind a failed command.
+  const CliRun radius = run_partslam(other + quoted(db) + " --radius -1");
+  EXPECT_EQ(radius.exit_code, 1);
+  EXPECT_THAT(radius.output, HasSubstr("--radius"));
+  EXPECT_FALSE(fs::exists(db));
+  const CliRun foreign = run_partslam(other + quoted(db));
+  EXPECT_EQ(foreign.exit_code, 0) << foreign.output;
+  EXPECT_THAT(foreign.output, HasSubstr("0 linked by a relation, 0 confirmed (no --raw"));
+  EXPECT_THAT(foreign.output,
+              HasSubstr("warning: " + (dir_ / "other.relations").string() + ": no relevant pair"));
 }
 
 TEST_F(CliEvalTest, EvaluatesARawLogAgainstItsTwin) {

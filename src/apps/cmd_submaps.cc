@@ -79,8 +79,14 @@ nlohmann::json check_relations(const SubmapsOptions& o, const Submaps& submaps, 
   const RelationCheck check = check_relevant_pairs(submaps, pairs, scans, o.raw.empty() ? scans : raw, relations);
   std::cout << "relations: " << check.relevant_pairs << " relevant pairs (R " << o.tasks.radius << " m, G "
             << o.tasks.min_travel_gap << " m); " << check.with_relation << " linked by a relation, "
-            << check.confirmed << " confirmed (" << check.associated_scans << " of " << scans.size()
-            << " scans found in the raw log)\n";
+            << check.confirmed << " confirmed";
+  if (o.raw.empty())
+    std::cout << " (no --raw: the relations' scans looked up in the log itself)\n";
+  else
+    std::cout << " (" << check.associated_scans << " of " << scans.size() << " scans found in the raw log)\n";
+  if (check.relevant_pairs > 0 && check.with_relation == 0)
+    std::cerr << "partslam: warning: " << o.relations
+              << ": no relevant pair is linked by a relation (are they " << o.log << "'s relations?)\n";
   return {{"relevant_pairs", check.relevant_pairs}, {"with_relation", check.with_relation},
           {"confirmed", check.confirmed}, {"associated_scans", check.associated_scans},
           {"radius", o.tasks.radius}, {"gap", o.tasks.min_travel_gap}};
@@ -92,6 +98,7 @@ void run_submaps(SubmapsOptions o) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   validate(o.front_end);
+  if (!o.relations.empty()) validate(o.tasks);  // before anything is stored
   io::check_outputs({{"--db", o.db}, {"--json", o.json}},
                     {{"LOG", o.log}, {"--relations", o.relations}, {"--raw", o.raw}});
   nlohmann::json report;

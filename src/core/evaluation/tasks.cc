@@ -19,9 +19,12 @@ double pose_distance(const Submap& a, const Submap& b) {
 }  // namespace
 
 void validate(const TaskConfig& c) {
-  if (!(c.radius > 0) || !std::isfinite(c.radius)) throw InputError("tasks: radius (R) must be > 0");
+  if (!(c.radius > 0) || !std::isfinite(c.radius))
+    throw InputError("tasks: radius (R, --radius) must be a positive number of metres, got " +
+                     std::to_string(c.radius));
   if (!(c.min_travel_gap >= 0) || !std::isfinite(c.min_travel_gap))
-    throw InputError("tasks: min_travel_gap (G) must be >= 0");
+    throw InputError("tasks: min_travel_gap (G, --gap) must be a number of metres >= 0, got " +
+                     std::to_string(c.min_travel_gap));
   if (c.db_size < 2 || c.db_size > 10000000) throw InputError("tasks: db_size (N) must be in [2, 1e7], got " +
                                                              std::to_string(c.db_size));
   if (c.num_tasks < 1 || c.num_tasks > 10000000) throw InputError("tasks: num_tasks must be in [1, 1e7], got " +
