@@ -213,6 +213,30 @@ TEST(RosBag, AnOdometryPoseThatJumpsIsDamage) {
   for (const Scan& s : log.scans) EXPECT_LT(s.T_world_laser.x, 3.0);
 }
 
+// A gap in time (a chunk skipped as damaged, a recording paused) over which the robot moved 30 m is no damage:
+// measured from the pose before the gap, every pose after it was left out and the scans after it posed there.
+TEST(RosBag, OdometryAfterAGapInTimeIsKept) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 40; ++k) {
+    const double t = 100.0 + 0.1 * k + (k >= 20 ? 60.0 : 0.0);  // nothing for a minute after the 20th
+    const double x = 0.1 * k + (k >= 20 ? 30.0 : 0.0);
+    m.odometry.push_back({t - 0.05, x, 0.0, 0.0, 0.0, 0.0, 1.0});
+    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
+    scan.ranges.assign(181, 2.0f);
+    m.scans.push_back(scan);
+  }
+  rosbag_messages::write_bag_messages((dir / "gap.bag").string(), m, false);
+  const RosBagLog log = read_ros_bag(dir / "gap.bag");
+  EXPECT_TRUE(log.warnings.empty());
+  ASSERT_EQ(log.scans.size(), 40u);
+  EXPECT_NEAR(log.scans[39].T_world_laser.x, 33.9, 0.06);
+  // A pose that jumps as far within a tenth of a second is still damage.
+  m.odometry[30].x += 30.0;
+  rosbag_messages::write_bag_messages((dir / "gap.bag").string(), m, false);
+  EXPECT_THROW(read_ros_bag(dir / "gap.bag"), InputError);
+}
+
 // The topics can be named (LogReadOptions::scan_topic, odom_topic; --scan-topic, --odom-topic), the same for ROS 1
 // and ROS 2 bags (io/bag_selection.h): the fr079 bag carries the odometry both on /odom and as /tf odom -> base_link.
 TEST(RosBag, TopicsCanBeChosen) {
