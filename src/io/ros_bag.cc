@@ -129,10 +129,10 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
   for (std::size_t i = 0; i < messages.odometry.size(); ++i)
     odom.push_back(to_pose(messages.odometry[i], name + ": " + log.odometry_topic + " message " + std::to_string(i)));
   std::stable_sort(odom.begin(), odom.end(), [](const Stamped& a, const Stamped& b) { return a.t < b.t; });
-  // An odometry pose that jumps more than max_scan_jump from the one before is damage (a scan moved kilometres):
-  // an error naming it, or with skip_damaged left out and counted. Across a gap in time (a chunk skipped as
-  // damaged, a recording paused) the robot may have moved further: kMaxSpeed a second of the gap is allowed too,
-  // else every pose after the gap would be measured from the one before it and left out.
+  // An odometry pose that jumps more than max_scan_jump from the one before is damage (a scan moved
+  // kilometres): an error naming it, or with skip_damaged left out and counted. Across a gap in time (a chunk
+  // skipped as damaged, a recording paused) the robot may have moved further: kMaxSpeed a second of the gap
+  // is allowed too, else every pose after the gap would be measured from the one before it and left out.
   constexpr double kMaxSpeed = 10.0;  // [m/s]
   std::vector<Stamped> kept;
   std::size_t jumps = 0;
@@ -142,9 +142,10 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
       const double dt = std::max(0.0, o.t - kept.back().t);
       if (d > options.max_scan_jump + kMaxSpeed * dt) {
         char what[240];
-        std::snprintf(what, sizeof what, "%s pose at stamp %.3f s jumps %.1f m from the one before, %.3f s earlier "
-                      "(more than %.0f m plus %.0f m/s)", log.odometry_topic.c_str(), o.t, d, dt,
-                      options.max_scan_jump, kMaxSpeed);
+        std::snprintf(what, sizeof what,
+                      "%s pose at stamp %.3f s jumps %.1f m from the one before, %.3f s earlier "
+                      "(more than %.0f m plus %.0f m/s)",
+                      log.odometry_topic.c_str(), o.t, d, dt, options.max_scan_jump, kMaxSpeed);
         if (!options.skip_damaged) throw InputError(name + ": " + what + "; skip_damaged leaves it out");
         if (jumps++ == 0) log.warnings.push_back(name + ": left out an odometry " + what);
         continue;

@@ -213,8 +213,9 @@ TEST(RosBag, AnOdometryPoseThatJumpsIsDamage) {
   for (const Scan& s : log.scans) EXPECT_LT(s.T_world_laser.x, 3.0);
 }
 
-// A gap in time (a chunk skipped as damaged, a recording paused) over which the robot moved 30 m is no damage:
-// measured from the pose before the gap, every pose after it was left out and the scans after it posed there.
+// A gap in time (a chunk skipped as damaged, a recording paused) over which the robot moved 30 m is no
+// damage: measured from the pose before the gap, every pose after it was left out and the scans after it
+// posed there.
 TEST(RosBag, OdometryAfterAGapInTimeIsKept) {
   testing::TempDir dir;
   rosbag_messages::BagMessages m;
@@ -222,7 +223,8 @@ TEST(RosBag, OdometryAfterAGapInTimeIsKept) {
     const double t = 100.0 + 0.1 * k + (k >= 20 ? 60.0 : 0.0);  // nothing for a minute after the 20th
     const double x = 0.1 * k + (k >= 20 ? 30.0 : 0.0);
     m.odometry.push_back({t - 0.05, x, 0.0, 0.0, 0.0, 0.0, 1.0});
-    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
+    rosbag_messages::LaserScanMessage scan{
+        t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
     scan.ranges.assign(181, 2.0f);
     m.scans.push_back(scan);
   }
