@@ -100,6 +100,23 @@ TEST(CliSlam, RefusesAbsurdThreadCounts) {
   EXPECT_THAT(run.output, HasSubstr("--threads"));
 }
 
+// A run that fails leaves no empty output folder of its own making; a file where the folder should be is
+// named.
+TEST(CliSlam, AFailedRunLeavesNoFolderBehind) {
+  const io::testing::TempDir dir;
+  io::testing::write_bytes(dir / "not_a_log.log", "\x89PNG\r\n");
+  const CliRun bad = run_partslam("slam " + quoted(dir / "not_a_log.log") + " --out " + quoted(dir / "out"));
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::create_directories(dir / "mine");  // a folder the user made stays
+  EXPECT_EQ(
+      run_partslam("slam " + quoted(dir / "not_a_log.log") + " --out " + quoted(dir / "mine")).exit_code, 1);
+  EXPECT_TRUE(fs::is_directory(dir / "mine"));
+  const CliRun file = run_partslam("slam sim:2 --out " + quoted(dir / "not_a_log.log"));
+  EXPECT_EQ(file.exit_code, 1);
+  EXPECT_THAT(file.output, HasSubstr("exists and is not a folder"));
+}
+
 // --print-config writes every setting; --config reads that file back, flags given override it, and a file with an
 // unknown key or a bad value is refused naming the file and the key (slam, loops and locate alike). The runs read
 // the simulated building's first 400 scans, written as a log: what is checked is which settings slam ran with,

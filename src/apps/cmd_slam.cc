@@ -105,12 +105,15 @@ void write_maps(const std::filesystem::path& dir, const Scans& corrected, const 
   plot::write_grid_maps_png(dir / "map.png", grids);
 }
 
-// DIR, created when missing, and every file to be written there checked before the work.
-std::filesystem::path output_folder(const SlamOptions& o) {
+// DIR, created when missing (created: whether this run made it), and every file to be written there checked
+// before the work.
+std::filesystem::path output_folder(const SlamOptions& o, bool& created) {
   namespace fs = std::filesystem;
   const fs::path dir(o.out);
   std::error_code ec;
-  fs::create_directories(dir, ec);
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(o.out + ": exists and is not a folder (--out names the folder the results go to)");
+  created = fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw InputError(o.out + ": cannot create the output folder");
   for (const char* name :
        {"corrected.log", "map.png", "map.yaml", "map.pgm", "loops.json", "slam.json", "relations_error.json"})
@@ -177,8 +180,8 @@ void write_relations(const SlamOptions& o, const std::filesystem::path& dir, con
               << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
 }
 
-void run_slam_command(const SlamOptions& o) {
-  const std::filesystem::path dir = output_folder(o);
+// The run itself, its files into dir.
+void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
   const io::ScanSource source = load_scans(o.log, o.read);
   SlamResult r;
@@ -199,6 +202,19 @@ void run_slam_command(const SlamOptions& o) {
   if (!o.relations.empty()) write_relations(o, dir, relations, source, r, summary);
   std::cout << "\n";
   io::write_atomically(dir / "slam.json", [&](std::ostream& out) { out << json_text(summary); });
+}
+
+// A run that fails leaves no empty folder of its own making behind.
+void run_slam_command(const SlamOptions& o) {
+  bool created = false;
+  const std::filesystem::path dir = output_folder(o, created);
+  try {
+    slam_into(o, dir);
+  } catch (...) {
+    std::error_code ec;
+    if (created && std::filesystem::is_empty(dir, ec)) std::filesystem::remove(dir, ec);
+    throw;
+  }
 }
 
 }  // namespace
