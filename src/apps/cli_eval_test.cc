@@ -130,6 +130,7 @@ TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
       {"--methods hmm:3 --cpd-box-sizes 0", "box size"},
       {"--methods dmm --radius -1", "radius (R, --radius) must be a positive number of metres, got -1"},
       {"--methods dmm --dmm-turns 5", "canonical_turns must be 4 or 8"},
+      {"--methods dmm --dmm-angular-window nan", "--dmm-angular-window must be in [0, 45] deg"},
   };
   for (const auto& [args, message] : cases) {
     const CliRun run = run_partslam(kEval + args + " --json " + quoted(json));

@@ -3,6 +3,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/error.h"
+
 namespace partslam::apps {
 
 void add_dmm_options(CLI::App& cmd, DmmConfig& dmm) {
@@ -10,7 +12,13 @@ void add_dmm_options(CLI::App& cmd, DmmConfig& dmm) {
   std::ostringstream window;
   window << dmm.angular_window * 180.0 / std::numbers::pi;
   cmd.add_option_function<double>(
-         "--dmm-angular-window", [&dmm](double deg) { dmm.angular_window = deg * std::numbers::pi / 180.0; },
+         "--dmm-angular-window",
+         [&dmm](double deg) {
+           // Checked here, in the flag's unit: the config's own check speaks of radians.
+           if (!(deg >= 0.0 && deg <= 45.0))
+             throw InputError("--dmm-angular-window must be in [0, 45] deg, got " + std::to_string(deg));
+           dmm.angular_window = deg * std::numbers::pi / 180.0;
+         },
          "dMM: residual rotation window about each rotation family [deg]")
       ->default_str(window.str());
   cmd.add_option(
