@@ -133,13 +133,15 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
   // kilometres): an error naming it, or with skip_damaged left out and counted. Across a gap in time (a chunk
   // skipped as damaged, a recording paused) the robot may have moved further: kMaxSpeed a second of the gap
   // is allowed too, else every pose after the gap would be measured from the one before it and left out.
-  constexpr double kMaxSpeed = 10.0;  // [m/s]
+  constexpr double kMaxSpeed = 5.0;  // [m/s]
+  constexpr double kMaxGap = 120.0;  // [s]
   std::vector<Stamped> kept;
   std::size_t jumps = 0;
   for (const Stamped& o : odom) {
     if (!kept.empty()) {
       const double d = (o.pose.translation() - kept.back().pose.translation()).norm();
-      const double dt = std::max(0.0, o.t - kept.back().t);
+      // (At most kMaxGap of it: a damaged stamp far in the future does not excuse a damaged position.)
+      const double dt = std::clamp(o.t - kept.back().t, 0.0, kMaxGap);
       if (d > options.max_scan_jump + kMaxSpeed * dt) {
         char what[240];
         std::snprintf(what, sizeof what,

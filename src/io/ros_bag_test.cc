@@ -237,6 +237,11 @@ TEST(RosBag, OdometryAfterAGapInTimeIsKept) {
   m.odometry[30].x += 30.0;
   rosbag_messages::write_bag_messages((dir / "gap.bag").string(), m, false);
   EXPECT_THROW(read_ros_bag(dir / "gap.bag"), InputError);
+  // And so is one whose stamp is damaged too, far after the others.
+  m.odometry[30].x -= 30.0;
+  m.odometry.push_back({1e9, 3000.0, 0.0, 0.0, 0.0, 0.0, 1.0});
+  rosbag_messages::write_bag_messages((dir / "gap.bag").string(), m, false);
+  EXPECT_THROW(read_ros_bag(dir / "gap.bag"), InputError);
 }
 
 // The topics can be named (LogReadOptions::scan_topic, odom_topic; --scan-topic, --odom-topic), the same for ROS 1
