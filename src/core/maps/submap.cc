@@ -21,6 +21,10 @@ void validate(const SubmapConfig& c) {
   positive(c.spacing, "spacing");
   positive(c.resolution, "resolution");
   positive(c.crop_size, "crop_size");
+  // A local map's stretch of travel: a window past any log's length labels a stretch that is not there.
+  if (c.window_length > 10000.0 || c.spacing > 10000.0)
+    throw InputError("submap config: window_length and spacing must be at most 10000 m, got " +
+                     std::to_string(c.window_length) + " and " + std::to_string(c.spacing));
   if (!(c.max_range > 0.0)) throw InputError("submap config: max_range must be > 0 [m], got " + std::to_string(c.max_range));
   if (c.crop_size / c.resolution > 100000) throw InputError("submap config: crop_size / resolution is absurdly large");
   if (c.min_points < 1) throw InputError("submap config: min_points must be >= 1");

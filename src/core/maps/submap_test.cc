@@ -58,6 +58,11 @@ TEST(BuildSubmaps, RejectsBadConfig) {
   config = {};
   config.max_range = 0.0;
   EXPECT_THROW(build_submaps({}, config), InputError);
+  config = {};
+  config.window_length = 1e9;  // `locate --window 1e9` labelled a stretch past the log's end
+  EXPECT_THROW(validate(config), InputError);
+  config.window_length = 10000.0;
+  EXPECT_NO_THROW(validate(config));
 }
 
 // The usable-range cap: endpoints farther than max_range from the laser are dropped before the submap is
