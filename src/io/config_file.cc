@@ -238,6 +238,7 @@ void read_file(const std::filesystem::path& path, Config& config) {
   const std::string file = path.string();
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(file + ": a folder, not a YAML settings file");
+  if (holds_binary_data(path)) throw InputError(file + ": binary data, not a YAML settings file");
   YAML::Node root;
   try {
     root = YAML::LoadFile(file);

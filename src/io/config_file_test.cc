@@ -103,6 +103,8 @@ TEST(ConfigFile, WrongTypesAreRefusedNamingFieldAndFile) {
   EXPECT_THAT(refusal<SlamConfig>(dir, "back_end: 3\n"), HasSubstr("back_end: expected a map of settings"));
   EXPECT_THAT(refusal<SlamConfig>(dir, "- a\n- b\n"), HasSubstr("settings.yaml: expected a map of settings"));
   EXPECT_THAT(refusal<SlamConfig>(dir, "a: [\n"), HasSubstr("settings.yaml: line 2: not valid YAML"));
+  EXPECT_THAT(refusal<SlamConfig>(dir, std::string("\x89PNG\r\n\x1a\n\0\0", 10)),
+              HasSubstr("settings.yaml: binary data, not a YAML settings file"));
   SlamConfig c;
   EXPECT_THAT([&] { read_config_file(dir / "missing.yaml", c); },
               ::testing::ThrowsMessage<InputError>(HasSubstr("missing.yaml: cannot open")));

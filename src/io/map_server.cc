@@ -123,6 +123,8 @@ T field(const YAML::Node& root, const std::filesystem::path& path, const char* n
 GridMap read_map_yaml(const std::filesystem::path& yaml_path) {
   std::error_code folder_ec;
   if (std::filesystem::is_directory(yaml_path, folder_ec)) fail(yaml_path, "a folder, not a map YAML file");
+  if (holds_binary_data(yaml_path))
+    fail(yaml_path, "binary data, not a map YAML file (the image? give the map's .yaml, which names its image)");
   YAML::Node root;
   try {
     root = YAML::LoadFile(yaml_path.string());

@@ -98,6 +98,10 @@ TEST(MapServer, BadInputNamesTheFileAndField) {
   write_bytes(dir / "map.png", "\x89PNG\r\n");
   write_bytes(yaml, "image: map.png\nresolution: 0.05\norigin: [0, 0, 0]\n");
   EXPECT_NE(error_of([&] { read_map_yaml(yaml); }).find("not a PGM"), std::string::npos);
+  // The image itself given as the map: said so, its bytes not printed.
+  write_bytes(dir / "real.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
+  EXPECT_NE(error_of([&] { read_map_yaml(dir / "real.png"); }).find("real.png: binary data, not a map YAML file"),
+            std::string::npos);
   // Headers claiming far more pixels than the file holds are refused before the pixels are allocated (16384 x 16384
   // 16-bit pixels allocated 1.5 GB); an image that is not a regular file (a FIFO or /dev/zero would never end).
   write_bytes(dir / "huge.pgm", "P5 16384 16384 65535\n\x01\x02");
