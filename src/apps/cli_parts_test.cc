@@ -202,6 +202,29 @@ TEST_F(CliPartsTest, RenderWritesAPng) {
   EXPECT_THAT(stored.output, HasSubstr("from the stored 20-part list"));
 }
 
+// Without --dict, render draws the parts of the database's only dictionary; it names the dictionaries when
+// there are several, and says so when there is none instead of drawing a bare map as if it were the figure.
+TEST_F(CliPartsTest, RenderWithoutDictSaysWhichDictionaryOrThatThereIsNone) {
+  const fs::path png =
+      base_dir_ / (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".png");
+  ASSERT_EQ(run_partslam("dictionary sim:3 --name e --db " + quoted(db_)).exit_code, 0);
+  const CliRun two = run_partslam("render " + quoted(db_) + " --map 40 --out " + quoted(png));
+  EXPECT_EQ(two.exit_code, 1) << two.output;
+  EXPECT_THAT(two.output, HasSubstr("several dictionaries (d, e)"));
+  EXPECT_THAT(two.output, HasSubstr("--dict NAME chooses one"));
+  EXPECT_FALSE(fs::exists(png));
+
+  const fs::path bare = base_dir_ / "bare.db";
+  ASSERT_EQ(run_partslam("submaps sim:1 --spacing 2 --db " + quoted(bare)).exit_code, 0);
+  const CliRun none = run_partslam("render " + quoted(bare) + " --map 40 --out " + quoted(png));
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_THAT(none.output, HasSubstr("warning: " + bare.string() + " holds no dictionary"));
+  EXPECT_THAT(none.output, HasSubstr(": 0 parts from no dictionary in the database"));
+  EXPECT_TRUE(fs::exists(png));
+  fs::remove(png);
+  fs::remove(bare);
+}
+
 TEST_F(CliPartsTest, BadInputsExitNonZeroWithAMessage) {
   const std::string db = quoted(db_);
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -213,6 +236,9 @@ TEST_F(CliPartsTest, BadInputsExitNonZeroWithAMessage) {
       {"describe " + db + " --dict d --parts 3 --k 5", "--k: every K must be in [1, P = 3]"},
       {"describe " + db + " --dict d --dataset nope", "no dataset named 'nope'"},
       {"describe " + db + " --dict d --mc most", "--mc: expected point or inlier, got 'most'"},
+      {"describe " + db + " --dict d --tsize 2", "--tsize: Value 2 not in range"},
+      {"describe " + db + " --dict d --candidates corners --box-sizes 1,0.1",
+       "--box-sizes: Value 0.1 not in range"},
       {"render " + db + " --map 9999 --out x.png", "no map with id 9999"},
       {"render " + db + " --map 40 --dict nope --out x.png", "no dictionary named 'nope'"},
       {"render " + db + " --map 40 --out x.txt", "--out: expected a .png file"},

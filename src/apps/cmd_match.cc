@@ -403,11 +403,12 @@ void register_match(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--query-parts", o->query_parts,
                   "K of the stored hMM query list (default: the longest one)");
-  cmd->add_option("--gate", o->gate,
-                  "descriptor matcher: origin gate [m], part pairs must put the map frames this close; 0 = off "
-                  "(the paper)")
+  cmd->add_option(
+         "--gate", o->gate,
+         "descriptor matcher: origin gate [m], part pairs must put the map frames this close; 0 = off "
+         "(the paper)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(in_range(0.0, 1000.0));
   add_dmm_options(*cmd, o->dmm);
   cmd->add_option("--threads", o->threads, "threads (results do not depend on it)")->capture_default_str();
   cmd->footer(std::string("Columns: inliers, inl%: dMM's inlier count and share. ") + kPoseColumns + ". " +

@@ -47,9 +47,15 @@ void run_render(RenderOptions o) {
   plot::PartsFigure figure;
   figure.map_points = submap.points;
   std::optional<io::Dictionary> dictionary;
-  if (!o.dictionary.empty() || db.dictionaries().size() == 1)
+  if (!o.dictionary.empty())
     dictionary = io::resolve_dictionary(db, o.dictionary);
+  else if (!db.dictionaries().empty())
+    dictionary = with_hint([&] { return io::resolve_dictionary(db, ""); }, "--dict NAME chooses one");
   std::string source = "no dictionary in the database: no parts";
+  if (!dictionary)
+    std::cerr
+        << "warning: " << o.db
+        << " holds no dictionary: the map is drawn without parts (store one with `partslam dictionary`)\n";
   if (dictionary) {
     if (!o.fresh) {
       if (const int p = io::query_list_parts(db, dictionary->name, o.map_id); p > 0) {

@@ -16,20 +16,21 @@
 
 #include "apps/commands.h"
 #include "apps/config_options.h"
-#include "apps/log_inputs.h"
+#include "apps/cpd_options.h"
 #include "apps/json_text.h"
+#include "apps/log_inputs.h"
 #include "apps/progress_bar.h"
+#include "apps/scan_input.h"
 #include "core/error.h"
 #include "core/evaluation/trajectory_check.h"
+#include "core/maps/grid_map.h"
 #include "core/slam/slam.h"
 #include "io/atomic_file.h"
 #include "io/carmen_log.h"
 #include "io/config_file.h"
+#include "io/map_server.h"
 #include "io/relations.h"
 #include "io/scan_source.h"
-#include "apps/scan_input.h"
-#include "core/maps/grid_map.h"
-#include "io/map_server.h"
 #include "plot/grid_map_image.h"
 
 namespace partslam::apps {
@@ -229,9 +230,10 @@ void register_slam(CLI::App& app) {
   cmd->add_option("--relations", o->relations, "Freiburg .relations file: report the relation errors");
   cmd->add_option("--min-confidence", o->config.min_confidence, "loop closures at least this confident join the graph")
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "threads of the front end's search and of loop closing (results do not depend on it)")
+  cmd->add_option("--threads", o->threads,
+                  "threads of the front end's search and of loop closing (results do not depend on it)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1024));
+      ->check(in_range(1, 1024));
   cmd->add_flag("--compare", o->compare, "map.png also shows the odometry's map beside the corrected one");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   add_config_options(*cmd, o->config_file, [] { return io::config_yaml(SlamConfig{}); });

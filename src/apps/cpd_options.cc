@@ -1,5 +1,7 @@
 #include "apps/cpd_options.h"
 
+#include <sstream>
+
 #include "core/error.h"
 
 namespace partslam::apps {
@@ -36,21 +38,29 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix) {
              "CPD: candidate keypoint boxes, partitions (random grids, the paper) or corners (squares on corner "
              "points)");
   cmd.add_option(name("partitions"), cpd.partitions, "CPD: random partitions per map (candidates partitions)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(1, 100000));
   cmd.add_option(name("corners"), cpd.corners, "CPD: corner points per map (candidates corners)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(1, 10000));
   cmd.add_option(name("box-sizes"), cpd.box_sizes, "CPD: square sides on each corner [m], comma-separated")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0.2, 100.0));
   cmd.add_option(name("corner-radius"), cpd.corner_radius, "CPD: neighbourhood of the corner response [m]")
-      ->capture_default_str();
-  cmd.add_option(name("corner-spacing"), cpd.corner_spacing, "CPD: kept corners are at least this far apart [m]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0.1, 10.0));
+  cmd.add_option(name("corner-spacing"), cpd.corner_spacing,
+                 "CPD: kept corners are at least this far apart [m]")
+      ->capture_default_str()
+      ->check(in_range(0.0, 100.0));
   add_choice(cmd, name("mc"), cpd.maximality,
              {{"point", MaximalityMode::kPointShare}, {"inlier", MaximalityMode::kInlierShare}},
              "CPD: MC reading, point (share of the map's points in the crop) or inlier (share of the crop's "
              "points that fit the dictionary)");
-  cmd.add_option(name("tsize"), cpd.t_size, "CPD: MC threshold T^size")->capture_default_str();
+  cmd.add_option(name("tsize"), cpd.t_size, "CPD: MC threshold T^size")
+      ->capture_default_str()
+      ->check(in_range(0.0, 1.0));
   cmd.add_option(name("gc"), cpd.geometric_consistency,
                  "CPD: GC, keep only parts whose descriptor boxes pairwise overlap (true/false)")
       ->capture_default_str();
@@ -67,6 +77,15 @@ const CLI::Validator& non_negative_seed() {
       [](std::string& v) { return !v.empty() && v.front() == '-' ? "must not be negative, got " + v : std::string(); },
       "SEED >= 0");
   return validator;
+}
+
+CLI::Validator in_range(double lo, double hi) {
+  const auto text = [](double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  };
+  return CLI::Range(lo, hi).description("[" + text(lo) + "," + text(hi) + "]");
 }
 
 }  // namespace partslam::apps

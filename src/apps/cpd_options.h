@@ -16,4 +16,8 @@ void add_cpd_options(CLI::App& cmd, CpdConfig& cpd, const std::string& prefix);
 /// Refuses a negative seed ("-1" would otherwise wrap to 2^64 - 1 in an unsigned option).
 const CLI::Validator& non_negative_seed();
 
+/// CLI::Range(lo, hi), shown in --help as TYPE:[lo,hi] (one word, so the README's usage block keeps the
+/// default).
+CLI::Validator in_range(double lo, double hi);
+
 }  // namespace partslam::apps
