@@ -293,6 +293,22 @@ MapDatabase::MapDatabase(MapDatabase&&) noexcept = default;
 MapDatabase& MapDatabase::operator=(MapDatabase&&) noexcept = default;
 MapDatabase::~MapDatabase() = default;
 
+namespace {
+
+// A database opened for writing must be writable, file and folder (SQLite writes its journal beside it):
+// said at the start, not after a command's work when its first write fails.
+void require_writable_file(const Connection& db) {
+  const fs::path& path = db.path();
+  if (db.read_only())
+    throw InputError(path.string() + ": the file is write-protected; this command stores into it");
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw InputError(path.string() + ": the folder " + folder.string() +
+                     " is not writable (SQLite writes its journal beside the database)");
+}
+
+}  // namespace
+
 MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
   remove_abandoned_temporaries(path);
   std::error_code ec;
@@ -312,6 +328,7 @@ MapDatabase MapDatabase::open(const fs::path& path, Mode mode) {
   auto impl =
       std::make_unique<Impl>(Impl{Connection::open(path, Connection::Access::kReadWrite), read_only, 0, 0});
   impl->schema_version = check_schema(impl->db);
+  if (!read_only) require_writable_file(impl->db);
   impl->db.exec("PRAGMA foreign_keys = ON");
   impl->db.exec("PRAGMA recursive_triggers = ON");  // REPLACE deletes keep the counts right (kCountsSchema)
   // Statement journals and savepoint sub-journals (in-transaction rollback only; the crash-safe rollback journal

@@ -729,6 +729,57 @@ TEST_F(MapDatabaseTest, ReadOnlyRefusesWritesAndMissingFilesAreNotCreated) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);  // no temporaries
 }
 
+// A database that cannot be written is refused when opened for writing (not after the command's work, at its
+// first write), and still opens for reading. Root may write anything, so as root the check runs in a child
+// process that has become nobody.
+TEST_F(MapDatabaseTest, AnUnwritableFileOrFolderIsRefusedForWritingAndReadsStill) {
+  using fs::perms;
+  const fs::path locked = dir_ / "locked";
+  fs::create_directories(locked);
+  const fs::path file = locked / "file.db", other = locked / "other.db";
+  MapDatabase::open(file, Mode::kCreate).add_dataset({"a", "a.log", DatasetKind::kSubmaps, {}});
+  MapDatabase::open(other, Mode::kCreate);
+  const perms readable = perms::owner_read | perms::group_read | perms::others_read;
+  const perms searchable = perms::owner_exec | perms::group_exec | perms::others_exec;
+  fs::permissions(dir_, perms::owner_all | searchable);
+  fs::permissions(file, readable);                                                                   // 0444
+  fs::permissions(other, readable | perms::owner_write | perms::group_write | perms::others_write);  // 0666
+  fs::permissions(locked, readable | searchable);                                                    // 0555
+  // 0: as expected; 1: the write-protected file opened for writing; 2: so did the file in the locked
+  // folder; 3: reading failed.
+  const auto check = [&]() -> int {
+    const auto refused = [](const fs::path& path, const std::string& message) {
+      try {
+        MapDatabase::open(path, Mode::kReadWrite);
+        return false;
+      } catch (const InputError& e) {
+        return std::string(e.what()).find(message) != std::string::npos;
+      }
+    };
+    if (!refused(file, "file.db: the file is write-protected")) return 1;
+    if (!refused(other, "other.db: the folder " + locked.string() + " is not writable")) return 2;
+    try {
+      return MapDatabase::open(file, Mode::kReadOnly).find_dataset("a") ? 0 : 3;
+    } catch (const InputError&) {
+      return 3;
+    }
+  };
+  int result = -1;
+  if (::geteuid() != 0) {
+    result = check();
+  } else {
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) _exit(::setgid(65534) == 0 && ::setuid(65534) == 0 ? check() : 4);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    result = WEXITSTATUS(status);
+  }
+  fs::permissions(locked, perms::owner_all);
+  EXPECT_EQ(result, 0);
+}
+
 TEST_F(MapDatabaseTest, RefusesNewerSchemaVersion) {
   const fs::path path = dir_ / "maps.db";
   MapDatabase::open(path, Mode::kCreate);

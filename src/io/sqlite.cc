@@ -85,6 +85,8 @@ std::int64_t Connection::query_int(std::string_view sql) const {
   return statement.int64(0);
 }
 
+bool Connection::read_only() const { return sqlite3_db_readonly(db_, "main") == 1; }
+
 bool Connection::in_transaction() const { return sqlite3_get_autocommit(db_) == 0; }
 
 void Connection::fail(int rc, std::string_view what) const {

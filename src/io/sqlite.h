@@ -36,6 +36,8 @@ class Connection {
   std::int64_t query_int(std::string_view sql) const;
   /// True while a transaction is open on this connection.
   bool in_transaction() const;
+  /// Whether SQLite opened the main database read-only (a write-protected file opened for writing).
+  bool read_only() const;
 
   /// Throws InputError "<file>: <what>: <sqlite message>" for result code rc.
   [[noreturn]] void fail(int rc, std::string_view what) const;
