@@ -85,7 +85,14 @@ CLI::Validator in_range(double lo, double hi) {
     out << v;
     return out.str();
   };
-  return CLI::Range(lo, hi).description("[" + text(lo) + "," + text(hi) + "]");
+  const std::string range = "[" + text(lo) + "," + text(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& v) {
+        double x = 0;
+        if (!CLI::detail::lexical_cast(v, x)) return "expected a number, got '" + v + "'";
+        return x >= lo && x <= hi ? std::string() : "must be in " + range + ", got " + v;  // NaN is outside
+      },
+      range);
 }
 
 }  // namespace partslam::apps
