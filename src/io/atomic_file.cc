@@ -108,27 +108,21 @@ void check_outputs(const std::vector<NamedPath>& outputs, const std::vector<Name
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
   check_writable(path);
-  if (is_stream(path)) {  // a FIFO or a device: written as a stream
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw InputError(path.string() + ": cannot open for writing");
-    write(out);
-    out.flush();
-    if (!out) throw InputError(path.string() + ": write failed");
-    return;
-  }
-  const fs::path tmp = temporary_sibling(path);
+  // A FIFO or a device is written in place, as a stream: there is nothing to replace atomically.
+  const bool stream = is_stream(path);
+  const fs::path file = stream ? path : temporary_sibling(path);
   try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path.string() + ": cannot open for writing");
     write(out);
     out.flush();
     if (!out) throw InputError(path.string() + ": write failed");
   } catch (...) {
     std::error_code ec;
-    fs::remove(tmp, ec);
+    if (!stream) fs::remove(file, ec);
     throw;
   }
-  commit_temporary(tmp, path);
+  if (!stream) commit_temporary(file, path);
 }
 
 }  // namespace partslam::io

@@ -1,5 +1,6 @@
 #include "io/yaml_text.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <fstream>
@@ -12,13 +13,13 @@ bool holds_binary_data(const std::filesystem::path& path) {
   in.read(head, sizeof head);
   const std::string_view start(head, static_cast<std::size_t>(in.gcount()));
   // A PNG, or a binary PGM (whose first rows may all be one grey above the control bytes).
-  if (start.starts_with("\x89PNG") || (start.size() > 2 && start.starts_with("P5") && std::isspace(static_cast<unsigned char>(start[2]))))
+  if (start.starts_with("\x89PNG") ||
+      (start.size() > 2 && start.starts_with("P5") && std::isspace(static_cast<unsigned char>(start[2]))))
     return true;
-  for (std::streamsize i = 0; i < in.gcount(); ++i) {
-    const auto c = static_cast<unsigned char>(head[i]);
-    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f') return true;
-  }
-  return false;
+  return std::ranges::any_of(start, [](const char ch) {
+    const auto c = static_cast<unsigned char>(ch);
+    return c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f';
+  });
 }
 
 std::string yaml_double_quoted(std::string_view text) {
