@@ -40,6 +40,9 @@ run_target() {
   mkdir -p "$out/corpus/$t"
   [ -d "$out/seeds/$t" ] && dirs+=("$out/seeds/$t")
   [ -d "fuzz/seeds/$t" ] && dirs+=("fuzz/seeds/$t")
+  # Every past finding (fuzz/findings/<target>, committed with its fix): libFuzzer runs each input of its corpus
+  # folders first, so a known crash that came back fails the run at once, whatever FUZZ_SECONDS is.
+  [ -d "fuzz/findings/$t" ] && dirs+=("fuzz/findings/$t")
   local log=$out/logs/$t.log start result execs rate
   start=$(date +%s)
   if "$out/$t" "${args[@]}" "${dirs[@]}" > "$log" 2>&1; then result=ok; else result=FINDING; fi

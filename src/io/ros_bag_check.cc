@@ -160,6 +160,20 @@ std::uint64_t field_u64(const Record& r, const char* name, const char* what) {
   return u64(reinterpret_cast<const std::uint8_t*>(field(r, name, 8, what).data()));
 }
 
+// A bag time (sec, nsec: two little-endian u32) as librosbag reads it: ros::Time normalises nsec into sec and
+// throws a bare std::runtime_error ("Time is out of dual 32-bit range") when sec + nsec / 1e9 passes 2^32 - 1.
+// Checked here, so the bag is refused as damaged, naming where, before librosbag sees it (fuzz_ros_bag).
+void check_time(const std::uint8_t* p, const std::string& where) {
+  const std::uint64_t sec = u32(p), nsec = u32(p + 4);
+  if (sec + nsec / 1000000000u > 0xffffffffu)
+    fail(where + ": a time out of ROS's range (sec " + std::to_string(sec) + ", nsec " + std::to_string(nsec) + ")");
+}
+
+void check_time_field(const Record& r, const char* name, const char* what, const std::string& where) {
+  check_time(reinterpret_cast<const std::uint8_t*>(field(r, name, 8, what).data()),
+             where + ", field '" + name + "'");
+}
+
 // The uncompressed records of a chunk.
 ChunkBytes chunk_contents(Source& file, const Record& chunk) {
   const std::string& compression = field(chunk, "compression", 0, "chunk");
@@ -232,8 +246,9 @@ void check_bag_structure(const std::string& path) {
     const Record r = read_record(file, pos, "chunk info record");
     require_op(r, kOpChunkInfo, "chunk info record");
     if (field_u32(r, "ver", "chunk info record") != 1) fail("chunk info version other than 1");
-    field_u64(r, "start_time", "chunk info record");
-    field_u64(r, "end_time", "chunk info record");
+    const std::string where = "chunk info record at " + std::to_string(pos);
+    check_time_field(r, "start_time", "chunk info record", where);
+    check_time_field(r, "end_time", "chunk info record", where);
     const std::uint32_t count = field_u32(r, "count", "chunk info record");
     if (r.data_len != std::uint64_t{count} * 8) fail("chunk info record: data size disagrees with its count");
     chunk_infos.emplace_back(field_u64(r, "chunk_pos", "chunk info record"), count);
@@ -257,10 +272,15 @@ void check_bag_structure(const std::string& path) {
       if (index.data_len != std::uint64_t{count} * 12) fail("index data record: data size disagrees with its count");
       const std::vector<std::uint8_t> entries = file.read(index.data, index.data_len);
       for (std::uint32_t k = 0; k < count; ++k) {
-        const Record message = read_record(records, u32(&entries[12 * std::size_t{k} + 8]), "message data record");
+        const std::uint8_t* entry = &entries[12 * std::size_t{k}];
+        check_time(entry, "index data record at " + std::to_string(next) + ", entry " + std::to_string(k));
+        const std::uint32_t offset = u32(entry + 8);
+        const Record message = read_record(records, offset, "message data record");
         require_op(message, kOpMessage, "message data record");
         field(message, "conn", 4, "message data record");
-        field(message, "time", 8, "message data record");
+        check_time_field(message, "time", "message data record",
+                         "message data record at " + std::to_string(offset) + " of the chunk at " +
+                             std::to_string(chunk_pos));
       }
       next = index.end;
     }

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <exception>
+#include <new>
 #include <string_view>
 
 namespace partslam::io::rosbag_messages {
@@ -97,6 +99,10 @@ class Collector {
     } catch (const BagError& e) {
       if (std::string(e.what()).rfind("more than ", 0) == 0) throw;  // the max_ranges limit
       damaged(e.what());
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {  // ROS's time arithmetic throws a bare std::runtime_error
+      damaged(std::string("cannot decode a message (") + e.what() + ")");
     }
   }
 
@@ -230,6 +236,15 @@ BagMessages read_bag_messages(const std::string& path, std::size_t max_ranges, b
     throw BagError(std::string("not a readable ROS 1 bag (") + e.what() + ")");
   } catch (const ros::Exception& e) {
     throw BagError(std::string("cannot decode a message (") + e.what() + ")");
+  } catch (const BagError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    // Anything else librosbag lets out (its time arithmetic throws a bare std::runtime_error) is damage the
+    // structure check did not foresee: the bag is read without librosbag, as a bag with a damaged index is.
+    return read_without_index(path, max_ranges, skip_damaged, scan_topic, odom_topic,
+                              std::string("not a readable ROS 1 bag (librosbag: ") + e.what() + ")");
   }
   return collector.finish();
 }

@@ -318,6 +318,22 @@ TEST(RosBag, AppliesTheLaserMountFromTfStatic) {
 
 // Bags whose lengths and offsets lie, as fuzz_ros_bag made them: librosbag trusted each of them (allocating up to
 // 4 GB, or reading past its buffers); they are refused as not readable bags, naming the file, before it sees them.
+// Where the first entry of the first index data record (op 4) of a bag's bytes lies, found by walking the top-level
+// records: an entry is a time (sec, nsec: 8 bytes) and the message's offset in its chunk (4 bytes). 0 if none.
+std::size_t first_index_entry(const std::string& bag) {
+  using namespace std::string_view_literals;
+  for (std::size_t pos = 13; pos + 8 <= bag.size();) {
+    std::uint32_t header_len = 0, data_len = 0;
+    std::memcpy(&header_len, bag.data() + pos, 4);
+    if (header_len > bag.size() - pos - 8) return 0;
+    std::memcpy(&data_len, bag.data() + pos + 4 + header_len, 4);
+    const std::size_t data = pos + 8 + header_len;
+    if (std::string_view(bag.data() + pos + 4, header_len).find("op=\x04"sv) != std::string_view::npos) return data;
+    pos = data + data_len;
+  }
+  return 0;
+}
+
 TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   testing::TempDir dir;
   rosbag_messages::BagMessages m;
@@ -399,20 +415,11 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
     std::memcpy(empty_chunk.data() + at + 4 + header_len, &none, 4);
   }
   EXPECT_THAT(error(empty_chunk), HasSubstr("bad.bag: not a readable ROS 1 bag"));
-  // The first index data record (op 4), found by walking the records after the chunk: its first entry's offset.
+  // The first index data record's first entry: its offset.
   std::string offset = good;
-  for (std::size_t pos = 13; pos + 8 <= good.size();) {
-    std::uint32_t header_len = 0, data_len = 0;
-    std::memcpy(&header_len, good.data() + pos, 4);
-    std::memcpy(&data_len, good.data() + pos + 4 + header_len, 4);
-    const std::size_t data = pos + 8 + header_len;
-    if (std::string_view(good.data() + pos + 4, header_len).find("op=\x04"sv) != std::string_view::npos) {
-      std::memcpy(offset.data() + data + 8, &many, 4);  // entry 0: time (8 bytes), offset (4 bytes)
-      break;
-    }
-    pos = data + data_len;
-  }
-  ASSERT_NE(offset, good);
+  const std::size_t entry = first_index_entry(good);
+  ASSERT_NE(entry, 0u);
+  std::memcpy(offset.data() + entry + 8, &many, 4);  // entry 0: time (8 bytes), offset (4 bytes)
   EXPECT_THAT(error(offset), HasSubstr("message data record at 4294967295: past the end"));
   // With skip_damaged a damaged index is read past: the chunks are walked without it.
   testing::write_bytes(dir / "bad.bag", offset);
@@ -429,6 +436,75 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
                         "chunks without it"));
   // Another bag format version.
   EXPECT_THAT(error("#ROSBAG V1.2\n" + good.substr(13)), HasSubstr("only ROS bag format 2.0 is read"));
+}
+
+// librosbag builds a ros::Time from every time it reads, which throws a bare std::runtime_error ("Time is out of dual
+// 32-bit range") when sec + nsec / 1e9 passes 2^32 - 1 (fuzz_ros_bag, ../shared/fuzz-findings): such a time is
+// damage, named with where it is; skip_damaged reads the chunks without the index.
+TEST(RosBag, ATimeOutOfRosRangeIsDamageNamedWhereItIs) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 3; ++k) {
+    m.odometry.push_back({10.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
+    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}, "laser"});
+  }
+  rosbag_messages::write_bag_messages((dir / "good.bag").string(), m, /*as_tf=*/false);
+  const std::string good = testing::read_bytes(dir / "good.bag");
+  const std::uint32_t bad_time[2] = {0xfffffffeu, 4077344295u};  // the finding's: sec 2^32 - 2, nsec > 1e9
+  const auto read = [&](const std::string& bytes, bool skip_damaged) {
+    testing::write_bytes(dir / "bad.bag", bytes);
+    LogReadOptions options;
+    options.skip_damaged = skip_damaged;
+    return read_ros_bag(dir / "bad.bag", options);
+  };
+  // In an index entry (where the finding had it), in a chunk info record and in a message record's header.
+  std::string in_index = good, in_chunk_info = good, in_message = good;
+  const std::size_t entry = first_index_entry(good);
+  ASSERT_NE(entry, 0u);
+  std::memcpy(in_index.data() + entry, bad_time, 8);
+  ASSERT_NE(good.find("start_time="), std::string::npos);
+  std::memcpy(in_chunk_info.data() + good.find("start_time=") + 11, bad_time, 8);
+  ASSERT_NE(good.find("time="), std::string::npos);  // the first message record's (chunks are not compressed)
+  std::memcpy(in_message.data() + good.find("time=") + 5, bad_time, 8);
+  for (const auto& [bytes, where] : {std::pair{in_index, "index data record at "},
+                                     std::pair{in_chunk_info, "chunk info record at "},
+                                     std::pair{in_message, "message data record at "}}) {
+    SCOPED_TRACE(where);
+    try {
+      read(bytes, false);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("bad.bag: not a readable ROS 1 bag (" + std::string(where)));
+      EXPECT_THAT(e.what(), HasSubstr("a time out of ROS's range (sec 4294967294, nsec 4077344295)"));
+    }
+    const RosBagLog skipped = read(bytes, true);
+    EXPECT_EQ(skipped.scans.size(), 3u);
+    ASSERT_FALSE(skipped.warnings.empty());
+    EXPECT_THAT(skipped.warnings[0], HasSubstr("bad.bag: the bag's index is damaged"));
+  }
+}
+
+// Every input a fuzz target of ROS 1 bags ever found (fuzz/findings/fuzz_ros_bag, also the fuzzer's corpus: see
+// fuzz/README.md) is read as the fuzzer reads it: scans, or an InputError naming the file; nothing else escapes.
+TEST(RosBag, EveryPastFuzzFindingIsReadOrRefusedByName) {
+  const std::filesystem::path findings = std::filesystem::path(PARTSLAM_SOURCE_DIR) / "fuzz/findings/fuzz_ros_bag";
+  ASSERT_TRUE(std::filesystem::is_directory(findings)) << findings;
+  std::size_t files = 0;
+  for (const auto& f : std::filesystem::directory_iterator(findings)) {
+    SCOPED_TRACE(f.path().string());
+    ++files;
+    for (const bool skip_damaged : {false, true}) {
+      LogReadOptions options;
+      options.skip_damaged = skip_damaged;
+      try {
+        const ScanSource source = load_scan_source(f.path().string(), options);
+        EXPECT_FALSE(source.scans.empty());
+      } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(f.path().string()));
+      }
+    }
+  }
+  EXPECT_GE(files, 1u);
 }
 
 // ---- bags cut short, corrupt chunks ----
