@@ -15,11 +15,41 @@ def err(e):
     return f'{t["mean"]:.3f} ± {t["std"]:.3f} m, {r["mean"]:.2f}°', t["mean"]
 
 
+def check(j):
+    m = j.get("map_check")
+    if not m:
+        return "-"
+    if not m["judged"]:
+        return "not judged"
+    return f'{100 * m["share"]:.1f} % / {100 * m["worst_share"]:.1f} %' + ("" if m["passed"] else " **failed**")
+
+
+def verdict_floors(rows):
+    """The verdict's floors (issue: no trusted result over 0.15 m; at most 10 % of those under 0.10 m untrusted)."""
+    trusted = lambda r: r.get("verdict") in ("closed", "open")
+    scored = [r for r in rows if r["slam"].get("relations")]
+    bad_trusted = [r for r in scored if trusted(r) and r["slam"]["translation_m"]["mean"] > 0.15]
+    good = [r for r in scored if r["slam"]["translation_m"]["mean"] < 0.10]
+    good_flagged = [r for r in good if not trusted(r)]
+    over = [r for r in scored if r["slam"]["translation_m"]["mean"] > 0.15]
+    print(f"verdict: trusted results over 0.15 m: {len(bad_trusted)} of {len(over)} results over 0.15 m" +
+          "".join(f"\n- {label(r)}: {r['slam']['translation_m']['mean']:.3f} m, {r['verdict']}" for r in bad_trusted))
+    print(f"verdict: results under 0.10 m not trusted: {len(good_flagged)} of {len(good)}" +
+          "".join(f"\n- {label(r)}: {r['slam']['translation_m']['mean']:.3f} m, {r['verdict']} ({r.get('reason', '')})"
+                  for r in good_flagged))
+
+
+def label(r):
+    name = os.path.basename(r["log"]).split(".")[0].replace("-corrected", "")
+    what = "raw" if r["kind"] == "raw" else f'{r["level"]} seed {r["seed"]}'
+    return f'{name} {what} inject {r["inject"]:g}{" forced" if r.get("forced") else ""}'
+
+
 def main(path):
     rows = [json.loads(line) for line in open(path) if line.strip()]
     print("| input | odometry | injected wrong closures | relations | slam | odometry | front end only | closures offered "
-          "| injected (used) | verdict | time |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "| injected (used) | map check: crossing beams, all / worst place | verdict | time |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     worse = 0
     for j in rows:
         name = os.path.basename(j["log"]).split(".")[0].replace("-corrected", "")
@@ -34,10 +64,13 @@ def main(path):
             flag, worse = " **worse than odometry**", worse + 1
         c = j["closures"]
         verdict = j.get("verdict", "-")
-        print(f'| {name} | {odo} | {j["inject"]:g} | {j["slam"].get("relations", 0)} | {slam}{flag} | {odom} | {fe} '
-              f'| {c["accepted"]} ({c["wrong"]} wrong, {c.get("used_wrong", 0)} of them used) '
-              f'| {c["injected"]} ({c.get("injected_used", 0)}) | {verdict} | {j["seconds"]:.1f} s |')
+        inject = f'{j["inject"]:g}' + (" forced" if j.get("forced") else "")
+        judged = j["kind"] == "raw" and c["judged"] == 0 and c["accepted"] > 0  # no twin: closures not judged
+        print(f'| {name} | {odo} | {inject} | {j["slam"].get("relations", 0)} | {slam}{flag} | {odom} | {fe} '
+              f'| {c["accepted"]} ({c["wrong"]} wrong, {c.get("used_wrong", 0)} of them used{", not judged" if judged else ""}) '
+              f'| {c["injected"]} ({c.get("injected_used", 0)}) | {check(j)} | {verdict} | {j["seconds"]:.1f} s |')
     print(f"\n{len(rows)} runs; slam worse than odometry on {worse}.")
+    verdict_floors(rows)
     # The floors of the bench (docs/NOTES.md "SLAM bench"), run by run.
     over = [r for r in rows if r["kind"] != "raw" and r["slam"].get("relations") and
             r["slam"]["translation_m"]["mean"] > 0.10]

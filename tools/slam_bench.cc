@@ -12,12 +12,16 @@
 //       round a large open hall), "long-range" (an 80 m x 60 m building seen by a 60 m laser).
 //   slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]
 //       a raw log; its scans associated by content with the corrected TWIN_LOG (a subset may do) give the truth of
-//       the closures, and the relations (from the file when given, else built from the twin).
+//       the closures, and the relations (from the file when given, else built from the twin). TWIN_LOG "-": no
+//       twin (the relations file is then needed; closures and front-end steps are not judged).
 // Ablations (docs/NOTES.md "SLAM bench") override front-end settings from the environment: FE_MAX_RANGE,
 // FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY
 // (key_translation); SLAM_BENCH_CLOSURES=1 adds every judged closure's gap and disagreement with the front end.
 // INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
 // between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
+// A trailing "f" (0.1f) forces them in: the back end sets no closure aside and its loss is quadratic (no Cauchy),
+// so the map is made wrong on purpose
+// (what the verdict must then say is calibrated on these runs).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -119,6 +123,12 @@ Bench sim_bench(const std::string& scenario, const std::string& level, std::uint
 Bench raw_bench(const std::string& log, const std::string& twin_log, const std::string& relations) {
   Bench b;
   b.raw = io::load_scan_source(log).scans;
+  b.name = log;
+  if (twin_log == "-") {  // no corrected twin (mit-csail): the relations alone judge the result, not the closures
+    if (relations.empty()) throw InputError(log + ": without a twin the relations file is needed");
+    b.relations = io::read_relations(relations);
+    return b;
+  }
   const Scans twin = io::load_scan_source(twin_log).scans;
   const auto index = associate_scans(b.raw, twin);
   for (std::size_t i = 0; i < b.raw.size(); ++i) {
@@ -130,7 +140,6 @@ Bench raw_bench(const std::string& log, const std::string& twin_log, const std::
   }
   if (b.truth.empty()) throw InputError(twin_log + ": no scan of " + log + " found in it");
   b.relations = relations.empty() ? bench_relations(b.truth) : io::read_relations(relations);
-  b.name = log;
   return b;
 }
 
@@ -149,17 +158,24 @@ int main(int argc, char** argv) {
   try {
     Bench b;
     double inject = 0.0;
+    bool forced = false;
+    // INJECT's number, and whether it ends in "f" (forced).
+    const auto inject_of = [&forced](std::string text) {
+      if (!text.empty() && text.back() == 'f') forced = true, text.pop_back();
+      return std::atof(text.c_str());
+    };
     nlohmann::json out;
     if (mode == "twin" || mode == "sim") {
       const std::uint64_t seed = std::strtoull(argv[4], nullptr, 10);
       b = mode == "twin" ? twin_bench(argv[2], argv[3], seed) : sim_bench(argv[2], argv[3], seed);
-      if (argc == 6) inject = std::atof(argv[5]);
+      if (argc == 6) inject = inject_of(argv[5]);
       out = {{"kind", mode}, {"level", argv[3]}, {"seed", std::atoi(argv[4])}};
     } else {
       // RELATIONS is a file name; a lone number after TWIN_LOG is INJECT.
       std::string relations = argc >= 5 ? argv[4] : "";
-      if (argc == 5 && relations.find_first_not_of("0123456789.") == std::string::npos) inject = std::atof(argv[4]), relations = "";
-      if (argc == 6) inject = std::atof(argv[5]);
+      if (argc == 5 && relations.find_first_not_of("0123456789.f") == std::string::npos)
+        inject = inject_of(argv[4]), relations = "";
+      if (argc == 6) inject = inject_of(argv[5]);
       b = raw_bench(argv[2], argv[3], relations);
       out = {{"kind", "raw"}, {"relations_file", relations}};
     }
@@ -167,6 +183,7 @@ int main(int argc, char** argv) {
     out["log"] = b.name;
     out["retimed"] = b.retimed;
     out["inject"] = inject;
+    out["forced"] = forced;
 
     // The truth of a scan of the front end's output (same timestamps as the raw scans) and of a submap.
     std::size_t injected = 0;
@@ -182,7 +199,13 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_FINE")) config.front_end.fine_sigma = std::atof(v);
     if (const char* v = std::getenv("FE_RES")) config.front_end.point_resolution = config.front_end.matcher.resolution = std::atof(v);
     if (const char* v = std::getenv("FE_KEY")) config.front_end.key_translation = std::atof(v);
+    if (const char* v = std::getenv("FE_SECOND")) config.front_end.second_prediction = std::atof(v);
+    if (const char* v = std::getenv("FE_MARGIN")) config.front_end.second_margin = std::atof(v);
     if (const char* v = std::getenv("LOOPS_VERIFY_DMM")) config.loops.verify_dmm = std::atoi(v) != 0;
+    if (forced) {  // every closure kept, with a quadratic loss: the injected ones bend the map
+      config.back_end.max_translation_residual = config.back_end.max_rotation_residual = 1e6;
+      config.back_end.graph.robust_scale = 1e6;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     SlamResult r = run_slam(b.raw, config, {}, [&](const Submaps& maps, std::vector<LoopClosure>& accepted) {
       if (inject <= 0) return;
@@ -275,6 +298,21 @@ int main(int argc, char** argv) {
     out["graph"] = {{"rounds", r.back_end.rounds}, {"chain_bends", r.back_end.chain_bends},
                     {"max_chain_bend_m", r.back_end.max_chain_translation},
                     {"max_chain_bend_deg", r.back_end.max_chain_rotation * kRadToDeg}};
+    const auto check_json = [](const MapCheck& m) {
+      return nlohmann::json{{"scans", m.scans}, {"beams", m.beams}, {"revisiting", m.revisiting_beams},
+                            {"crossing", m.crossing_beams}, {"share", m.crossing_share}, {"judged", m.judged},
+                            {"passed", m.passed}, {"worst", {m.worst_place.x(), m.worst_place.y()}},
+                            {"worst_crossings", m.worst_place_crossings}, {"worst_share", m.worst_place_share},
+                            {"places", [&] {
+                               nlohmann::json p = nlohmann::json::array();
+                               for (const MapCheck::Place& q : m.places)
+                                 if (q.revisiting >= 100) p.push_back({q.centre.x(), q.centre.y(), q.revisiting, q.crossing});
+                               return p;
+                             }()}};
+    };
+    out["map_check"] = check_json(r.map_check);
+    out["front_end_map_check"] = check_json(r.front_end_map_check);
+    out["check_seconds"] = r.check_s;
     out["verdict"] = r.back_end.verdict;
     out["reason"] = r.back_end.reason;
     out["seconds"] = seconds;

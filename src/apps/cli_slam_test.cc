@@ -42,6 +42,8 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_TRUE(verdict == "closed" || verdict == "open" || verdict == "doubtful" || verdict == "front end") << verdict;
   EXPECT_EQ(verdict, "closed");  // the simulated building closes its loops
   EXPECT_TRUE(j["trusted"].get<bool>());
+  EXPECT_TRUE(j["map_check"]["judged"].get<bool>());  // the building is driven twice
+  EXPECT_TRUE(j["map_check"]["passed"].get<bool>());
   EXPECT_GT(j["closures"]["used"].get<int>(), 10);
   EXPECT_LE(j["closures"]["used"].get<int>(), j["closures"]["offered"].get<int>());
   EXPECT_EQ(j["relations"]["slam"]["relations"].get<int>(), 0);
@@ -50,6 +52,29 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
                                       quoted(out / "corrected.log") + " --from 30 --to 32");
   EXPECT_EQ(located.exit_code, 0) << located.output;
   EXPECT_THAT(located.output, HasSubstr("robot in the map"));
+}
+
+// A map the program cannot vouch for is still written, with a warning, the verdict in slam.json and exit status 3
+// (README, "Exit status"). Forced here by a map check that tolerates no crossing beam at all: the simulated
+// building's map has a few (beams past a door's edge), so its check fails.
+TEST(CliSlam, AMapThatFailsItsCheckIsWrittenButExitsWithStatus3) {
+  const io::testing::TempDir dir;
+  std::ofstream(dir / "strict.yaml") << "map_check:\n  max_crossing_share: 0\n  min_revisiting_beams: 1\n";
+  const fs::path out = dir / "out";
+  const CliRun run = run_partslam("slam sim:2 --quiet --out " + quoted(out) + " --config " + quoted(dir / "strict.yaml"));
+  EXPECT_EQ(run.exit_code, 3) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("verdict: doubtful ("));
+  EXPECT_THAT(run.output, HasSubstr("cross a wall another visit saw"));
+  EXPECT_THAT(run.output, HasSubstr("partslam: warning: "));
+  for (const char* name : {"corrected.log", "map.yaml", "map.pgm", "map.png", "loops.json", "slam.json"})
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  std::ifstream in(out / "slam.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["verdict"], "doubtful");
+  EXPECT_FALSE(j["trusted"].get<bool>());
+  EXPECT_GT(j["map_check"]["crossing_beams"].get<int>(), 0);
+  EXPECT_FALSE(j["map_check"]["passed"].get<bool>());
+  EXPECT_TRUE(j["map_check"].contains("worst_place"));
 }
 
 // A ROS 2 bag wherever a log is accepted: the shared MCAP (fr079, odometry poses) cut to its first tenth (30 m of

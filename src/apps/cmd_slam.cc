@@ -58,6 +58,20 @@ std::string relations_text(const RelationsError& e) {
   return out.str();
 }
 
+// What the map check (core/slam/map_check.h) read and found.
+nlohmann::json map_check_json(const MapCheck& m, const MapCheckConfig& c) {
+  return {{"what", "beams of one visit that cross a wall another visit saw"},
+          {"scans", m.scans},
+          {"beams", m.beams},
+          {"revisiting_beams", m.revisiting_beams},
+          {"crossing_beams", m.crossing_beams},
+          {"crossing_share", m.crossing_share},
+          {"max_crossing_share", c.max_crossing_share},
+          {"judged", m.judged},
+          {"passed", m.passed},
+          {"worst_place", {{"x", m.worst_place.x()}, {"y", m.worst_place.y()}, {"crossing_beams", m.worst_place_crossings}}}};
+}
+
 nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
   const BackEndResult& b = r.back_end;
   return {{"log", o.log},
@@ -81,10 +95,12 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"chain_bends", b.chain_bends},
             {"max_chain_bend_m", b.max_chain_translation},
             {"max_chain_bend_deg", b.max_chain_rotation * kDegrees}}},
+          {"map_check", map_check_json(r.map_check, o.config.map_check)},
+          {"front_end_map_check", map_check_json(r.front_end_map_check, o.config.map_check)},
           {"verdict", b.verdict},
           {"trusted", b.trusted()},
           {"reason", b.reason},
-          {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}}}};
+          {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}, {"check", r.check_s}}}};
 }
 
 // DIR/map.yaml + map.pgm (map_server, occupancy by ray casting) and DIR/map.png showing the same grid, with the
@@ -135,7 +151,11 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << "pose graph: " << b.used_count << " closures used, " << b.rejected
             << " set aside (they disagree with the solution), cost " << std::setprecision(3) << b.graph.initial_cost
             << " -> " << b.graph.final_cost << " in " << b.rounds << " solves, " << std::setprecision(1) << r.graph_s
-            << " s\nverdict: " << b.verdict << (b.reason.empty() ? "" : " (" + b.reason + ")") << "\n";
+            << " s\nmap check: " << r.map_check.crossing_beams << " of " << r.map_check.revisiting_beams
+            << " beams that revisit a place cross a wall another visit saw ("
+            << (r.map_check.judged ? "" : "too few to judge, ") << std::setprecision(1)
+            << 100 * r.map_check.crossing_share << " %; the front end's map: " << 100 * r.front_end_map_check.crossing_share
+            << " %)\nverdict: " << b.verdict << (b.reason.empty() ? "" : " (" + b.reason + ")") << "\n";
   if (!b.trusted())
     std::cerr << "partslam: warning: " << o.log << ": the corrected map may be worse than the front end's ("
               << b.reason << ")" << (b.verdict == "front end" ? "; the front end's trajectory is written" : "")
@@ -203,6 +223,7 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   if (!o.relations.empty()) write_relations(o, dir, relations, source, r, summary);
   std::cout << "\n";
   io::write_atomically(dir / "slam.json", [&](std::ostream& out) { out << json_text(summary); });
+  if (!b.trusted()) throw ExitStatus{kExitUntrusted};  // written, with the warning above: not to be trusted
 }
 
 // A run that fails leaves no empty folder of its own making behind.

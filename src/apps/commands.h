@@ -6,6 +6,15 @@
 
 namespace partslam::apps {
 
+/// A command that wrote its results but cannot vouch for them (`slam` whose verdict is not trusted) throws this
+/// after its last write: main exits with `status`, printing nothing more (the command has said why).
+struct ExitStatus {
+  int status = 0;
+};
+
+/// The exit status of a `slam` run whose map was written but is not trusted (README, "Exit status").
+inline constexpr int kExitUntrusted = 3;
+
 void register_submaps(CLI::App& app);  // cmd_submaps.cc
 void register_dictionary(CLI::App& app);  // cmd_dictionary.cc
 void register_info(CLI::App& app);     // cmd_info.cc

@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::Success&) {  // --print-config: done
     return 0;
+  } catch (const partslam::apps::ExitStatus& e) {  // results written, and said not to be trusted
+    return e.status;
   } catch (const CLI::ParseError& e) {
     // Bad command lines fail like bad input: one prefixed line, exit code 1 (not CLI11's own codes).
     std::cerr << "partslam: error: " << e.what() << " (see 'partslam --help')\n";

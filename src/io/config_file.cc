@@ -40,6 +40,8 @@ void visit(V& v, FrontEndConfig& c) {
   v.field("min_score", c.min_score);
   v.field("degenerate_ratio", c.degenerate_ratio);
   v.field("jump_turn", c.jump_turn);
+  v.field("second_prediction", c.second_prediction);
+  v.field("second_margin", c.second_margin);
 }
 
 template <class V>
@@ -96,12 +98,29 @@ void visit(V& v, BackEndConfig& c) {
 }
 
 template <class V>
+void visit(V& v, MapCheckConfig& c) {
+  v.field("resolution", c.resolution);
+  v.field("max_range", c.max_range);
+  v.field("key_spacing", c.key_spacing);
+  v.field("min_gap", c.min_gap);
+  v.field("end_margin", c.end_margin);
+  v.field("min_hits", c.min_hits);
+  v.field("own_cells", c.own_cells);
+  v.field("place_size", c.place_size);
+  v.field("min_place_beams", c.min_place_beams);
+  v.field("max_crossing_share", c.max_crossing_share);
+  v.field("max_place_share", c.max_place_share);
+  v.field("min_revisiting_beams", c.min_revisiting_beams);
+}
+
+template <class V>
 void visit(V& v, SlamConfig& c) {
   v.section("front_end", c.front_end);
   v.section("submaps", c.submaps);
   v.section("loops", c.loops);
   v.field("min_confidence", c.min_confidence);
   v.section("back_end", c.back_end);
+  v.section("map_check", c.map_check);
 }
 
 template <class V>

@@ -1,5 +1,6 @@
 #include "core/slam/front_end.h"
 
+#include <algorithm>
 #include <cmath>
 #include <Eigen/Eigenvalues>
 #include <deque>
@@ -48,6 +49,19 @@ Pose2 keep_prediction_along(const Pose2& matched, const Pose2& prediction, const
   const Vec2 v = Eigen::Rotation2Dd(matched.theta) * weak_laser;
   const Vec2 t = matched.translation() + v * v.dot(prediction.translation() - matched.translation());
   return {t.x(), t.y(), matched.theta};
+}
+
+// The pose the front end's last step, continued at the same velocity, predicts for a scan `dt` after the previous
+// one: T_prev * (T_before^-1 T_prev)^(dt / dt_prev), the power taken on (x, y, theta) (a step is small). The
+// ratio is clamped to [0, 3] (stamps that stall or bunch); no step yet: the previous pose.
+Pose2 constant_velocity(const Scans& done, double timestamp) {
+  const Scan& prev = done.back();
+  if (done.size() < 2) return prev.T_world_laser;
+  const Scan& before = done[done.size() - 2];
+  const Pose2 step = before.T_world_laser.inverse() * prev.T_world_laser;
+  const double dt_prev = prev.timestamp - before.timestamp, dt = timestamp - prev.timestamp;
+  const double r = dt_prev > 0 && dt >= 0 ? std::clamp(dt / dt_prev, 0.0, 3.0) : 1.0;
+  return prev.T_world_laser * Pose2{r * step.x, r * step.y, r * step.theta};
 }
 
 bool moved(const Pose2& from, const Pose2& to, double translation, double rotation) {
@@ -99,6 +113,10 @@ void validate(const FrontEndConfig& c) {
   if (!(c.jump_turn > 0.0 && c.jump_turn <= 7.0)) throw InputError("front end config: jump_turn must be in (0, 7] rad");
   if (!(c.degenerate_ratio >= 0.0 && c.degenerate_ratio < 1.0))
     throw InputError("front end config: degenerate_ratio must be in [0, 1)");
+  if (!(c.second_prediction >= 0.0 && c.second_prediction <= 10.0))
+    throw InputError("front end config: second_prediction must be in [0, 10]");
+  if (!(c.second_margin >= 0.0 && c.second_margin <= 1.0))
+    throw InputError("front end config: second_margin must be in [0, 1]");
 }
 
 FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, const Progress& progress) {
@@ -128,8 +146,21 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
     const Points2 points = matching_points(scan, config);
     if (!result.scans.empty()) {
       const Scan& prev = result.scans.back();
-      const Pose2 prediction = prev.T_world_laser * (prev.T_world_odom.inverse() * scan.T_world_odom);
-      const ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
+      Pose2 prediction = prev.T_world_laser * (prev.T_world_odom.inverse() * scan.T_world_odom);
+      ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
+      if (config.second_prediction > 0) {
+        const Pose2 velocity = constant_velocity(result.scans, scan.timestamp);
+        const Pose2 d = prediction.inverse() * velocity;
+        if (d.translation().norm() > config.second_prediction * config.matcher.linear_window ||
+            std::abs(d.theta) > config.second_prediction * config.matcher.angular_window) {
+          ++stats.second_predictions;
+          const ScanMatch v = match_scan(local.field(), points, velocity, config.matcher);
+          if (v.score > m.score + config.second_margin) {
+            m = v, prediction = velocity;
+            ++stats.velocity_kept;
+          }
+        }
+      }
       if (m.score >= config.min_score) {
         out.T_world_laser = m.pose;
         if (config.fine_sigma > 0) {

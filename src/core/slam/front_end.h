@@ -26,6 +26,8 @@ struct FrontEndStats {
   std::size_t heading_jumps = 0;    ///< scans whose turn disagrees with the odometry's by more than jump_turn
   std::vector<std::size_t> jump_scans;  ///< the first 100 of them (indices into the result's scans)
   std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards
+  std::size_t second_predictions = 0;  ///< scans also matched from the constant-velocity prediction
+  std::size_t velocity_kept = 0;    ///< of those, scans whose constant-velocity match scored better (kept)
   bool odometry_moves = false;      ///< false when the odometry never moves (no odometry in the log)
   double mean_score = 0.0;          ///< over matched scans
   double seconds = 0.0;             ///< time spent

@@ -25,6 +25,14 @@ struct FrontEndConfig {
   /// Jump detector: a scan whose matched turn since the previous scan differs from the odometry's by more than
   /// this is counted as a heading jump (kept; reported, as a front end losing its heading shows) [rad].
   double jump_turn = 0.1;
+  /// Odometry that stalls and catches up (a pose repeated for a few scans while the robot moves, then one
+  /// increment of all the motion since: MIT CSAIL's raw log turns 1.2 rad while its odometry stands still, then
+  /// jumps 1.5 rad in one scan) puts the prediction outside the search window. When the front end's own motion
+  /// over the last step, carried forward at the same velocity, predicts a pose more than this share of the search
+  /// window away from the odometry's prediction, the scan is matched from both, and the second match is kept when
+  /// it scores at least second_margin higher (counted). 0 turns it off.
+  double second_prediction = 0.25;
+  double second_margin = 0.2;
 };
 
 /// Throws InputError naming the offending field when a value is out of range.

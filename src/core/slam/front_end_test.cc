@@ -126,6 +126,38 @@ TEST(FrontEnd, ReportsATurnThatDisagreesWithTheOdometry) {
   EXPECT_EQ(fe.stats.jump_scans.front(), 150u);
 }
 
+// Odometry that stalls and catches up, as MIT CSAIL's raw log does: the pose stands still for 15 scans while the
+// robot drives on (more than 1 m), then one increment carries all of it, far past the search window; the front
+// end's own velocity predicts the scan, and it is matched from that prediction too.
+TEST(FrontEnd, FollowsOdometryThatStallsAndCatchesUp) {
+  const RawLog log = simulated_raw_log(1.0);
+  Scans raw(log.raw.begin(), log.raw.begin() + 400);
+  const Scans truth(log.truth.begin(), log.truth.begin() + 400);
+  // Stalls of 15 scans every 60, each where the robot moves more than 1 m over them.
+  std::size_t stalls = 0;
+  for (std::size_t i = 50; i + 16 < raw.size(); i += 60) {
+    if ((truth[i + 15].T_world_laser.translation() - truth[i].T_world_laser.translation()).norm() < 1.0) continue;
+    for (std::size_t k = 1; k <= 15; ++k) raw[i + k].T_world_odom = raw[i].T_world_odom;
+    ++stalls;
+  }
+  ASSERT_GE(stalls, 3u);
+  for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
+  FrontEndConfig off;
+  off.second_prediction = 0;
+  const FrontEndResult with = scan_match_log(raw), without = scan_match_log(raw, off);
+  const auto index = testing::identity_index(raw.size());
+  const Consistency c_with = local_consistency(with.scans, truth, index);
+  const Consistency c_without = local_consistency(without.scans, truth, index);
+  EXPECT_GT(c_without.max, 0.5) << c_without.max;  // the premise: the stalls break the front end without it
+  EXPECT_LT(c_with.max, 0.15) << c_with.max;
+  EXPECT_GE(with.stats.velocity_kept, 1u);
+  EXPECT_LE(with.stats.velocity_kept, stalls);
+  EXPECT_EQ(without.stats.second_predictions, 0u);
+  // A log whose odometry never stalls hardly needs it: the same answer as without on most scans.
+  const FrontEndResult clean = scan_match_log(Scans(log.raw.begin(), log.raw.begin() + 400));
+  EXPECT_LT(clean.stats.velocity_kept, 40u);
+}
+
 TEST(FrontEnd, RefusesAbsurdConfigs) {
   FrontEndConfig c;
   c.local_map_scans = 0;
@@ -141,6 +173,9 @@ TEST(FrontEnd, RefusesAbsurdConfigs) {
   EXPECT_THROW(validate(c), InputError);
   c = {};
   c.matcher.sigma = 0;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.second_prediction = -0.1;
   EXPECT_THROW(validate(c), InputError);
   EXPECT_EQ(scan_match_log({}).scans.size(), 0u);
 }

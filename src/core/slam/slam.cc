@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <string>
 
 #include "core/error.h"
@@ -48,6 +50,7 @@ void validate(const SlamConfig& c) {
   if (!std::isfinite(c.min_confidence))
     throw InputError("slam config: min_confidence must be finite, got " + std::to_string(c.min_confidence));
   validate_nested("slam config", "back_end", [&] { validate(c.back_end); });
+  validate_nested("slam config", "map_check", [&] { validate(c.map_check); });
 }
 
 SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
@@ -79,6 +82,21 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   for (std::size_t k = 0; k < maps.size(); ++k) r.submaps[k].T_world_map = optimised[k];
   r.scans = corrected_scans(fe.scans, maps, r.submaps);
   r.graph_s = ms_since(t0) / 1e3;
+  t0 = Clock::now();
+  r.map_check = check_map(r.scans, config.map_check);
+  r.front_end_map_check = check_map(fe.scans, config.map_check);
+  r.check_s = ms_since(t0) / 1e3;
+  if (!r.map_check.passed && r.back_end.trusted()) {
+    std::ostringstream why;
+    const MapCheck& m = r.map_check;
+    why << std::fixed << std::setprecision(1) << 100 * m.crossing_share
+        << " % of the beams that revisit a place cross a wall another visit saw, " << 100 * m.worst_place_share
+        << " % near (" << m.worst_place.x() << ", " << m.worst_place.y() << ") (limits "
+        << 100 * config.map_check.max_crossing_share << " % and " << 100 * config.map_check.max_place_share
+        << " % at a place): a place drawn twice, or turned";
+    r.back_end.verdict = "doubtful";
+    r.back_end.reason = why.str();
+  }
   return r;
 }
 

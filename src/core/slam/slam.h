@@ -11,6 +11,7 @@
 #include "core/slam/back_end.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
+#include "core/slam/map_check.h"
 #include "core/slam/pose_graph.h"
 
 namespace partslam {
@@ -21,6 +22,7 @@ struct SlamConfig {
   LoopClosureConfig loops;
   double min_confidence = 0.2;  ///< closures at least this confident are offered to the back end
   BackEndConfig back_end;       ///< the graph's weights, which closures it keeps, the verdict (back_end.h)
+  MapCheckConfig map_check;     ///< the finished map against itself (map_check.h): a failed check is "doubtful"
 };
 
 /// Every part's validate, the failing field named by its path ("slam config: back_end.max_rounds must be ...").
@@ -36,7 +38,9 @@ struct SlamResult {
   std::vector<LoopClosure> offered;   ///< those closures, in the order of back_end.used
   FrontEndStats front_end;
   BackEndResult back_end;             ///< which closures were used, the graph's summary, the verdict
-  double front_end_s = 0, loops_s = 0, graph_s = 0;
+  MapCheck map_check;                 ///< of the corrected scans (map_check.h)
+  MapCheck front_end_map_check;       ///< of the front end's scans, for comparison
+  double front_end_s = 0, loops_s = 0, graph_s = 0, check_s = 0;
 };
 
 /// Called on the accepted closures before they join the graph (a bench injects wrong ones here).

@@ -1,0 +1,196 @@
+#include "core/slam/map_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/error.h"
+#include "core/maps/submap.h"
+
+namespace partslam {
+namespace {
+
+// Per cell: how many endpoints fell in it, and which visits they came from: bit (travel / min_gap) mod 64 (a run
+// longer than 64 gaps folds onto itself, which can only hide a crossing, never make one).
+struct Cell {
+  std::uint32_t hits = 0;
+  std::uint64_t visits = 0;
+};
+
+// The visits within one gap of a scan's own: its bucket and the two beside it.
+std::uint64_t own_visits(int bucket) {
+  const auto bit = [](int b) { return std::uint64_t{1} << (((b % 64) + 64) % 64); };
+  return bit(bucket - 1) | bit(bucket) | bit(bucket + 1);
+}
+
+class WallGrid {
+ public:
+  WallGrid(const Box2& box, double resolution) {
+    resolution_ = resolution;
+    const double cells = (box.x_max - box.x_min) * (box.y_max - box.y_min) / (resolution * resolution);
+    if (cells > kMaxCells) resolution_ *= std::sqrt(cells / kMaxCells);
+    x0_ = box.x_min, y0_ = box.y_min;
+    width_ = static_cast<int>(std::ceil((box.x_max - box.x_min) / resolution_)) + 1;
+    height_ = static_cast<int>(std::ceil((box.y_max - box.y_min) / resolution_)) + 1;
+    cells_.resize(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  }
+  double resolution() const { return resolution_; }
+  /// Grid coordinates (in cells, continuous) of a world point.
+  Vec2 grid(const Vec2& p) const { return {(p.x() - x0_) / resolution_, (p.y() - y0_) / resolution_}; }
+  Cell* at(int x, int y) {
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return nullptr;
+    return &cells_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)];
+  }
+  void hit(const Vec2& p, int bucket) {
+    const Vec2 g = grid(p);
+    if (Cell* c = at(static_cast<int>(g.x()), static_cast<int>(g.y()))) {
+      ++c->hits;
+      c->visits |= std::uint64_t{1} << (bucket % 64);
+    }
+  }
+
+ private:
+  static constexpr double kMaxCells = 16777216.0;  // 2^24 (16 bytes each)
+  double resolution_ = 0.1, x0_ = 0, y0_ = 0;
+  int width_ = 0, height_ = 0;
+  std::vector<Cell> cells_;
+};
+
+// Walks the cells of the segment a -> b (grid coordinates), Amanatides & Woo, calling visit(cell) on each until it
+// returns true; whether it did.
+template <typename Visit>
+bool walk(const Vec2& a, const Vec2& b, Visit&& visit) {
+  int x = static_cast<int>(std::floor(a.x())), y = static_cast<int>(std::floor(a.y()));
+  const int x_end = static_cast<int>(std::floor(b.x())), y_end = static_cast<int>(std::floor(b.y()));
+  const Vec2 d = b - a;
+  const int sx = d.x() > 0 ? 1 : -1, sy = d.y() > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double dx = d.x() != 0 ? std::abs(1.0 / d.x()) : inf, dy = d.y() != 0 ? std::abs(1.0 / d.y()) : inf;
+  double tx = d.x() != 0 ? ((sx > 0 ? std::floor(a.x()) + 1 - a.x() : a.x() - std::floor(a.x())) * dx) : inf;
+  double ty = d.y() != 0 ? ((sy > 0 ? std::floor(a.y()) + 1 - a.y() : a.y() - std::floor(a.y())) * dy) : inf;
+  const int steps = std::abs(x_end - x) + std::abs(y_end - y);
+  for (int i = 0; i <= steps; ++i) {
+    if (visit(x, y)) return true;
+    if (tx < ty) {
+      x += sx, tx += dx;
+    } else {
+      y += sy, ty += dy;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+void validate(const MapCheckConfig& c) {
+  const std::pair<double, const char*> positive[] = {{c.resolution, "resolution"}, {c.max_range, "max_range"},
+                                                     {c.key_spacing, "key_spacing"}, {c.min_gap, "min_gap"}};
+  for (const auto& [v, name] : positive)
+    if (!(v > 0) || !(v <= 1e4)) throw InputError(std::string("map check config: ") + name + " must be in (0, 10000]");
+  if (!(c.end_margin >= 0 && c.end_margin <= 100)) throw InputError("map check config: end_margin must be in [0, 100]");
+  if (c.min_hits < 1 || c.min_hits > 1000) throw InputError("map check config: min_hits must be in [1, 1000]");
+  if (c.min_place_beams < 1 || c.min_revisiting_beams < 1)
+    throw InputError("map check config: min_place_beams and min_revisiting_beams must be at least 1");
+  if (!(c.max_crossing_share >= 0 && c.max_crossing_share <= 1))
+    throw InputError("map check config: max_crossing_share must be in [0, 1]");
+  if (!(c.max_place_share >= 0 && c.max_place_share <= 1))
+    throw InputError("map check config: max_place_share must be in [0, 1]");
+  if (c.own_cells < 0 || c.own_cells > 10) throw InputError("map check config: own_cells must be in [0, 10]");
+  if (!(c.place_size > 0 && c.place_size <= 1000)) throw InputError("map check config: place_size must be in (0, 1000]");
+}
+
+MapCheck check_map(const Scans& scans, const MapCheckConfig& c) {
+  validate(c);
+  MapCheck out;
+  const std::vector<double> travel = travel_distances(scans);
+  std::vector<std::size_t> keys;
+  for (std::size_t i = 0; i < scans.size(); ++i)
+    if (keys.empty() || travel[i] - travel[keys.back()] >= c.key_spacing) keys.push_back(i);
+  out.scans = keys.size();
+  if (keys.empty()) return out;
+  Box2 box{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  std::vector<Points2> ends(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const Scan& s = scans[keys[k]];
+    ends[k] = points_world(s, c.max_range);
+    ends[k].push_back(s.T_world_laser.translation());  // the laser, last: the box holds every beam
+    for (const Vec2& p : ends[k]) {
+      box.x_min = std::min(box.x_min, p.x()), box.x_max = std::max(box.x_max, p.x());
+      box.y_min = std::min(box.y_min, p.y()), box.y_max = std::max(box.y_max, p.y());
+    }
+  }
+  WallGrid grid(box, c.resolution);
+  const auto bucket = [&](std::size_t k) { return static_cast<int>(travel[keys[k]] / c.min_gap); };
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    for (std::size_t j = 0; j + 1 < ends[k].size(); ++j) grid.hit(ends[k][j], bucket(k));
+
+  // A wall another visit saw, where this visit saw none (a beam grazing a wall that its own visit saw too is
+  // not a crossing).
+  const auto wall_of_another_visit = [&](int x, int y, std::uint64_t own) {
+    const Cell* cell = grid.at(x, y);
+    if (cell == nullptr || cell->hits < static_cast<std::uint32_t>(c.min_hits) || (cell->visits & ~own) == 0)
+      return false;
+    for (int dy = -c.own_cells; dy <= c.own_cells; ++dy)
+      for (int dx = -c.own_cells; dx <= c.own_cells; ++dx)
+        if (const Cell* n = grid.at(x + dx, y + dy); n != nullptr && (n->visits & own) != 0) return false;
+    return true;
+  };
+  const auto seen_by_another_visit = [&](int x, int y, std::uint64_t own) {
+    const Cell* cell = grid.at(x, y);
+    return cell != nullptr && (cell->visits & ~own) != 0;
+  };
+  std::map<std::pair<int, int>, std::pair<std::size_t, std::size_t>> places;  // revisiting, crossing per square
+  const double margin_cells = c.end_margin / grid.resolution();
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::uint64_t own = own_visits(bucket(k));
+    const Vec2 laser = grid.grid(ends[k].back());
+    for (std::size_t j = 0; j + 1 < ends[k].size(); ++j) {
+      ++out.beams;
+      const Vec2 end = grid.grid(ends[k][j]);
+      const double length = (end - laser).norm();
+      // The endpoint agrees with another visit when it lands on (or next to) that visit's wall.
+      bool agrees = false;
+      const int ex = static_cast<int>(end.x()), ey = static_cast<int>(end.y());
+      for (int dy = -1; dy <= 1 && !agrees; ++dy)
+        for (int dx = -1; dx <= 1 && !agrees; ++dx) agrees = seen_by_another_visit(ex + dx, ey + dy, own);
+      bool crosses = false;
+      if (length > margin_cells) {
+        const Vec2 stop = laser + (end - laser) * ((length - margin_cells) / length);
+        crosses = walk(laser, stop, [&](int x, int y) { return wall_of_another_visit(x, y, own); });
+      }
+      if (!agrees && !crosses) continue;
+      ++out.revisiting_beams;
+      const Vec2& p = ends[k].back();  // the robot's place
+      auto& place = places[{static_cast<int>(std::floor(p.x() / c.place_size)),
+                            static_cast<int>(std::floor(p.y() / c.place_size))}];
+      ++place.first;
+      if (!crosses) continue;
+      ++out.crossing_beams;
+      ++place.second;
+    }
+  }
+  for (const auto& [square, n] : places) {
+    const Vec2 centre((square.first + 0.5) * c.place_size, (square.second + 0.5) * c.place_size);
+    out.places.push_back({centre, n.first, n.second});
+    if (n.first < static_cast<std::size_t>(c.min_place_beams)) continue;
+    const double share = static_cast<double>(n.second) / static_cast<double>(n.first);
+    if (share <= out.worst_place_share) continue;
+    out.worst_place_share = share;
+    out.worst_place_crossings = n.second;
+    out.worst_place = centre;
+  }
+  out.crossing_share = out.revisiting_beams > 0
+                           ? static_cast<double>(out.crossing_beams) / static_cast<double>(out.revisiting_beams)
+                           : 0.0;
+  out.judged = out.revisiting_beams >= static_cast<std::size_t>(c.min_revisiting_beams);
+  out.passed = !out.judged || (out.crossing_share <= c.max_crossing_share && out.worst_place_share <= c.max_place_share);
+  return out;
+}
+
+}  // namespace partslam
