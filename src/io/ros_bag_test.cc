@@ -318,6 +318,16 @@ TEST(RosBag, AppliesTheLaserMountFromTfStatic) {
 
 // Bags whose lengths and offsets lie, as fuzz_ros_bag made them: librosbag trusted each of them (allocating up to
 // 4 GB, or reading past its buffers); they are refused as not readable bags, naming the file, before it sees them.
+// Three scans of three ranges each, one odometry message before each: the small good bag the damage tests spoil.
+rosbag_messages::BagMessages three_scans() {
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 3; ++k) {
+    m.odometry.push_back({10.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
+    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}, "laser"});
+  }
+  return m;
+}
+
 // Where the first entry of the first index data record (op 4) of a bag's bytes lies, found by walking the top-level
 // records: an entry is a time (sec, nsec: 8 bytes) and the message's offset in its chunk (4 bytes). 0 if none.
 std::size_t first_index_entry(const std::string& bag) {
@@ -336,11 +346,7 @@ std::size_t first_index_entry(const std::string& bag) {
 
 TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
   testing::TempDir dir;
-  rosbag_messages::BagMessages m;
-  for (int k = 0; k < 3; ++k) {
-    m.odometry.push_back({10.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
-    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}, "laser"});
-  }
+  const rosbag_messages::BagMessages m = three_scans();
   rosbag_messages::write_bag_messages((dir / "good.bag").string(), m, /*as_tf=*/false);
   rosbag_messages::write_bag_messages((dir / "good-tf.bag").string(), m, /*as_tf=*/true);
   ASSERT_EQ(read_ros_bag(dir / "good.bag").scans.size(), 3u);
@@ -443,11 +449,7 @@ TEST(RosBag, LyingLengthsAndOffsetsAreRefusedBeforeLibrosbagReadsThem) {
 // damage, named with where it is; skip_damaged reads the chunks without the index.
 TEST(RosBag, ATimeOutOfRosRangeIsDamageNamedWhereItIs) {
   testing::TempDir dir;
-  rosbag_messages::BagMessages m;
-  for (int k = 0; k < 3; ++k) {
-    m.odometry.push_back({10.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
-    m.scans.push_back({10.5 + k, -1.5, 0.5, 0.1, 30.0, {1.5f, 2.5f, 3.5f}, "laser"});
-  }
+  const rosbag_messages::BagMessages m = three_scans();
   rosbag_messages::write_bag_messages((dir / "good.bag").string(), m, /*as_tf=*/false);
   const std::string good = testing::read_bytes(dir / "good.bag");
   const std::uint32_t bad_time[2] = {0xfffffffeu, 4077344295u};  // the finding's: sec 2^32 - 2, nsec > 1e9
