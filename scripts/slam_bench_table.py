@@ -45,8 +45,49 @@ def label(r):
     return f'{name} {what} inject {r["inject"]:g}{" forced" if r.get("forced") else ""}'
 
 
+# Published relation errors of Cartographer on the same relations (Hess et al. 2016; mit-csail as quoted in the
+# tracker), translation [m].
+CARTOGRAPHER = {"mit-csail": 0.032, "fr079": 0.0452, "intel": 0.0229, "aces": 0.0375}
+
+
+def peers_table(rows, path):
+    """The raw logs first: slam's clean run beside MRPT's peers (scripts/mrpt-peers.sh, mrpt_peers.jsonl beside
+    the runs) and Cartographer's published figure."""
+    peers_file = os.path.join(os.path.dirname(path), "mrpt_peers.jsonl")
+    peers = {}
+    if os.path.exists(peers_file):
+        for line in open(peers_file):
+            if line.strip():
+                p = json.loads(line)
+                peers[(p["log"], p["peer"])] = p
+    print("| raw log | slam | slam time | MRPT rbpf-slam (ICP) | its time | MRPT icp-slam | its time | Cartographer |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        if r["kind"] != "raw" or r["inject"] != 0:
+            continue
+        log = os.path.basename(r["log"]).split(".")[0]
+        slam, _ = err(r["slam"])
+        cells = []
+        for peer in ("rbpf-slam", "icp-slam"):
+            p = peers.get((log, peer))
+            if p is None:
+                cells += ["not run", "-"]
+            elif p["status"] != "ok":
+                cells += [p["status"], f'{p["wall_s"]:.0f} s']
+            elif "trans_mean_m" not in p:
+                cells += ["no relations", f'{p["wall_s"]:.0f} s']
+            else:
+                cells += [f'{p["trans_mean_m"]:.3f} ± {p["trans_std_m"]:.3f} m, {p["rot_mean_deg"]:.2f}°',
+                          f'{p["wall_s"]:.0f} s']
+        carto = f'{CARTOGRAPHER[log]} m' if log in CARTOGRAPHER else "-"
+        print(f'| {log} | {slam}, {r.get("verdict", "-")} | {r["seconds"]:.1f} s | {" | ".join(cells)} | {carto} |')
+    print("\n(slam: one thread, its whole run; the peers: the whole process under `nice`, one at a time, beside "
+          "other work. fr101 has no relations file: slam's figure uses relations built from its corrected twin.)\n")
+
+
 def main(path):
     rows = [json.loads(line) for line in open(path) if line.strip()]
+    peers_table(rows, path)
     print("| input | odometry | injected wrong closures | relations | slam | odometry | front end only | closures offered "
           "| injected (used) | map check: crossing beams, all / worst place | verdict | time |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")

@@ -30,6 +30,7 @@ const std::map<std::string, LogFacts> kLogs = {
     {"corrected/infinite-corridor-corrected.log.gz", {1941, 18191}},
     {"corrected/orebro-corrected.log.gz", {237, 255}},
     {"corrected/seattle-corrected.log.gz", {241, 19311}},
+    {"csail/mit-csail.clf.gz", {1988, 0}},  // FLASER only: the pose fields carry the odometry
     {"fr079/fr079-corrected.log.gz", {4791, 9725}},
     {"fr079/fr079.clf.gz", {4934, 8951}},
     {"fr101/fr101-corrected.log.gz", {292, 4569}},
