@@ -15,7 +15,7 @@
 # The raw logs come first: mit-csail (a building nothing here was tuned on, judged by its relations alone: its
 # twin is kept elsewhere), fr079, intel, aces, fr101.
 # Usage: scripts/slam-bench.sh; LEVELS="mild harsh" SEEDS="1 2 3" INJECT="0.1 0.3 0.5" FORCE="0.3f" LOGS="..." RAW="..."
-# SIMS="..." narrow it
+# SIMS="..." PEERS="rbpf-slam icp-slam" (or "" to skip MRPT) narrow it
 # (LOGS: names of corrected logs, e.g. "orebro fr079"). Needs ../shared/data and build/slam_bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,7 +40,7 @@ RAW=${RAW-mit-csail fr079 intel aces fr101}
 SIMS=${SIMS-corridors hall long-range}
 mkdir -p "$OUT"
 TMP=$(mktemp)
-trap 'rm -f "$TMP"' EXIT
+trap 'rm -f "$TMP" "$TMP.peers"' EXIT
 run() {
   echo "== slam_bench $*" >&2
   "$BIN" "$@" >> "$TMP"
@@ -66,6 +66,13 @@ for sim in $SIMS; do
   for level in $LEVELS; do run sim "$sim" "$level" "${first:-1}"; done
   for f in $INJECT $FORCE; do run sim "$sim" harsh "${first:-1}" "$f"; done
 done
+# MRPT's peers on the raw logs (rbpf-slam with its ICP configuration, icp-slam; scripts/mrpt-peers.sh), PEERS=""
+# skips them (the committed mrpt_peers.jsonl is then kept).
+PEERS=${PEERS-rbpf-slam icp-slam}
+if [ -n "$PEERS" ]; then
+  PEERS="$PEERS" bash scripts/mrpt-peers.sh $RAW > "$TMP.peers"
+  mv "$TMP.peers" "$OUT/mrpt_peers.jsonl"
+fi
 mv "$TMP" "$OUT/slam_bench.jsonl"
 trap - EXIT
 /usr/bin/python3 scripts/slam_bench_table.py "$OUT/slam_bench.jsonl" > "$OUT/slam_bench.md"
