@@ -67,9 +67,14 @@ nlohmann::json map_check_json(const MapCheck& m, const MapCheckConfig& c) {
           {"crossing_beams", m.crossing_beams},
           {"crossing_share", m.crossing_share},
           {"max_crossing_share", c.max_crossing_share},
+          {"worst_place",
+           {{"x", m.worst_place.x()},
+            {"y", m.worst_place.y()},
+            {"crossing_beams", m.worst_place_crossings},
+            {"crossing_share", m.worst_place_share}}},
+          {"max_place_share", c.max_place_share},
           {"judged", m.judged},
-          {"passed", m.passed},
-          {"worst_place", {{"x", m.worst_place.x()}, {"y", m.worst_place.y()}, {"crossing_beams", m.worst_place_crossings}}}};
+          {"passed", m.passed}};
 }
 
 nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
@@ -103,18 +108,28 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
           {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}, {"check", r.check_s}}}};
 }
 
-// DIR/map.yaml + map.pgm (map_server, occupancy by ray casting) and DIR/map.png showing the same grid, with the
-// odometry's map beside it when asked.
-void write_maps(const std::filesystem::path& dir, const Scans& corrected, const Scans& raw, const std::string& title,
+// The laser's positions along a log: the path drawn over its map.
+Points2 laser_path(const Scans& scans) {
+  Points2 path;
+  for (const Scan& s : scans) path.push_back(s.T_world_laser.translation());
+  return path;
+}
+
+// DIR/map.yaml + map.pgm (map_server, occupancy by ray casting) and DIR/map.png showing the same grid with the
+// robot's path (start green, end red) and, when the map check failed, its worst place circled; the odometry's map
+// and path beside it when asked.
+void write_maps(const std::filesystem::path& dir, const SlamResult& r, const Scans& raw, const std::string& title,
                 bool compare) {
-  const GridMap map = build_grid_map(corrected);
+  const GridMap map = build_grid_map(r.scans);
   io::write_map_yaml(dir / "map.yaml", map);
-  std::vector<plot::TitledGrid> grids{{&map, title}};
+  Points2 marks;
+  if (!r.map_check.passed) marks.push_back(r.map_check.worst_place);
+  std::vector<plot::TitledGrid> grids{{&map, title, laser_path(r.scans), marks}};
   GridMap odometry;
   if (compare) {
     try {
       odometry = build_grid_map(raw);
-      grids.push_back({&odometry, "odometry"});
+      grids.push_back({&odometry, "odometry", laser_path(raw), {}});
     } catch (const InputError& e) {
       std::cerr << "partslam: warning: the odometry's map is not drawn: " << e.what() << "\n";
     }
@@ -213,7 +228,7 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   print_summary(o, source, r);
   const BackEndResult& b = r.back_end;
   io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
-  write_maps(dir, r.scans, source.scans,
+  write_maps(dir, r, source.scans,
              source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")",
              o.compare);
   io::write_atomically(dir / "loops.json", [&](std::ostream& out) { out << json_text(loops_json(o, r)); });

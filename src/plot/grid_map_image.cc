@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <tuple>
 
 #include "core/error.h"
 #include "plot/png_file.h"
@@ -24,6 +25,42 @@ CellState block_state(const GridMap& m, int column, int row, int f) {
       if (c == CellState::kFree) s = c;
     }
   return s;
+}
+
+// The path (a blue line, a green dot at its start, a red one at its end) and the marks (red circles) of one grid,
+// drawn at column `left`, shrunk by f: a map-frame point's cell is origin^-1 * p / resolution, row 0 at the bottom.
+void draw_overlays(cairo_t* cr, const TitledGrid& g, int left, int f) {
+  const GridMap& m = *g.map;
+  const int h = (m.height + f - 1) / f;
+  const Pose2 to_grid = m.origin.inverse();
+  const auto pixel = [&](const Vec2& p) {
+    const Vec2 c = to_grid * p / (m.resolution * f);
+    return Vec2(left + c.x(), kGridTitleHeight + h - c.y());
+  };
+  if (!g.path.empty()) {
+    cairo_set_source_rgb(cr, 0.1, 0.35, 0.9);
+    cairo_set_line_width(cr, 1.0);
+    for (std::size_t i = 0; i < g.path.size(); ++i) {
+      const Vec2 q = pixel(g.path[i]);
+      if (i == 0) cairo_move_to(cr, q.x(), q.y());
+      else cairo_line_to(cr, q.x(), q.y());
+    }
+    cairo_stroke(cr);
+    for (const auto& [p, r, gr, b] : {std::tuple{g.path.front(), 0.0, 0.7, 0.0}, std::tuple{g.path.back(), 0.85, 0.0, 0.0}}) {
+      const Vec2 q = pixel(p);
+      cairo_set_source_rgb(cr, r, gr, b);
+      cairo_arc(cr, q.x(), q.y(), 4.0, 0, 2 * 3.14159265358979);
+      cairo_fill(cr);
+    }
+  }
+  cairo_set_source_rgb(cr, 0.85, 0.0, 0.0);
+  cairo_set_line_width(cr, 2.0);
+  for (const Vec2& p : g.marks) {
+    const Vec2 q = pixel(p);
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, q.x(), q.y(), 12.0, 0, 2 * 3.14159265358979);
+    cairo_stroke(cr);
+  }
 }
 
 }  // namespace
@@ -67,6 +104,7 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
       }
     }
     cairo_surface_mark_dirty(surface);
+    draw_overlays(cr, g, left, f);
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, 14);

@@ -14,11 +14,16 @@ namespace partslam::plot {
 struct TitledGrid {
   const GridMap* map = nullptr;
   std::string title;
+  /// The robot's way through the map (map frame), drawn as a blue line with its start green and its end red.
+  Points2 path;
+  /// Places to look at (map frame; e.g. where `slam`'s map check failed), circled in red.
+  Points2 marks;
 };
 
 /// Writes the grids side by side as a PNG, atomically, shrunk by a whole factor so the picture is at most
-/// max_side pixels wide and high (a block of cells is occupied when any of its cells is, else free when any is).
-/// Throws InputError for no grid, an invalid one, or a PNG that cannot be written.
+/// max_side pixels wide and high (a block of cells is occupied when any of its cells is, else free when any is),
+/// each grid's path and marks drawn over it. Throws InputError for no grid, an invalid one, or a PNG that cannot
+/// be written.
 void write_grid_maps_png(const std::filesystem::path& path, const std::vector<TitledGrid>& grids, int max_side = 2000);
 
 }  // namespace partslam::plot

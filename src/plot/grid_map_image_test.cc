@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <tuple>
 
 #include "core/error.h"
 #include "plot/testing/pixels.h"
@@ -29,7 +30,7 @@ GridMap test_grid() {
 TEST(GridMapImage, DrawsFreeOccupiedAndUnknownNorthUpSideBySide) {
   const fs::path png = fs::temp_directory_path() / ("partslam_grid_" + std::to_string(::getpid()) + ".png");
   const GridMap a = test_grid(), b = test_grid();
-  write_grid_maps_png(png, {{&a, "slam"}, {&b, "odometry"}});
+  write_grid_maps_png(png, {{&a, "slam", {}, {}}, {&b, "odometry", {}, {}}});
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
   EXPECT_EQ(cairo_image_surface_get_width(s), 200);  // 40 + 16 + 40, widened to 200
@@ -45,7 +46,7 @@ TEST(GridMapImage, DrawsFreeOccupiedAndUnknownNorthUpSideBySide) {
 TEST(GridMapImage, ShrinksLargeGridsKeepingOccupiedCells) {
   const fs::path png = fs::temp_directory_path() / ("partslam_grid_small_" + std::to_string(::getpid()) + ".png");
   const GridMap a = test_grid();
-  write_grid_maps_png(png, {{&a, ""}}, 20);  // 40 columns into 20 pixels: blocks of 2 x 2
+  write_grid_maps_png(png, {{&a, "", {}, {}}}, 20);  // 40 columns into 20 pixels: blocks of 2 x 2
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
   EXPECT_EQ(pixel(s, 15, 24 + 9), 0x000000u);  // cell (30, 0) in block (15, 0), the last of 10 rows
@@ -53,6 +54,37 @@ TEST(GridMapImage, ShrinksLargeGridsKeepingOccupiedCells) {
   fs::remove(png);
   EXPECT_THROW(write_grid_maps_png(png, {}), InputError);
   EXPECT_FALSE(fs::exists(png));
+}
+
+// The robot's path over the grid: blue along it, its start green, its end red; a marked place circled in red.
+TEST(GridMapImage, DrawsThePathItsEndsAndMarkedPlaces) {
+  const fs::path png = fs::temp_directory_path() / ("partslam_grid_path_" + std::to_string(::getpid()) + ".png");
+  GridMap a = test_grid();
+  a.resolution = 1.0;  // a cell a metre: map-frame metres are pixels
+  const TitledGrid g{&a, "slam", {Vec2(2.5, 10.5), Vec2(17.5, 10.5)}, {Vec2(30.5, 10.5)}};
+  write_grid_maps_png(png, {g});
+  cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
+  ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+  const auto rgb = [&](int x, int y) {
+    const std::uint32_t p = pixel(s, x, y);
+    return std::tuple{static_cast<int>(p >> 16 & 0xFF), static_cast<int>(p >> 8 & 0xFF), static_cast<int>(p & 0xFF)};
+  };
+  const auto [r1, g1, b1] = rgb(10, 24 + 9);  // the middle of the path (row 10.5 from the bottom of 20)
+  EXPECT_GT(b1, 150);
+  EXPECT_LT(r1, 100);
+  const auto [r2, g2, b2] = rgb(2, 24 + 9);  // its start
+  EXPECT_GT(g2, 120);
+  EXPECT_LT(r2, 100);
+  const auto [r3, g3, b3] = rgb(17, 24 + 9);  // its end
+  EXPECT_GT(r3, 150);
+  EXPECT_LT(g3, 100);
+  const auto [r4, g4, b4] = rgb(30, 24 + 9 - 12);  // the top of the circle around the mark
+  EXPECT_GT(r4, 150);
+  EXPECT_LT(b4, 100);
+  EXPECT_EQ(pixel(s, 30, 24 + 9), 0xB4B4B4u);  // inside the circle the map shows through
+  (void)g1, (void)b2, (void)b3, (void)g4;
+  cairo_surface_destroy(s);
+  fs::remove(png);
 }
 
 }  // namespace

@@ -3,7 +3,10 @@
 // last few key scans (scan_matcher.h), seeded by the odometry increment since the previous scan:
 //   prediction_i = T_world_laser(i-1) * odom(i-1)^-1 * odom(i),   T_world_laser(i) = match(local map, scan i).
 // A scan becomes a key scan (and joins the local map, oldest key scan out) after key_translation of travel or
-// key_rotation of turn since the last key scan, as Cartographer's motion filter does. A match scoring below
+// key_rotation of turn since the last key scan, as Cartographer's motion filter does. Where the front end's own
+// last step, continued at the same velocity, predicts a pose far from the odometry's (odometry that stalls and
+// catches up), the scan is matched from that prediction too, and that match kept when it scores clearly better
+// (FrontEndConfig::second_prediction, second_margin). A match scoring below
 // min_score is rejected and the prediction kept (counted); a scan whose surfaces leave one direction of translation
 // unconstrained (a bare corridor) keeps the prediction along it (counted). Scans whose timestamp goes backwards are dropped
 // (counted). The first scan keeps its odometry pose, so the trajectory lives in the odometry frame.
