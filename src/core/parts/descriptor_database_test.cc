@@ -7,19 +7,14 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/testing/parts.h"
 
 namespace partslam {
 namespace {
 
 constexpr Matcher kMatchers[] = {Matcher::kMaxMax, Matcher::kSumMax, Matcher::kSumMaxWeighted};
 
-Part part(const Box2& descriptor_box, double as = 1.0) {
-  Part p;
-  p.descriptor_box = descriptor_box;
-  p.keypoint_box = {0, descriptor_box.width(), 0, descriptor_box.height()};
-  p.appearance_score = as;
-  return p;
-}
+using testing::part;
 
 // A box on the 0.1 m grid, sides 0.1..12.8 m, somewhere on a 60 m x 40 m dictionary.
 Box2 random_box(std::mt19937& rng, double cx, double cy, double spread) {

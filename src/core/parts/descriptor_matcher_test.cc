@@ -5,17 +5,12 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/testing/parts.h"
 
 namespace partslam {
 namespace {
 
-Part part(const Box2& descriptor_box, double as = 1.0) {
-  Part p;
-  p.descriptor_box = descriptor_box;
-  p.keypoint_box = {0, descriptor_box.width(), 0, descriptor_box.height()};
-  p.appearance_score = as;
-  return p;
-}
+using testing::part;
 
 TEST(RegionSimilarity, KnownAnswers) {
   const Box2 a{0, 2, 0, 2};
