@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/maps/cell_walk.h"
 
 namespace partslam {
 namespace {
@@ -62,25 +63,20 @@ GridMap build_grid_map(const Scans& scans, const GridMapConfig& config) {
   const auto index = [&](int cx, int cy) { return static_cast<std::size_t>(cy) * map.width + cx; };
   for (const Scan& s : scans) {
     const Vec2 o = s.T_world_laser.translation();
-    const double ox = (o.x() - map.origin.x) / r, oy = (o.y() - map.origin.y) / r;
+    const Vec2 laser((o.x() - map.origin.x) / r, (o.y() - map.origin.y) / r);
     for (const Vec2& p : points_world(s, config.max_range)) {
-      const double ex = (p.x() - map.origin.x) / r, ey = (p.y() - map.origin.y) / r;
-      // Cells crossed from the laser to the endpoint (Amanatides & Woo's traversal), the end cell excluded.
-      int cx = static_cast<int>(std::floor(ox)), cy = static_cast<int>(std::floor(oy));
-      const int end_x = static_cast<int>(std::floor(ex)), end_y = static_cast<int>(std::floor(ey));
-      const double dx = ex - ox, dy = ey - oy;
-      const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
-      const double t_dx = dx != 0 ? std::abs(1.0 / dx) : INFINITY, t_dy = dy != 0 ? std::abs(1.0 / dy) : INFINITY;
-      double t_x = dx != 0 ? (dx > 0 ? (cx + 1 - ox) : (ox - cx)) * t_dx : INFINITY;
-      double t_y = dy != 0 ? (dy > 0 ? (cy + 1 - oy) : (oy - cy)) * t_dy : INFINITY;
-      for (int guard = std::abs(end_x - cx) + std::abs(end_y - cy); guard > 0 && (cx != end_x || cy != end_y); --guard) {
+      const Vec2 end((p.x() - map.origin.x) / r, (p.y() - map.origin.y) / r);
+      // Cells crossed from the laser to the endpoint, the end cell excluded: the walk's first `steps` cells, up to
+      // the end cell if it comes sooner.
+      const int end_x = static_cast<int>(std::floor(end.x())), end_y = static_cast<int>(std::floor(end.y()));
+      const int steps = std::abs(end_x - static_cast<int>(std::floor(laser.x()))) +
+                        std::abs(end_y - static_cast<int>(std::floor(laser.y())));
+      int visited = 0;
+      walk_cells(laser, end, [&](int cx, int cy) {
+        if (visited++ == steps || (cx == end_x && cy == end_y)) return true;
         ++passes[index(cx, cy)];
-        if (t_x < t_y) {
-          cx += step_x, t_x += t_dx;
-        } else {
-          cy += step_y, t_y += t_dy;
-        }
-      }
+        return false;
+      });
       ++hits[index(end_x, end_y)];
     }
   }

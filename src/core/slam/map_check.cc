@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/maps/cell_walk.h"
 #include "core/maps/submap.h"
 
 namespace partslam {
@@ -22,11 +23,11 @@ struct Cell {
   std::uint64_t visits = 0;
 };
 
+// A visit's bit in Cell::visits.
+std::uint64_t visit_bit(int bucket) { return std::uint64_t{1} << (((bucket % 64) + 64) % 64); }
+
 // The visits within one gap of a scan's own: its bucket and the two beside it.
-std::uint64_t own_visits(int bucket) {
-  const auto bit = [](int b) { return std::uint64_t{1} << (((b % 64) + 64) % 64); };
-  return bit(bucket - 1) | bit(bucket) | bit(bucket + 1);
-}
+std::uint64_t own_visits(int bucket) { return visit_bit(bucket - 1) | visit_bit(bucket) | visit_bit(bucket + 1); }
 
 class WallGrid {
  public:
@@ -50,7 +51,7 @@ class WallGrid {
     const Vec2 g = grid(p);
     if (Cell* c = at(static_cast<int>(g.x()), static_cast<int>(g.y()))) {
       ++c->hits;
-      c->visits |= std::uint64_t{1} << (bucket % 64);
+      c->visits |= visit_bit(bucket);
     }
   }
 
@@ -60,30 +61,6 @@ class WallGrid {
   int width_ = 0, height_ = 0;
   std::vector<Cell> cells_;
 };
-
-// Walks the cells of the segment a -> b (grid coordinates), Amanatides & Woo, calling visit(cell) on each until it
-// returns true; whether it did.
-template <typename Visit>
-bool walk(const Vec2& a, const Vec2& b, Visit&& visit) {
-  int x = static_cast<int>(std::floor(a.x())), y = static_cast<int>(std::floor(a.y()));
-  const int x_end = static_cast<int>(std::floor(b.x())), y_end = static_cast<int>(std::floor(b.y()));
-  const Vec2 d = b - a;
-  const int sx = d.x() > 0 ? 1 : -1, sy = d.y() > 0 ? 1 : -1;
-  const double inf = std::numeric_limits<double>::infinity();
-  const double dx = d.x() != 0 ? std::abs(1.0 / d.x()) : inf, dy = d.y() != 0 ? std::abs(1.0 / d.y()) : inf;
-  double tx = d.x() != 0 ? ((sx > 0 ? std::floor(a.x()) + 1 - a.x() : a.x() - std::floor(a.x())) * dx) : inf;
-  double ty = d.y() != 0 ? ((sy > 0 ? std::floor(a.y()) + 1 - a.y() : a.y() - std::floor(a.y())) * dy) : inf;
-  const int steps = std::abs(x_end - x) + std::abs(y_end - y);
-  for (int i = 0; i <= steps; ++i) {
-    if (visit(x, y)) return true;
-    if (tx < ty) {
-      x += sx, tx += dx;
-    } else {
-      y += sy, ty += dy;
-    }
-  }
-  return false;
-}
 
 }  // namespace
 
@@ -162,7 +139,7 @@ MapCheck check_map(const Scans& scans, const MapCheckConfig& c) {
       bool crosses = false;
       if (length > margin_cells) {
         const Vec2 stop = laser + (end - laser) * ((length - margin_cells) / length);
-        crosses = walk(laser, stop, [&](int x, int y) { return wall_of_another_visit(x, y, own); });
+        crosses = walk_cells(laser, stop, [&](int x, int y) { return wall_of_another_visit(x, y, own); });
       }
       if (!agrees && !crosses) continue;
       ++out.revisiting_beams;
