@@ -23,7 +23,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench readme-usage clean
+.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench readme-usage design-layers clean
 
 all: build
 
@@ -70,6 +70,10 @@ slam-bench: build
 # The README's usage block, rewritten from `partslam CMD --help` (the ctest readme.usage checks they agree).
 readme-usage: build
 	/usr/bin/python3 scripts/readme-usage.py $(BUILD)/partslam README.md
+
+# docs/DESIGN.md's layers block, rewritten from scripts/check-layers.sh (the ctest design.layers_are_current).
+design-layers:
+	/usr/bin/python3 scripts/design_layers.py docs/DESIGN.md src
 
 clean:
 	rm -rf $(BUILD) $(SANITIZE_BUILD) $(FUZZ_BUILD)

@@ -12,7 +12,7 @@
 #include "core/maps/dictionary.h"
 #include "core/sim/simulator.h"
 #include "core/maps/submap.h"
-#include "io/carmen_log.h"
+#include "io/logs/carmen_log.h"
 
 namespace partslam {
 namespace {

@@ -31,7 +31,7 @@
 #include "core/parts/descriptor_database.h"
 #include "core/parts/part_codec.h"
 #include "core/sim/simulator.h"
-#include "io/carmen_log.h"
+#include "io/logs/carmen_log.h"
 
 namespace partslam {
 namespace {

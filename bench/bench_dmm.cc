@@ -22,7 +22,7 @@
 #include "core/matching/dmm_ransac.h"
 #include "core/sim/simulator.h"
 #include "core/evaluation/tasks.h"
-#include "io/carmen_log.h"
+#include "io/logs/carmen_log.h"
 
 namespace partslam {
 namespace {

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "io/carmen_log.h"
-#include "io/relations.h"
+#include "io/logs/carmen_log.h"
+#include "io/logs/relations.h"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "io/map_database.h"
+#include "io/store/map_database.h"
 
 namespace {
 

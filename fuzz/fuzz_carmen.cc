@@ -1,7 +1,7 @@
-// libFuzzer target: CARMEN logs (io/carmen_log.h: FLASER, ROBOTLASER1, ODOM, comments, other messages), the input
-// being the whole file (plain text; gzip is fuzz_gzip's).
+// libFuzzer target: CARMEN logs (io/logs/carmen_log.h: FLASER, ROBOTLASER1, ODOM, comments, other messages), the
+// input being the whole file (plain text; gzip is fuzz_gzip's).
 #include "fuzz/fuzz_common.h"
-#include "io/carmen_log.h"
+#include "io/logs/carmen_log.h"
 
 namespace partslam::fuzz {
 

@@ -1,8 +1,8 @@
-// libFuzzer target: the settings files of `slam`, `loops` and `locate` (--config FILE.yaml, io/config_file.h). Byte 0
-// picks the command (modulo 3), the rest is the file. A file that reads must round-trip as --print-config promises:
-// config_yaml of what it set reads back (no InputError) to the same YAML text.
+// libFuzzer target: the settings files of `slam`, `loops` and `locate` (--config FILE.yaml,
+// io/formats/config_file.h). Byte 0 picks the command (modulo 3), the rest is the file. A file that reads must
+// round-trip as --print-config promises: config_yaml of what it set reads back (no InputError) to the same YAML text.
 #include "fuzz/fuzz_common.h"
-#include "io/config_file.h"
+#include "io/formats/config_file.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
-// libFuzzer target: gzip-compressed text through io/line_reader.h, read as a CARMEN log and as a relations file.
-// The first input byte chooses how the rest becomes the file: even, the rest is the file's bytes as they are (a
+// libFuzzer target: gzip-compressed text through io/files/line_reader.h, read as a CARMEN log and as a relations
+// file. The first input byte chooses how the rest becomes the file: even, the rest is the file's bytes as they are (a
 // gzip stream, truncated, corrupt or not gzip at all); odd, the rest is gzip-compressed first, so the mutations of
 // the text reach the readers through a valid stream (zlib's deflate, gzip header and trailer).
 #include <zlib.h>
@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "fuzz/fuzz_common.h"
-#include "io/carmen_log.h"
-#include "io/relations.h"
+#include "io/logs/carmen_log.h"
+#include "io/logs/relations.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;

@@ -1,5 +1,5 @@
-// libFuzzer target: the map database's file structure (io/map_database.h), the input being the whole SQLite file
-// (seeds: small databases with 512-byte pages). It is opened read-only and every table is read
+// libFuzzer target: the map database's file structure (io/store/map_database.h), the input being the whole SQLite
+// file (seeds: small databases with 512-byte pages). It is opened read-only and every table is read
 // (fuzz_map_database.h, read_everything).
 #include "fuzz/fuzz_map_database.h"
 

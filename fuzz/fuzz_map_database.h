@@ -11,8 +11,8 @@
 
 #include "core/parts/descriptor_layout.h"
 #include "fuzz/fuzz_common.h"
-#include "io/descriptor_store.h"
-#include "io/map_database.h"
+#include "io/store/descriptor_store.h"
+#include "io/store/map_database.h"
 
 namespace partslam::fuzz {
 

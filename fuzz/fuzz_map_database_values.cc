@@ -1,8 +1,8 @@
-// libFuzzer target: the values stored in a map database (io/map_database.h). A small valid database (one dataset of
-// three submaps, a dictionary, descriptor sets of K = 1, 3, 20) is built once; each input is decoded into edits of
-// it made with SQLite directly — a column of a row set to an integer, real, text, blob or NULL (edge values
-// included), a row deleted, the schema version changed — and the edited file is then opened read-only and every
-// table read (fuzz_map_database.h, read_everything). Edits SQLite refuses (STRICT column types) are skipped.
+// libFuzzer target: the values stored in a map database (io/store/map_database.h). A small valid database (one
+// dataset of three submaps, a dictionary, descriptor sets of K = 1, 3, 20) is built once; each input is decoded into
+// edits of it made with SQLite directly — a column of a row set to an integer, real, text, blob or NULL (edge values
+// included), a row deleted, the schema version changed — and the edited file is then opened read-only and every table
+// read (fuzz_map_database.h, read_everything). Edits SQLite refuses (STRICT column types) are skipped.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>

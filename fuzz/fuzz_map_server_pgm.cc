@@ -1,7 +1,7 @@
-// libFuzzer target: map_server PGM images (io/map_server.h, read_map_yaml), the input being map.pgm. The first
-// input byte chooses the fixed map.yaml beside it (mode trinary, scale or raw; negate 0 or 1).
+// libFuzzer target: map_server PGM images (io/formats/map_server.h, read_map_yaml), the input being map.pgm. The
+// first input byte chooses the fixed map.yaml beside it (mode trinary, scale or raw; negate 0 or 1).
 #include "fuzz/fuzz_map_server.h"
-#include "io/map_server.h"
+#include "io/formats/map_server.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;

@@ -1,8 +1,8 @@
-// libFuzzer target: map_server YAML (io/map_server.h, read_map_yaml), the input being map.yaml. Three small fixed
-// images lie beside it (P5 8-bit map.pgm, P5 16-bit map16.pgm, P2 map2.pgm) for its 'image:' field to name;
+// libFuzzer target: map_server YAML (io/formats/map_server.h, read_map_yaml), the input being map.yaml. Three small
+// fixed images lie beside it (P5 8-bit map.pgm, P5 16-bit map16.pgm, P2 map2.pgm) for its 'image:' field to name;
 // fuzz_map_server_pgm fuzzes the images.
 #include "fuzz/fuzz_map_server.h"
-#include "io/map_server.h"
+#include "io/formats/map_server.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
-// libFuzzer target: point files (io/point_export.h, read_point_file: points, the frame's pose, laser
+// libFuzzer target: point files (io/formats/point_export.h, read_point_file: points, the frame's pose, laser
 // origins). The first input byte chooses the extension (even: .ply, odd: .csv); the rest is the file.
 #include "fuzz/fuzz_common.h"
-#include "io/point_export.h"
+#include "io/formats/point_export.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;

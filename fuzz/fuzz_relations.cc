@@ -1,6 +1,6 @@
-// libFuzzer target: relation files of the Freiburg benchmark (io/relations.h), the input being the whole file.
+// libFuzzer target: relation files of the Freiburg benchmark (io/logs/relations.h), the input being the whole file.
 #include "fuzz/fuzz_common.h"
-#include "io/relations.h"
+#include "io/logs/relations.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;

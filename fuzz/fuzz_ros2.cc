@@ -1,9 +1,9 @@
-// libFuzzer target: ROS 2 bags (io/ros2_bag.h). Byte 0 even: the rest is an MCAP file (io/mcap_file.h: chunks,
-// lz4, zstd); odd: a rosbag2 .db3 file (SQLite; io/sqlite_salvage.h for the cut-short ones). Each is read once as
-// it is and once with skip_damaged.
+// libFuzzer target: ROS 2 bags (io/logs/ros2_bag.h). Byte 0 even: the rest is an MCAP file (io/logs/mcap_file.h:
+// chunks, lz4, zstd); odd: a rosbag2 .db3 file (SQLite; io/files/sqlite_salvage.h for the cut-short ones). Each is
+// read once as it is and once with skip_damaged.
 #include "fuzz/fuzz_common.h"
-#include "io/ros2_bag.h"
-#include "io/scan_source.h"
+#include "io/logs/ros2_bag.h"
+#include "io/logs/scan_source.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;

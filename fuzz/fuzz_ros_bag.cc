@@ -1,9 +1,9 @@
-// libFuzzer target: ROS 1 bags (io/ros_bag.h, read with Debian's librosbag), the input being the whole file.
+// libFuzzer target: ROS 1 bags (io/logs/ros_bag.h, read with Debian's librosbag), the input being the whole file.
 #include <console_bridge/console.h>
 
 #include "fuzz/fuzz_common.h"
-#include "io/ros_bag.h"
-#include "io/scan_source.h"
+#include "io/logs/ros_bag.h"
+#include "io/logs/scan_source.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace partslam;

@@ -20,14 +20,14 @@
 #include "core/maps/grid_map.h"
 #include "core/maps/submap.h"
 #include "fuzz/fuzz_map_database.h"
-#include "io/carmen_log.h"
-#include "io/config_file.h"
-#include "io/line_reader.h"
-#include "io/map_server.h"
-#include "io/mcap_file.h"
-#include "io/point_export.h"
-#include "io/ros_bag_messages.h"
-#include "io/sqlite.h"
+#include "io/logs/carmen_log.h"
+#include "io/formats/config_file.h"
+#include "io/files/line_reader.h"
+#include "io/formats/map_server.h"
+#include "io/logs/mcap_file.h"
+#include "io/formats/point_export.h"
+#include "io/logs/ros_bag_messages.h"
+#include "io/files/sqlite.h"
 
 namespace fs = std::filesystem;
 using namespace partslam;

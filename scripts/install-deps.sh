@@ -5,13 +5,13 @@ PACKAGES=(
   g++ make cmake pkg-config
   libeigen3-dev        # 2D geometry
   libceres-dev         # pose-graph optimisation (partslam slam)
-  librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libconsole-bridge-dev  # ROS 1 bags (io/ros_bag.h)
-  libyaml-cpp-dev      # map_server map.yaml (io/map_server.h)
+  librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libconsole-bridge-dev  # ROS 1 bags (io/logs)
+  libyaml-cpp-dev      # map_server map.yaml (io/formats/map_server.h)
   libopenmpi-dev openmpi-bin  # mpirun -n P partslam eval (apps/mpi_split.h)
   libcli11-dev         # command-line parsing
   libsqlite3-dev       # map database
   zlib1g-dev           # gzip CARMEN logs
-  libzstd-dev liblz4-dev  # ROS 2 bags: MCAP chunks (io/mcap_file.h)
+  libzstd-dev liblz4-dev  # ROS 2 bags: MCAP chunks (io/logs/mcap_file.h)
   libcairo2-dev        # PNG rendering (Fig. D, Fig. E)
   nlohmann-json3-dev   # --json output
   libgtest-dev libgmock-dev  # tests

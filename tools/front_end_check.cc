@@ -11,7 +11,7 @@
 #include "core/evaluation/relation_check.h"
 #include "core/evaluation/trajectory_check.h"
 #include "core/slam/front_end.h"
-#include "io/scan_source.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

@@ -13,7 +13,7 @@
 #include "core/matching/grid_descriptor.h"
 #include "core/maps/submap.h"
 #include "core/evaluation/tasks.h"
-#include "io/scan_source.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

@@ -39,8 +39,8 @@
 #include "core/parts/descriptor_database.h"
 #include "core/parts/part_codec.h"
 #include "core/timing.h"
-#include "io/descriptor_store.h"
-#include "io/map_database.h"
+#include "io/store/descriptor_store.h"
+#include "io/store/map_database.h"
 
 using namespace partslam;
 namespace fs = std::filesystem;

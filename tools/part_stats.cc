@@ -15,7 +15,7 @@
 #include "core/maps/dictionary.h"
 #include "core/maps/submap.h"
 #include "core/evaluation/tasks.h"
-#include "io/scan_source.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

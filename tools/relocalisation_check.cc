@@ -12,8 +12,8 @@
 #include <string>
 
 #include "core/evaluation/relocalisation.h"
-#include "io/map_server.h"
-#include "io/scan_source.h"
+#include "io/formats/map_server.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

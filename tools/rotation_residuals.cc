@@ -18,7 +18,7 @@
 #include "core/maps/manhattan.h"
 #include "core/maps/submap.h"
 #include "core/matching/localizer.h"
-#include "io/scan_source.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

@@ -40,8 +40,8 @@
 #include "core/maps/submap.h"
 #include "core/sim/simulator.h"
 #include "core/slam/slam.h"
-#include "io/relations.h"
-#include "io/scan_source.h"
+#include "io/logs/relations.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

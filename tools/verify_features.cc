@@ -16,7 +16,7 @@
 #include "core/matching/verification.h"
 #include "core/parallel.h"
 #include "core/ranking/ranking.h"
-#include "io/scan_source.h"
+#include "io/logs/scan_source.h"
 
 using namespace partslam;
 

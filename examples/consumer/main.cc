@@ -4,7 +4,7 @@
 #include <core/ranking/ranking.h>
 #include <core/maps/submap.h>
 #include <core/evaluation/tasks.h>
-#include <io/scan_source.h>
+#include <io/logs/scan_source.h>
 
 #include <cstdio>
 

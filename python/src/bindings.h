@@ -6,6 +6,9 @@
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <type_traits>
+
+#include "io/formats/config_fields.h"
 
 namespace partslam::python {
 
@@ -19,7 +22,8 @@ void define_matching(pybind11::module_& m);
 void define_parts(pybind11::module_& m);
 // io: logs, scan sources, the map database, stored descriptors
 void define_io(pybind11::module_& m);
-// building maps (core/maps/grid_map.h, io/map_server.h), point files, global localisation (core/matching/localizer.h)
+// building maps (core/maps/grid_map.h, io/formats/map_server.h), point files, global localisation
+// (core/matching/localizer.h)
 void define_localization(pybind11::module_& m);
 
 /// Gives a class whose fields are bound as read-write properties a keyword form: __init__(**fields) starts
@@ -52,6 +56,35 @@ void def_keyword_init(pybind11::class_<T, Options...>& cls) {
     }
     return text + ")";
   });
+}
+
+/// The walker of a settings table (io/formats/config_fields.h) that binds each field as a read-write property.
+template <typename Class, typename T>
+struct ConfigFieldBinder {
+  Class& cls;
+  template <class M>
+  void field(const char* key, M T::*member, const char* help) {
+    cls.def_readwrite(key, member, help);
+  }
+  template <class M, class P>
+  void field(const char* key, M T::*member, P M::*part, const char* help) {
+    cls.def_property(
+        key, [member, part](const T& t) { return (t.*member).*part; },
+        [member, part](T& t, P value) { (t.*member).*part = value; }, help);
+  }
+  template <class S>
+  void section(const char* key, S T::*member, const char* help) {
+    cls.def_readwrite(key, member, help);
+  }
+};
+
+/// Binds every field of T's settings table (io/formats/config_fields.h, the one the settings files are read and
+/// printed with) as a read-write property of cls, with its help: a nested struct (its class bound first) as one
+/// property, a value inside a member struct under its own key.
+template <typename T, typename... Options>
+void def_config_fields(pybind11::class_<T, Options...>& cls) {
+  ConfigFieldBinder<pybind11::class_<T, Options...>, T> binder{cls};
+  io::config_fields(binder, std::type_identity<T>{});
 }
 
 }  // namespace partslam::python

@@ -1,7 +1,7 @@
 // Python bindings of io: reading CARMEN logs, ROS bags and the simulator through the one scan-source entry
 // point (load_scan_source: a path or "sim[:SEED]"), writing CARMEN logs, and the SQLite map database
 // (datasets of submaps, dictionaries, packed descriptors and their codecs) with the decoded descriptor sets
-// of io/descriptor_store.h. Log reading and writing release the GIL; database calls keep it, so one
+// of io/store/descriptor_store.h. Log reading and writing release the GIL; database calls keep it, so one
 // MapDatabase object is never used by two threads at once.
 #include "casters.h"
 // (casters.h first: see its header comment)
@@ -10,10 +10,10 @@
 
 #include "bindings.h"
 #include "core/error.h"
-#include "io/carmen_log.h"
-#include "io/descriptor_store.h"
-#include "io/map_database.h"
-#include "io/scan_source.h"
+#include "io/logs/carmen_log.h"
+#include "io/store/descriptor_store.h"
+#include "io/store/map_database.h"
+#include "io/logs/scan_source.h"
 
 namespace partslam::python {
 
@@ -47,7 +47,7 @@ void define_logs(py::module_& m) {
       .value("CARMEN", io::FlaserSpacing::kCarmen)
       .value("PI_OVER_N", io::FlaserSpacing::kPiOverN)
       .value("PI_OVER_N_MINUS_1", io::FlaserSpacing::kPiOverNMinus1);
-  py::class_<io::LogReadOptions> options(m, "LogReadOptions", "How logs are read (io/log_read_options.h)");
+  py::class_<io::LogReadOptions> options(m, "LogReadOptions", "How logs are read (io/logs/log_read_options.h)");
   options.def_readwrite("min_range", &io::LogReadOptions::min_range, "[m]")
       .def_readwrite("max_usable_range", &io::LogReadOptions::max_usable_range, "[m]")
       .def_readwrite("no_return_range", &io::LogReadOptions::no_return_range, "[m]")
@@ -176,7 +176,7 @@ void define_database(py::module_& m) {
   using io::MapDatabase;
   py::class_<MapDatabase> db(
       m, "MapDatabase",
-      "The SQLite map database (io/map_database.h). MapDatabase(path, mode) opens and checks "
+      "The SQLite map database (io/store/map_database.h). MapDatabase(path, mode) opens and checks "
       "it; it is closed when the object goes away.");
   py::enum_<MapDatabase::Mode>(db, "Mode")
       .value("READ_ONLY", MapDatabase::Mode::kReadOnly)

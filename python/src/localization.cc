@@ -1,8 +1,8 @@
-// Python bindings of global localisation: building maps (GridMap: cells unknown / free / occupied, as ROS
-// map_server holds them; ray-cast from posed scans; read and written as map.yaml + PGM), point files, a local map
-// from bare points, and the Localizer (a local map's pose in a building map, with its confidence). The cells
-// cross as a (height, width) uint8 numpy array of CellState values, row 0 the lowest y. Map building and
-// localisation release the GIL.
+// Python bindings of global localisation: building maps (GridMap: cells unknown / free / occupied, as ROS map_server
+// holds them; ray-cast from posed scans; read and written as map.yaml + PGM), point files, a local map from bare
+// points or from a stretch of a log (as `match` and `locate` build one), and the Localizer (a local map's pose in a
+// building map, with its confidence). The cells cross as a (height, width) uint8 numpy array of CellState values, row
+// 0 the lowest y. Map building and localisation release the GIL.
 #include "casters.h"
 // (casters.h first: see its header comment)
 #include <pybind11/numpy.h>
@@ -12,8 +12,9 @@
 #include "core/maps/grid_map.h"
 #include "core/maps/submap.h"
 #include "core/matching/localizer.h"
-#include "io/map_server.h"
-#include "io/point_export.h"
+#include "core/slam/log_stretch.h"
+#include "io/formats/map_server.h"
+#include "io/formats/point_export.h"
 
 namespace partslam::python {
 
@@ -42,6 +43,50 @@ void set_cells(GridMap& m, const py::array_t<std::uint8_t, py::array::c_style | 
       m.cells[static_cast<std::size_t>(r) * m.width + c] = static_cast<CellState>(v(r, c));
     }
   }
+}
+
+
+void define_log_stretch(py::module_& m) {
+  py::class_<ScanMatcherConfig> matcher(m, "ScanMatcherConfig", "Scan matching (core/matching/scan_matcher.h)");
+  def_config_fields(matcher);
+  def_keyword_init(matcher);
+  py::class_<FrontEndConfig> front_end(m, "FrontEndConfig",
+                                       "The front end that poses a raw log's scans (core/slam/front_end_config.h)");
+  def_config_fields(front_end);
+  def_keyword_init(front_end);
+  py::class_<StretchSpec> spec(m, "StretchSpec",
+                               "A stretch of a log: from_m and to_m, or at_m (travel along the log's own poses "
+                               "[m]), or from_time and to_time, or at_time (the log's clock [s]); "
+                               "core/slam/log_stretch.h");
+  spec.def_readwrite("from_m", &StretchSpec::from_m)
+      .def_readwrite("to_m", &StretchSpec::to_m)
+      .def_readwrite("at_m", &StretchSpec::at_m, "one window of travel from here")
+      .def_readwrite("from_time", &StretchSpec::from_time)
+      .def_readwrite("to_time", &StretchSpec::to_time)
+      .def_readwrite("at_time", &StretchSpec::at_time, "one window of travel from the first scan stamped then")
+      .def("validate", [](const StretchSpec& s) { validate(s); },
+           "Raises InputError unless it names exactly one stretch with values in range.");
+  def_keyword_init(spec);
+  py::class_<LogStretch>(m, "LogStretch", "A log's stretch, as find_log_stretch finds it")
+      .def_readonly("scans", &LogStretch::scans, "the log's scans (scan-matched: the margin and the stretch)")
+      .def_readonly("stretch", &LogStretch::stretch, "a stretch was given")
+      .def_readonly("first", &LogStretch::first, "the stretch is scans[first:end]")
+      .def_readonly("end", &LogStretch::end)
+      .def_readonly("from_m", &LogStretch::from_m)
+      .def_readonly("to_m", &LogStretch::to_m)
+      .def_readonly("from_time", &LogStretch::from_time)
+      .def_readonly("to_time", &LogStretch::to_time)
+      .def_readonly("log_scans", &LogStretch::log_scans)
+      .def_readonly("matched_scans", &LogStretch::matched_scans)
+      .def_readonly("match_ms", &LogStretch::match_ms);
+  m.attr("SCAN_MATCH_MARGIN") = kScanMatchMargin;
+  m.def("find_log_stretch", &find_log_stretch, "scans"_a, "spec"_a, "window"_a = SubmapConfig{}.window_length,
+        "scan_match"_a = std::optional<FrontEndConfig>{}, "name"_a = "log", release_gil(),
+        "The stretch of the log's scans the spec gives (an empty spec: the whole log), as `partslam match` and "
+        "`locate` take it; with scan_match (a FrontEndConfig) its scans and SCAN_MATCH_MARGIN of travel before it "
+        "are scan-matched. window: the travel of an at_m / at_time stretch [m].");
+  m.def("stretch_local_map", &stretch_local_map, "stretch"_a, "config"_a = SubmapConfig{}, "name"_a = "log",
+        release_gil(), "The local map of a stretch, built as stored maps are.");
 }
 
 }  // namespace
@@ -97,23 +142,16 @@ void define_localization(py::module_& m) {
         "when given, the laser origins they were seen from (in the points' frame), which let its free space be "
         "verified.");
 
+  define_log_stretch(m);
+
+  py::class_<VerifyConfig> verify(m, "VerifyConfig",
+                                   "How a candidate pose is verified (core/matching/verification.h)");
+  def_config_fields(verify);
+  verify.def("validate", py::overload_cast<const VerifyConfig&>(&validate),
+             "Raises InputError naming the field that is out of range.");
+  def_keyword_init(verify);
   py::class_<LocalizerConfig> config(m, "LocalizerConfig", "How the Localizer searches (core/matching/localizer.h)");
-  config.def_readwrite("dmm", &LocalizerConfig::dmm)
-      .def_readwrite("elsewhere_distance", &LocalizerConfig::elsewhere_distance, "[m]")
-      .def_readwrite("elsewhere_angle", &LocalizerConfig::elsewhere_angle, "[rad]")
-      .def_readwrite("candidate_distance", &LocalizerConfig::candidate_distance,
-                     "the search's candidates lie at least this far apart [m], at most elsewhere_distance")
-      .def_readwrite("candidates", &LocalizerConfig::candidates)
-      .def_readwrite("free_weight", &LocalizerConfig::free_weight)
-      .def_readwrite("neighbourhood", &LocalizerConfig::neighbourhood, "[m]")
-      .def_readwrite("verified", &LocalizerConfig::verified,
-                     "the best-scoring candidates verified; the most probable of them is the answer")
-      .def_readwrite("restart_distance", &LocalizerConfig::restart_distance,
-                     "the answer is verified again from starts this far from it along each axis [m]; 0: not")
-      .def_readwrite("wall_direction_share", &LocalizerConfig::wall_direction_share,
-                     "wall directions off the axes holding this share of the walls are searched too; 0: none")
-      .def_readwrite("wall_direction_length", &LocalizerConfig::wall_direction_length,
-                     "... and at least this length of wall [m]");
+  def_config_fields(config);
   def_keyword_init(config);
   py::class_<Localization>(m, "Localization", "Where a local map lies in the building map, and how surely")
       .def_readonly("T_map_query", &Localization::T_map_query)

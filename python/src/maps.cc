@@ -48,15 +48,8 @@ void define_scans(py::module_& m) {
 
 void define_submaps(py::module_& m) {
   py::class_<SubmapConfig> config(m, "SubmapConfig", "How submaps are built (core/maps/submap.h)");
-  config.def_readwrite("window_length", &SubmapConfig::window_length, "L: travel covered by one submap [m]")
-      .def_readwrite("spacing", &SubmapConfig::spacing, "travel between consecutive anchors [m]")
-      .def_readwrite("resolution", &SubmapConfig::resolution, "downsampling cell [m]")
-      .def_readwrite("crop_size", &SubmapConfig::crop_size, "side of the square crop around the centroid [m]")
-      .def_readwrite("max_range", &SubmapConfig::max_range,
-                     "beam endpoints farther from the laser are dropped [m]")
-      .def_readwrite("min_points", &SubmapConfig::min_points, "submaps with fewer points are dropped")
-      .def_readwrite("align", &SubmapConfig::align, "rotate into the canonical Manhattan frame")
-      .def("validate", py::overload_cast<const SubmapConfig&>(&validate),
+  def_config_fields(config);
+  config.def("validate", py::overload_cast<const SubmapConfig&>(&validate),
            "Raises InputError naming the field that is out of range.");
   def_keyword_init(config);
 

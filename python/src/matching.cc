@@ -110,24 +110,10 @@ class BoundRanker {
 
 void define_dmm(py::module_& m) {
   py::class_<DmmConfig> config(m, "DmmConfig", "The dMM search window and grid (core/matching/dmm.h)");
-  config.def_readwrite("resolution", &DmmConfig::resolution, "grid cell and translation step [m]")
-      .def_readwrite(
-          "linear_window", &DmmConfig::linear_window,
-          "translations |t_x|, |t_y| <= this [m]; <= 0: every translation at which the query overlaps "
-          "the target")
-      .def_readwrite("angular_window", &DmmConfig::angular_window,
-                     "canonical: residual +- this about each multiple of 90 deg [rad]")
-      .def_readwrite("angular_step", &DmmConfig::angular_step,
-                     "rotation step [rad]; 0: one cell at the far point")
-      .def_readwrite("canonical", &DmmConfig::canonical,
-                     "both maps are in the canonical frame (turns x residual); false: full circle")
-      .def_readwrite("canonical_turns", &DmmConfig::canonical_turns,
-                     "canonical: rotation families, 4 (multiples of 90 deg) or 8 (of 45 deg)")
+  def_config_fields(config);
+  config
       .def_readwrite("extra_directions", &DmmConfig::extra_directions,
                      "canonical: further families turned by these offsets (a building's wings) [rad]")
-      .def_readwrite("extra_window", &DmmConfig::extra_window, "residual about each extra direction [rad]")
-      .def_readwrite("dilation", &DmmConfig::dilation, "target cells within this many cells are occupied")
-      .def_readwrite("search_depth", &DmmConfig::search_depth, "branch-and-bound depth; 0: automatic")
       .def("validate", py::overload_cast<const DmmConfig&>(&validate),
            "Raises InputError naming the field that is out of range.");
   def_keyword_init(config);

@@ -1,4 +1,4 @@
-"""Logs and the map database from Python (io/carmen_log_test.cc, map_database_test.cc): a tiny CARMEN log with
+"""Logs and the map database from Python (io/logs/carmen_log_test.cc, map_database_test.cc): a tiny CARMEN log with
 known answers, the simulator as a scan source, log and database round trips in a temporary folder, errors that
 name the file and line, and databases shared with the CLI in both directions."""
 import gzip

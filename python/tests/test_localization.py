@@ -1,5 +1,5 @@
 """Building maps, point files and global localisation from Python: the checks of core/maps/grid_map_test.cc,
-io/map_server_test.cc and core/matching/localizer_test.cc on the built-in simulator."""
+io/formats/map_server_test.cc and core/matching/localizer_test.cc on the built-in simulator."""
 import math
 
 import numpy as np
@@ -34,6 +34,25 @@ def test_a_stretch_of_the_log_is_found_in_its_own_map(sim_scans):
     assert found.confident == (found.confidence >= 0.2 and found.probability >= 0.025)
     assert not localizer.locate(local.points).calibrated  # bare points
     assert found.candidates >= 2
+
+
+def test_a_stretch_by_travel_or_by_time_is_the_local_map_match_and_locate_build(sim_scans):
+    by_travel = partslam.find_log_stretch(sim_scans, partslam.StretchSpec(from_m=30.0, to_m=32.0))
+    assert by_travel.stretch and by_travel.log_scans == len(sim_scans)
+    first = sim_scans[by_travel.first]
+    by_time = partslam.find_log_stretch(sim_scans, partslam.StretchSpec(at_time=first.timestamp), window=2.0)
+    assert (by_time.first, by_time.end) == (by_travel.first, by_travel.end)
+    local = partslam.stretch_local_map(by_travel)
+    assert local.travel == 30.0
+    np.testing.assert_array_equal(local.points, partslam.build_local_map(sim_scans, 30.0, 32.0).points)
+    matched = partslam.find_log_stretch(sim_scans, partslam.StretchSpec(from_m=30.0, to_m=32.0),
+                                        scan_match=partslam.FrontEndConfig())
+    assert matched.end - matched.first == by_travel.end - by_travel.first
+    assert matched.matched_scans == len(matched.scans) < len(sim_scans)
+    with pytest.raises(partslam.InputError, match="give one stretch of the log"):
+        partslam.StretchSpec(from_m=1.0, to_m=2.0, at_m=3.0).validate()
+    with pytest.raises(partslam.InputError, match="no scan between"):
+        partslam.find_log_stretch(sim_scans, partslam.StretchSpec(at_m=1e6))
 
 
 def test_point_files_and_local_maps_from_points(tmp_path):

@@ -1,6 +1,6 @@
-"""The module on a real log (fr079, corrected), as io/real_data_test.cc and dmm_real_data_test.cc check it; skipped
-when the shared data folder is absent ($PARTSLAM_SHARED_DATA, else ../shared/data). Every core check also runs on
-the simulator in the other test files."""
+"""The module on a real log (fr079, corrected), as io/testing/real_data_test.cc and dmm_real_data_test.cc check
+it; skipped when the shared data folder is absent ($PARTSLAM_SHARED_DATA, else ../shared/data). Every core check
+also runs on the simulator in the other test files."""
 import math
 
 import numpy as np
@@ -19,7 +19,7 @@ def fr079():
 
 
 def test_fr079_scan_and_odometry_counts(fr079):
-    # Counted independently with zcat | awk (io/real_data_test.cc).
+    # Counted independently with zcat | awk (io/testing/real_data_test.cc).
     assert len(fr079.scans) == 4791
     assert len(fr079.odometry) == 9725
     assert partslam.load_scan_source(str(FR079)).name == "fr079-corrected"

@@ -12,7 +12,7 @@
 
 #include "apps/cli_testing.h"
 #include "core/maps/submap.h"
-#include "io/scan_source.h"
+#include "io/logs/scan_source.h"
 
 namespace partslam {
 namespace {

@@ -15,8 +15,8 @@
 
 #include "apps/cli_testing.h"
 #include "core/maps/submap.h"
-#include "io/point_export.h"
-#include "io/scan_source.h"
+#include "io/formats/point_export.h"
+#include "io/logs/scan_source.h"
 #include "plot/answer_image.h"
 
 namespace partslam {

@@ -15,7 +15,7 @@
 
 #include "core/evaluation/tasks.h"
 #include "apps/cli_testing.h"
-#include "io/map_database.h"
+#include "io/store/map_database.h"
 
 namespace partslam {
 namespace {

@@ -9,8 +9,8 @@
 
 #include "apps/cli_testing.h"
 #include "core/sim/simulator.h"
-#include "io/carmen_log.h"
-#include "io/test_files.h"
+#include "io/logs/carmen_log.h"
+#include "io/testing/test_files.h"
 
 namespace partslam {
 namespace {
@@ -116,6 +116,16 @@ TEST(CliSlam, Ros2BagsAreLogsLikeAnyOther) {
   run = run_partslam("match " + quoted(dir / "m.db") + " --query-log " + quoted(mcap) + " --from 20 --to 22");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("fr079-cut"));  // the dataset, named after the file
+  // A rosbag2 folder's metadata.yaml is a log, though a map_server map is a .yaml too.
+  fs::create_directories(dir / "bag2");
+  fs::copy_file(mcap, dir / "bag2" / "fr079_0.mcap");
+  std::ofstream(dir / "bag2" / "metadata.yaml")
+      << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: mcap\n"
+         "  relative_file_paths:\n    - fr079_0.mcap\n";
+  run = run_partslam("dictionary " + quoted(dir / "bag2" / "metadata.yaml") + " --db " + quoted(dir / "d.db") +
+                     " --name bag2");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("dictionary 'bag2': "));
 }
 
 TEST(CliSlam, RefusesAbsurdThreadCounts) {

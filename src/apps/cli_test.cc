@@ -14,8 +14,8 @@
 
 #include "apps/cli_testing.h"
 #include "apps/log_inputs.h"
-#include "io/sqlite.h"
-#include "io/map_database.h"
+#include "io/files/sqlite.h"
+#include "io/store/map_database.h"
 
 namespace partslam {
 namespace {

@@ -9,7 +9,7 @@
 #include "apps/commands.h"
 #include "apps/json_text.h"
 #include "apps/eval_run.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 #include "plot/rank_plot.h"
 
 namespace partslam::apps {

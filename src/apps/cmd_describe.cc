@@ -3,6 +3,7 @@
 // up to P parts per map, and stores in one transaction the packed descriptor of the top K parts for each K of
 // --k, plus the whole P-part list under K = P (with appearance scores when P > 16: the hMM query list). Each
 // set's codec (core/parts/descriptor_layout.h) is stored with it, so `match` decodes without the dictionary.
+// Tested by: apps/cli_parts_test.cc
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -19,13 +20,13 @@
 #include "apps/json_text.h"
 #include "apps/mpi_split.h"
 #include "core/evaluation/evaluation.h"
-#include "io/atomic_file.h"
-#include "io/descriptor_store.h"
+#include "io/files/atomic_file.h"
+#include "io/store/descriptor_store.h"
 #include "apps/progress_bar.h"
 #include "core/parts/cpd.h"
 #include "core/parts/descriptor_layout.h"
 #include "core/error.h"
-#include "io/map_database.h"
+#include "io/store/map_database.h"
 
 namespace partslam::apps {
 namespace {

@@ -10,10 +10,10 @@
 #include "apps/json_text.h"
 #include "core/maps/dictionary.h"
 #include "core/maps/grid_map.h"
-#include "io/atomic_file.h"
-#include "io/map_database.h"
-#include "io/map_server.h"
-#include "io/scan_source.h"
+#include "io/files/atomic_file.h"
+#include "io/store/map_database.h"
+#include "io/formats/map_server.h"
+#include "io/logs/scan_source.h"
 #include "apps/scan_input.h"
 
 namespace partslam::apps {
@@ -32,7 +32,8 @@ void run_dictionary(const DictionaryOptions& o) {
   io::check_outputs({{"--db", o.db}, {"--json", o.json}}, {{"LOG", o.log}});
   Dictionary d;
   const std::filesystem::path path(o.log);
-  if (path.extension() == ".yaml") {
+  // A .yaml that no log format reads as a bag (a rosbag2 folder's metadata.yaml is one) is a map_server map.
+  if (path.extension() == ".yaml" && !io::scan_source_format(o.log).bag) {
     d = build_dictionary(o.name.empty() ? path.stem().string() : o.name, occupied_points(io::read_map_yaml(path)),
                          o.config);
   } else {

@@ -17,7 +17,7 @@
 #include "apps/eval_run.h"
 #include "apps/mpi_split.h"
 #include "core/error.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 #include "plot/rank_plot.h"
 
 namespace partslam::apps {

@@ -2,6 +2,7 @@
 // atomically, in the map frame (as stored; the header names the frame's pose in the world frame) or the
 // source log's world frame, with the map's laser origins. Either file gives the same local map to match /
 // locate --query-points.
+// Tested by: apps/cli_test.cc, apps/cli_locate_test.cc
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <memory>
@@ -10,9 +11,9 @@
 #include "apps/commands.h"
 #include "apps/db_hints.h"
 #include "core/error.h"
-#include "io/atomic_file.h"
-#include "io/map_database.h"
-#include "io/point_export.h"
+#include "io/files/atomic_file.h"
+#include "io/store/map_database.h"
+#include "io/formats/point_export.h"
 
 namespace partslam::apps {
 namespace {

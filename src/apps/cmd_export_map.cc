@@ -17,9 +17,9 @@
 #include "core/maps/submap.h"
 #include "core/slam/front_end.h"
 #include "core/timing.h"
-#include "io/atomic_file.h"
-#include "io/map_server.h"
-#include "io/scan_source.h"
+#include "io/files/atomic_file.h"
+#include "io/formats/map_server.h"
+#include "io/logs/scan_source.h"
 #include "apps/scan_input.h"
 #include "plot/grid_map_image.h"
 

@@ -1,5 +1,6 @@
 // partslam info FILE: what a map database holds — datasets with their submap counts, dictionaries and
 // descriptor sets — as text or, with --json, as one JSON object.
+// Tested by: apps/cli_test.cc
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iomanip>
@@ -9,7 +10,7 @@
 
 #include "apps/commands.h"
 #include "apps/json_text.h"
-#include "io/map_database.h"
+#include "io/store/map_database.h"
 
 namespace partslam::apps {
 namespace {
@@ -93,7 +94,7 @@ void print_text(const io::DatabaseSummary& s, const std::string& file, std::ostr
 }
 
 void run_info(const InfoOptions& options, std::ostream& out) {
-  // --upgrade opens for writing, which migrates an older file to the current schema (io/map_database.h).
+  // --upgrade opens for writing, which migrates an older file to the current schema (io/store/map_database.h).
   const io::MapDatabase db = io::MapDatabase::open(
       options.file, options.upgrade ? io::MapDatabase::Mode::kReadWrite : io::MapDatabase::Mode::kReadOnly);
   if (options.check) db.check_integrity();

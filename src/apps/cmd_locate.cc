@@ -1,13 +1,13 @@
 // partslam locate --map map.yaml --query-log LOG (a stretch, apps/query_options.h | --every M) | --query-points FILE:
-// global localisation in a building map (core/matching/localizer.h). The map is a ROS map_server map (map.yaml +
-// PGM, thresholds, negate and origin honoured); the local map is built from a stretch of a log as submaps are, or
-// read from a point file. Prints, per local map, its pose in the map frame, where that puts the robot (the
-// first scan of the stretch) or the point file's frame, the inlier share, the confidence (score minus the best
-// other candidate's; >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate"), the verified same-place
-// probability at the refined pose and the time; --json writes the
-// same; --plot draws it. --every M locates a local map every M of travel along the whole log, with a progress bar.
-// --config FILE.yaml sets the local map's and the localizer's settings (io/config_file.h, LocateConfig; flags given
-// override it), --print-config shows them all.
+// global localisation in a building map (core/matching/localizer.h). The map is a ROS map_server map (map.yaml + PGM,
+// thresholds, negate and origin honoured); the local map is built from a stretch of a log as submaps are, or read
+// from a point file. Prints, per local map, its pose in the map frame, where that puts the robot (the first scan of
+// the stretch) or the point file's frame, the inlier share, the confidence (score minus the best other candidate's;
+// >= 0.2 was never wrong on fr079, docs/NOTES.md "Locate"), the verified same-place probability at the refined pose
+// and the time; --json writes the same; --plot draws it. --every M locates a local map every M of travel along the
+// whole log, with a progress bar. --config FILE.yaml sets the local map's and the localizer's settings
+// (io/formats/config_file.h, LocateConfig; flags given override it), --print-config shows them all.
+// Tested by: apps/cli_locate_test.cc
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -24,9 +24,9 @@
 #include "core/maps/grid_map.h"
 #include "core/matching/localizer.h"
 #include "core/timing.h"
-#include "io/atomic_file.h"
-#include "io/config_file.h"
-#include "io/map_server.h"
+#include "io/files/atomic_file.h"
+#include "io/formats/config_file.h"
+#include "io/formats/map_server.h"
 #include "plot/answer_image.h"
 
 namespace partslam::apps {
@@ -151,7 +151,7 @@ void check_options(const LocateOptions& o) {
   if (o.every && (!(*o.every > 0) || !std::isfinite(*o.every)))
     throw InputError("--every must be a positive number of metres, got " + std::to_string(*o.every));
   check_query_options(o.query, /*with_every=*/o.every.has_value());
-  if (o.every && (o.query.log.empty() || o.query.stretch_given()))
+  if (o.every && (o.query.log.empty() || o.query.stretch.given()))
     throw InputError("--every goes with --query-log alone (it sweeps the whole log)");
   validate(o.submap);
   validate(o.localizer);

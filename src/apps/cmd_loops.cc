@@ -1,12 +1,13 @@
-// partslam loops DB: loop closures among the submaps of one dataset (core/slam/loop_closure.h): for every
-// submap, the earlier submaps beyond the travel gap that its shortlist (rerank:20 = the succinct matcher's top
-// 20 verified by dMM) finds, with the dMM relative pose, score and confidence. Accepted closures (confidence
-// >= --min-confidence) go to --g2o (io/loop_files.h). With ground truth — the stored frames of a dataset built from
-// a corrected log, or --truth TWIN|F.relations for a scan-matched one (the dataset's log is read again and
-// scan-matched with the stored settings, io/ground_truth.h) — it prints precision-recall, writes the curve to
-// --plot and the figures to --json (precision-recall: core/evaluation/loop_evaluation.h). --config FILE.yaml sets
-// the loop closures', acceptance's and truth's settings (io/config_file.h, LoopsConfig; flags given override it),
-// --print-config shows them all.
+// partslam loops DB: loop closures among the submaps of one dataset (core/slam/loop_closure.h): for every submap, the
+// earlier submaps beyond the travel gap that its shortlist (rerank:20 = the succinct matcher's top 20 verified by
+// dMM) finds, with the dMM relative pose, score and confidence. Accepted closures (confidence >= --min-confidence) go
+// to --g2o (io/formats/loop_files.h). With ground truth — the stored frames of a dataset built from a corrected log,
+// or --truth TWIN|F.relations for a scan-matched one (the dataset's log is read again and scan-matched with the
+// stored settings, io/logs/ground_truth.h) — it prints precision-recall, writes the curve to --plot and the figures
+// to --json (precision-recall: core/evaluation/loop_evaluation.h). --config FILE.yaml sets the loop closures',
+// acceptance's and truth's settings (io/formats/config_file.h, LoopsConfig; flags given override it), --print-config
+// shows them all.
+// Tested by: apps/cli_eval_test.cc
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iomanip>
@@ -26,12 +27,12 @@
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
 #include "core/timing.h"
-#include "io/atomic_file.h"
-#include "io/config_file.h"
-#include "io/ground_truth.h"
-#include "io/loop_files.h"
-#include "io/map_database.h"
-#include "io/scan_source.h"
+#include "io/files/atomic_file.h"
+#include "io/formats/config_file.h"
+#include "io/logs/ground_truth.h"
+#include "io/formats/loop_files.h"
+#include "io/store/map_database.h"
+#include "io/logs/scan_source.h"
 #include "apps/scan_input.h"
 #include "plot/line_plot.h"
 

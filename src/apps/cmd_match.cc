@@ -9,6 +9,7 @@
 //   rerank:R[:SPEC]                  SPEC ranks, its top R are reordered by dMM (with poses)
 // For a pose, the implied world offset compares where the match puts the query (T_world_map * T_map_query)
 // with the query's own stored pose; "dist" is the stored distance between the two maps' centres.
+// Tested by: apps/cli_eval_test.cc, apps/cli_parts_test.cc, apps/cli_locate_test.cc
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -35,9 +36,9 @@
 #include "core/ranking/query.h"
 #include "core/ranking/ranking.h"  // ranking_dmm_config
 #include "core/timing.h"
-#include "io/atomic_file.h"
-#include "io/descriptor_store.h"
-#include "io/map_database.h"
+#include "io/files/atomic_file.h"
+#include "io/store/descriptor_store.h"
+#include "io/store/map_database.h"
 #include "plot/answer_image.h"
 
 namespace partslam::apps {
@@ -154,7 +155,7 @@ void check_options(const MatchOptions& o, const MethodSpec& method) {
   if ((o.query >= 0) == new_map)
     throw InputError("give either --query ID (a stored map) or --query-log LOG / --query-points FILE (a new local map)");
   check_query_options(o.new_query);
-  if (!new_map && (o.new_query.stretch_given() || o.new_query.scan_match))
+  if (!new_map && (o.new_query.stretch.given() || o.new_query.scan_match))
     throw InputError("--from-m, --to-m, --at-m, --from-time, --to-time, --at and --scan-match go with --query-log, "
                      "not --query ID");
   if (new_map && method.traits.needs_parts)

@@ -2,6 +2,7 @@
 // the keypoint boxes of its best K parts; with --dict, a second panel: the dictionary with the matching
 // descriptor boxes in the same colours. Parts come from the stored descriptors when `describe` has run (the
 // stored P-part list when there is one, since it keeps the appearance scores), else from CPD on the fly.
+// Tested by: apps/cli_parts_test.cc
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
@@ -13,9 +14,9 @@
 #include "apps/db_hints.h"
 #include "core/error.h"
 #include "core/parts/cpd.h"
-#include "io/atomic_file.h"
-#include "io/descriptor_store.h"
-#include "io/map_database.h"
+#include "io/files/atomic_file.h"
+#include "io/store/descriptor_store.h"
+#include "io/store/map_database.h"
 #include "plot/render.h"
 
 namespace partslam::apps {
@@ -31,6 +32,35 @@ struct RenderOptions {
   CpdConfig cpd;
   plot::RenderConfig render;
 };
+
+// The map's parts for the figure: the stored part list, or the stored K-part descriptor, or (--fresh, or neither
+// stored) CPD on the fly. Returns where they came from.
+std::string add_parts(const io::MapDatabase& db, const io::Dictionary& dictionary, const Submap& submap,
+                      const RenderOptions& o, plot::PartsFigure& figure) {
+  std::string source;
+  if (!o.fresh) {
+    if (const int p = io::query_list_parts(db, dictionary.name, o.map_id); p > 0) {
+      figure.parts = select_top_parts(io::load_descriptor(db, dictionary.name, p, o.map_id)->parts, o.parts).parts;
+      source = "the stored " + std::to_string(p) + "-part list";
+    } else if (auto d = io::load_descriptor(db, dictionary.name, o.parts, o.map_id)) {
+      figure.parts = d->parts;
+      figure.show_scores = false;  // stored K-part descriptors keep no appearance score
+      source = "the stored K=" + std::to_string(o.parts) + " descriptor";
+    }
+  }
+  if (figure.parts.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const PreparedDictionary prepared = prepare_dictionary(dictionary.points, o.cpd);
+    const CpdResult cpd =
+        discover_parts(submap.points, prepared, o.cpd, static_cast<std::uint64_t>(o.map_id));
+    figure.parts = select_top_parts(cpd.parts, o.parts).parts;
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    source = "CPD on the fly (" + std::to_string(static_cast<long>(ms)) + " ms, " +
+             std::to_string(cpd.parts.size()) + " parts found)";
+  }
+  return source;
+}
 
 void run_render(RenderOptions o) {
   if (o.parts < 1 || o.parts > 100)
@@ -57,27 +87,7 @@ void run_render(RenderOptions o) {
         << "warning: " << o.db
         << " holds no dictionary: the map is drawn without parts (store one with `partslam dictionary`)\n";
   if (dictionary) {
-    if (!o.fresh) {
-      if (const int p = io::query_list_parts(db, dictionary->name, o.map_id); p > 0) {
-        figure.parts = select_top_parts(io::load_descriptor(db, dictionary->name, p, o.map_id)->parts, o.parts).parts;
-        source = "the stored " + std::to_string(p) + "-part list";
-      } else if (auto d = io::load_descriptor(db, dictionary->name, o.parts, o.map_id)) {
-        figure.parts = d->parts;
-        figure.show_scores = false;  // stored K-part descriptors keep no appearance score
-        source = "the stored K=" + std::to_string(o.parts) + " descriptor";
-      }
-    }
-    if (figure.parts.empty()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const PreparedDictionary prepared = prepare_dictionary(dictionary->points, o.cpd);
-      const CpdResult cpd =
-          discover_parts(submap.points, prepared, o.cpd, static_cast<std::uint64_t>(o.map_id));
-      figure.parts = select_top_parts(cpd.parts, o.parts).parts;
-      const double ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      source = "CPD on the fly (" + std::to_string(static_cast<long>(ms)) + " ms, " +
-               std::to_string(cpd.parts.size()) + " parts found)";
-    }
+    source = add_parts(db, *dictionary, submap, o, figure);
     source += ", dictionary '" + dictionary->name + "'";
   }
   figure.map_title = "map " + std::to_string(o.map_id) + " (" + where.dataset_name + ", submap " +

@@ -5,7 +5,8 @@
 // DIR/loops.json, DIR/slam.json (closures used and set aside, the verdict: core/slam/back_end.h) and, with
 // --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric, rotation in degrees). Every
 // file is written atomically; DIR is created when missing. --config FILE.yaml sets any field of SlamConfig
-// (io/config_file.h; flags given override it), --print-config shows them all.
+// (io/formats/config_file.h; flags given override it), --print-config shows them all.
+// Tested by: apps/cli_slam_test.cc, apps/cli_eval_test.cc
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iomanip>
@@ -25,12 +26,12 @@
 #include "core/evaluation/trajectory_check.h"
 #include "core/maps/grid_map.h"
 #include "core/slam/slam.h"
-#include "io/atomic_file.h"
-#include "io/carmen_log.h"
-#include "io/config_file.h"
-#include "io/map_server.h"
-#include "io/relations.h"
-#include "io/scan_source.h"
+#include "io/files/atomic_file.h"
+#include "io/logs/carmen_log.h"
+#include "io/formats/config_file.h"
+#include "io/formats/map_server.h"
+#include "io/logs/relations.h"
+#include "io/logs/scan_source.h"
 #include "plot/grid_map_image.h"
 
 namespace partslam::apps {

@@ -3,6 +3,7 @@
 // end (core/slam/front_end.h) instead of the log: for raw logs, whose poses are drifting odometry. Optionally
 // checks the ground truth against a Freiburg .relations file (--relations, with --raw LOG when the submaps come
 // from a re-timed corrected log); every input is read before anything is stored.
+// Tested by: apps/cli_eval_test.cc, apps/cli_locate_test.cc
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -16,13 +17,13 @@
 #include "core/evaluation/relation_check.h"
 #include "core/maps/submap.h"
 #include "core/evaluation/tasks.h"
-#include "io/map_database.h"
-#include "io/relations.h"
-#include "io/scan_source.h"
+#include "io/store/map_database.h"
+#include "io/logs/relations.h"
+#include "io/logs/scan_source.h"
 #include "apps/scan_input.h"
 #include "apps/progress_bar.h"
 #include "apps/json_text.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 #include "core/slam/front_end.h"
 
 namespace partslam::apps {

@@ -1,5 +1,5 @@
 // --config FILE.yaml and --print-config, shared by `partslam slam`, `loops` and `locate`: the file's settings
-// (io/config_file.h) replace the defaults, then the flags given on the command line replace the file's.
+// (io/formats/config_file.h) replace the defaults, then the flags given on the command line replace the file's.
 #pragma once
 
 #include <CLI/CLI.hpp>

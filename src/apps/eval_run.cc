@@ -1,3 +1,5 @@
+// Tested by: apps/cli_eval_test.cc
+
 #include "apps/eval_run.h"
 
 #include <unistd.h>
@@ -19,9 +21,9 @@
 #include "core/maps/submap.h"
 #include "core/ranking/ranking.h"
 #include "core/slam/front_end.h"
-#include "io/descriptor_store.h"
-#include "io/ground_truth.h"
-#include "io/scan_source.h"
+#include "io/store/descriptor_store.h"
+#include "io/logs/ground_truth.h"
+#include "io/logs/scan_source.h"
 
 namespace partslam::apps {
 
@@ -146,6 +148,58 @@ void print_table(const EvalRun& run, std::ostream& out) {
   out << std::setprecision(1) << "total " << run.seconds << " s\n";
 }
 
+namespace {
+
+nlohmann::json parameters_json(const EvalRun& run) {
+  const EvalConfig& c = run.options.config;
+  return {{"radius", c.tasks.radius},
+          {"max_range", run.options.max_range},
+          {"min_travel_gap", c.tasks.min_travel_gap},
+          {"origin_gate", c.ranking.parts.origin_gate},
+          {"hmm_query_parts", c.ranking.parts.hmm_query_parts},
+          {"cpd",
+           {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
+            {"box_sizes", c.cpd.box_sizes},
+            {"corners", c.cpd.corners},
+            {"partitions", c.cpd.partitions},
+            {"mc", c.cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point"},
+            {"t_size", c.cpd.t_size},
+            {"gc", c.cpd.geometric_consistency},
+            {"seed", c.cpd.seed},
+            {"dilation", c.cpd.dmm.dilation}}},
+          {"dmm",
+           {{"dilation", c.ranking.dmm.dilation},
+            {"angular_window_deg", c.ranking.dmm.angular_window * 180.0 / std::numbers::pi},
+            {"canonical_turns", c.ranking.dmm.canonical_turns}}}};
+}
+
+nlohmann::json method_json(const MethodResult& m) {
+  nlohmann::json j = {{"spec", m.method.spec},
+                      {"label", m.method.label},
+                      {"anr", m.summary.anr_percent},
+                      {"recall_at_1", m.summary.recall_at_1},
+                      {"recall_at_1pct", m.summary.recall_at_1pct},
+                      {"recall_at_5pct", m.summary.recall_at_5pct},
+                      {"recall_at_10pct", m.summary.recall_at_10pct},
+                      {"ms_per_pair", m.ms_per_pair},
+                      {"ms_per_query", m.ms_per_query},
+                      {"ms_query_prep", m.ms_query_prep},
+                      {"bits_per_map", m.bits_per_map},
+                      {"poses_checked", m.poses_checked},
+                      {"pose_within_tolerance", m.pose_within_tolerance},
+                      {"poses_checked_overlap30", m.poses_checked_overlap30},
+                      {"pose_within_tolerance_overlap30", m.pose_within_tolerance_overlap30},
+                      {"pose_fine_overlap30", m.pose_fine_overlap30},
+                      {"normalized_ranks", m.normalized_ranks}};
+  if (m.calibration_error) {
+    j["calibration_error"] = *m.calibration_error;
+    j["reliability"] = m.reliability;
+  }
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json to_json(const EvalRun& run) {
   const EvalReport& r = run.report;
   nlohmann::json j = {{"input", run.options.input},
@@ -160,49 +214,10 @@ nlohmann::json to_json(const EvalRun& run) {
                       {"low_overlap_share", r.low_overlap_share},
                       {"cpd_ms_per_map", r.cpd_ms_per_map},
                       {"seconds", run.seconds}};
-  const EvalConfig& c = run.options.config;
-  j["parameters"] = {{"radius", c.tasks.radius},
-                     {"max_range", run.options.max_range},
-                     {"min_travel_gap", c.tasks.min_travel_gap},
-                     {"origin_gate", c.ranking.parts.origin_gate},
-                     {"hmm_query_parts", c.ranking.parts.hmm_query_parts},
-                     {"cpd",
-                      {{"candidates", c.cpd.candidates == CandidateMode::kCorners ? "corners" : "partitions"},
-                       {"box_sizes", c.cpd.box_sizes},
-                       {"corners", c.cpd.corners},
-                       {"partitions", c.cpd.partitions},
-                       {"mc", c.cpd.maximality == MaximalityMode::kInlierShare ? "inlier" : "point"},
-                       {"t_size", c.cpd.t_size},
-                       {"gc", c.cpd.geometric_consistency},
-                       {"seed", c.cpd.seed},
-                       {"dilation", c.cpd.dmm.dilation}}},
-                     {"dmm",
-                      {{"dilation", c.ranking.dmm.dilation},
-                       {"angular_window_deg", c.ranking.dmm.angular_window * 180.0 / std::numbers::pi},
-                       {"canonical_turns", c.ranking.dmm.canonical_turns}}}};
+  j["parameters"] = parameters_json(run);
   j["methods"] = nlohmann::json::array();
   for (const MethodResult& m : r.methods) {
-    j["methods"].push_back({{"spec", m.method.spec},
-                            {"label", m.method.label},
-                            {"anr", m.summary.anr_percent},
-                            {"recall_at_1", m.summary.recall_at_1},
-                            {"recall_at_1pct", m.summary.recall_at_1pct},
-                            {"recall_at_5pct", m.summary.recall_at_5pct},
-                            {"recall_at_10pct", m.summary.recall_at_10pct},
-                            {"ms_per_pair", m.ms_per_pair},
-                            {"ms_per_query", m.ms_per_query},
-                            {"ms_query_prep", m.ms_query_prep},
-                            {"bits_per_map", m.bits_per_map},
-                            {"poses_checked", m.poses_checked},
-                            {"pose_within_tolerance", m.pose_within_tolerance},
-                            {"poses_checked_overlap30", m.poses_checked_overlap30},
-                            {"pose_within_tolerance_overlap30", m.pose_within_tolerance_overlap30},
-                            {"pose_fine_overlap30", m.pose_fine_overlap30},
-                            {"normalized_ranks", m.normalized_ranks}});
-    if (m.calibration_error) {
-      j["methods"].back()["calibration_error"] = *m.calibration_error;
-      j["methods"].back()["reliability"] = m.reliability;
-    }
+    j["methods"].push_back(method_json(m));
   }
   j["oracle"] = {{"anr", r.oracle.anr_percent},
                  {"recall_at_1", r.oracle.recall_at_1},

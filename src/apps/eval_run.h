@@ -9,7 +9,7 @@
 
 #include "core/evaluation/evaluation.h"
 #include "core/maps/scan.h"
-#include "io/log_read_options.h"
+#include "io/logs/log_read_options.h"
 
 namespace partslam::apps {
 

@@ -1,4 +1,4 @@
-// The one wording of the logs every command reads (io/scan_source.h loads them all), for the help texts: a
+// The one wording of the logs every command reads (io/logs/scan_source.h loads them all), for the help texts: a
 // command's help names every accepted input, the same way everywhere (README's usage block is generated from it).
 #pragma once
 

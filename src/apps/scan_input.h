@@ -1,15 +1,15 @@
 // Reading a command's log (CARMEN, ROS 1 or ROS 2 bag, sim[:SEED]) the one way every subcommand does: the
-// --skip-damaged, --scan-topic and --odom-topic options, and the reader's warnings (a recording cut short and
-// read up to its last whole record, damage skipped) printed to stderr as "warning: ..." before the command goes on.
-// The readers decide what is damage (io/carmen_log.h, io/ros_bag.h, io/ros2_bag.h); this only passes the options
-// and shows what they said, naming the options by their flags where the readers name the library's fields.
+// --skip-damaged, --scan-topic and --odom-topic options, and the reader's warnings (a recording cut short and read up
+// to its last whole record, damage skipped) printed to stderr as "warning: ..." before the command goes on. The
+// readers decide what is damage (io/logs/carmen_log.h, io/logs/ros_bag.h, io/logs/ros2_bag.h); this only passes the
+// options and shows what they said, naming the options by their flags where the readers name the library's fields.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "io/log_read_options.h"
-#include "io/scan_source.h"
+#include "io/logs/log_read_options.h"
+#include "io/logs/scan_source.h"
 
 namespace partslam::apps {
 

@@ -78,62 +78,52 @@ std::pair<int, int> panel_size(const Panel& p, int side) {
   return w >= h ? std::pair{side, other(h / w)} : std::pair{other(w / h), side};
 }
 
-void draw_panel(cairo_t* cr, const Panel& p, double left, int width, int height) {
-  const Box b = bounds(p);
-  const double scale = std::min((width - 2 * kMargin) / std::max(b.x1 - b.x0, 1e-3),
-                                (height - 2 * kMargin) / std::max(b.y1 - b.y0, 1e-3));
-  // The panel's frame to pixels: x right, y up, the box centred.
-  const double cx = left + width / 2.0, cy = kTitleHeight + height / 2.0;
-  const double mx = (b.x0 + b.x1) / 2, my = (b.y0 + b.y1) / 2;
-  const auto px = [&](const Vec2& q) { return Vec2(cx + (q.x() - mx) * scale, cy - (q.y() - my) * scale); };
+// A panel's frame in pixels: x right, y up, the box of its content centred.
+struct PanelView {
+  double cx, cy;  ///< the panel's centre [px]
+  double mx, my;  ///< the content box's centre [m]
+  double scale;   ///< [px/m]
+  Vec2 px(const Vec2& q) const { return Vec2(cx + (q.x() - mx) * scale, cy - (q.y() - my) * scale); }
+};
+
+void draw_grid(cairo_t* cr, const GridMap& map, const PanelView& v, int width, int height) {
+  int f = 1;
+  cairo_surface_t* image = grid_image(map, 2 * std::max(width, height), f);
+  const int h = cairo_image_surface_get_height(image);
   cairo_save(cr);
-  cairo_rectangle(cr, left, kTitleHeight, width, height);
-  cairo_clip(cr);
-  cairo_set_source_rgb(cr, 0.97, 0.97, 0.97);
+  cairo_translate(cr, v.cx - v.mx * v.scale, v.cy + v.my * v.scale);
+  cairo_scale(cr, v.scale, -v.scale);  // now in the panel's frame, y up
+  cairo_translate(cr, map.origin.x, map.origin.y);
+  cairo_rotate(cr, map.origin.theta);
+  cairo_translate(cr, 0, h * f * map.resolution);
+  cairo_scale(cr, f * map.resolution, -f * map.resolution);  // image pixels, y down
+  cairo_set_source_surface(cr, image, 0, 0);
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
   cairo_paint(cr);
-  if (p.map) {
-    int f = 1;
-    cairo_surface_t* image = grid_image(*p.map, 2 * std::max(width, height), f);
-    const int h = cairo_image_surface_get_height(image);
-    cairo_save(cr);
-    cairo_translate(cr, cx - mx * scale, cy + my * scale);
-    cairo_scale(cr, scale, -scale);  // now in the panel's frame, y up
-    cairo_translate(cr, p.map->origin.x, p.map->origin.y);
-    cairo_rotate(cr, p.map->origin.theta);
-    cairo_translate(cr, 0, h * f * p.map->resolution);
-    cairo_scale(cr, f * p.map->resolution, -f * p.map->resolution);  // image pixels, y down
-    cairo_set_source_surface(cr, image, 0, 0);
-    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
-    cairo_paint(cr);
-    cairo_restore(cr);
-    cairo_surface_destroy(image);
+  cairo_restore(cr);
+  cairo_surface_destroy(image);
+}
+
+void draw_path(cairo_t* cr, const Panel& p, const PanelView& v) {
+  cairo_set_source_rgb(cr, 0.2, 0.4, 0.9);
+  cairo_set_line_width(cr, 1.2);
+  for (std::size_t i = 0; i < p.path.size(); ++i) {
+    const Vec2 d = v.px(p.path[i]);
+    if (i == 0) cairo_move_to(cr, d.x(), d.y());
+    else cairo_line_to(cr, d.x(), d.y());
   }
-  for (const PointLayer& l : p.layers) {
-    cairo_set_source_rgb(cr, l.colour.r, l.colour.g, l.colour.b);
-    for (const Vec2& q : l.points) {
-      const Vec2 d = px(q);
-      cairo_rectangle(cr, d.x() - l.radius, d.y() - l.radius, 2 * l.radius, 2 * l.radius);
-    }
+  cairo_stroke(cr);
+  for (std::size_t i = 0; i < p.path.size(); ++i) {
+    const Rgb c = p.path_colours.empty() ? kGood : p.path_colours[i];
+    const Vec2 d = v.px(p.path[i]);
+    cairo_set_source_rgb(cr, c.r, c.g, c.b);
+    cairo_arc(cr, d.x(), d.y(), 3.0, 0, 2 * 3.14159265358979);
     cairo_fill(cr);
   }
-  if (!p.path.empty()) {
-    cairo_set_source_rgb(cr, 0.2, 0.4, 0.9);
-    cairo_set_line_width(cr, 1.2);
-    for (std::size_t i = 0; i < p.path.size(); ++i) {
-      const Vec2 d = px(p.path[i]);
-      if (i == 0) cairo_move_to(cr, d.x(), d.y());
-      else cairo_line_to(cr, d.x(), d.y());
-    }
-    cairo_stroke(cr);
-    for (std::size_t i = 0; i < p.path.size(); ++i) {
-      const Rgb c = p.path_colours.empty() ? kGood : p.path_colours[i];
-      const Vec2 d = px(p.path[i]);
-      cairo_set_source_rgb(cr, c.r, c.g, c.b);
-      cairo_arc(cr, d.x(), d.y(), 3.0, 0, 2 * 3.14159265358979);
-      cairo_fill(cr);
-    }
-  }
-  // A 1 m scale bar (or 10 m when 1 m is under 20 pixels), bottom left.
+}
+
+// A 1 m scale bar (or 10 m when 1 m is under 20 pixels), bottom left; the legend bottom right.
+void draw_scale_and_legend(cairo_t* cr, const Panel& p, double scale, double left, int width, int height) {
   const double metres = scale >= 20 ? 1 : scale >= 2 ? 10 : 100;
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_line_width(cr, 3);
@@ -149,6 +139,29 @@ void draw_panel(cairo_t* cr, const Panel& p, double left, int width, int height)
     cairo_move_to(cr, left + width - kMargin - extents.x_advance, kTitleHeight + height - kMargin);
     cairo_show_text(cr, p.legend.c_str());
   }
+}
+
+void draw_panel(cairo_t* cr, const Panel& p, double left, int width, int height) {
+  const Box b = bounds(p);
+  const double scale = std::min((width - 2 * kMargin) / std::max(b.x1 - b.x0, 1e-3),
+                                (height - 2 * kMargin) / std::max(b.y1 - b.y0, 1e-3));
+  const PanelView v{left + width / 2.0, kTitleHeight + height / 2.0, (b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2, scale};
+  cairo_save(cr);
+  cairo_rectangle(cr, left, kTitleHeight, width, height);
+  cairo_clip(cr);
+  cairo_set_source_rgb(cr, 0.97, 0.97, 0.97);
+  cairo_paint(cr);
+  if (p.map) draw_grid(cr, *p.map, v, width, height);
+  for (const PointLayer& l : p.layers) {
+    cairo_set_source_rgb(cr, l.colour.r, l.colour.g, l.colour.b);
+    for (const Vec2& q : l.points) {
+      const Vec2 d = v.px(q);
+      cairo_rectangle(cr, d.x() - l.radius, d.y() - l.radius, 2 * l.radius, 2 * l.radius);
+    }
+    cairo_fill(cr);
+  }
+  if (!p.path.empty()) draw_path(cr, p, v);
+  draw_scale_and_legend(cr, p, scale, left, width, height);
   cairo_restore(cr);
   cairo_save(cr);
   cairo_rectangle(cr, left, 0, width, kTitleHeight);

@@ -1,7 +1,7 @@
 #include "plot/png_file.h"
 
 #include "core/error.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 
 namespace partslam::plot {
 

@@ -1,7 +1,7 @@
 // A building map as ROS map_server holds one (docs/NOTES.md, "Locate"): a grid of cells that are
 // unknown, free or occupied, its resolution, and the pose of its lower-left corner in the map frame. Built here
 // from scans with known poses by ray casting (every beam frees the cells it crosses and hits its end cell), read
-// and written as map.yaml + PGM by io/map_server.h, and turned into points for dMM by occupied_points.
+// and written as map.yaml + PGM by io/formats/map_server.h, and turned into points for dMM by occupied_points.
 #pragma once
 
 #include <cstdint>

@@ -2,6 +2,7 @@
 // verification scores them: core/matching/verification.h), `dmm:eq1` (the paper's Eq. 1 score), `dmm-exhaustive`
 // (Eq. 1, the reference) and `dmm-ransac` (the paper's baseline). They store the map's points (bits_per_point
 // each) and return the relative pose T_map_query of every candidate.
+// Tested by: core/ranking/ranking_test.cc, core/ranking/method_spec_test.cc
 #include "core/error.h"
 #include "core/timing.h"
 #include "core/ranking/ranking.h"

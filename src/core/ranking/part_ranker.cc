@@ -5,6 +5,7 @@
 // Stored maps go through PartsConfig::codec when it is set (what a database would hold). The whole stored
 // database is scored per query (DescriptorDatabase::score_all), as a deployed system would; the time reported
 // for the candidates is that time's share of them.
+// Tested by: core/ranking/ranking_test.cc, core/ranking/method_spec_test.cc
 #include <algorithm>
 
 #include "core/parts/descriptor_database.h"

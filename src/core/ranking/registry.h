@@ -10,10 +10,9 @@
 #include <string_view>
 #include <vector>
 
-#include "core/ranking/method_spec.h"
-
 namespace partslam {
 
+struct MethodSpec;  // core/ranking/method_spec.h, whose parsing looks methods up here
 class Ranker;
 struct RankingConfig;
 

@@ -1,6 +1,7 @@
 // rerank:R:SPEC (docs/DESIGN.md, "Schemes"; the paper's rerank-R): a succinct method ranks every candidate,
 // then its top R are reordered by dMM and put above all others (ties in dMM keep the first stage's order).
 // rerank:R:K is the paper's spelling (first stage hmm:K). The stored form is both methods'.
+// Tested by: core/ranking/ranking_test.cc, core/ranking/method_spec_test.cc
 #include <algorithm>
 #include <cctype>
 

@@ -1,6 +1,6 @@
 // The settings of the local front end (front_end.h; its scan matcher's are core/matching/scan_matcher.h), apart from the
 // code that runs them: what a caller stores or validates (the map database keeps a dataset's front-end settings,
-// io/map_database.h) needs only these plain structs, not the front end's interface.
+// io/store/map_database.h) needs only these plain structs, not the front end's interface.
 #pragma once
 
 #include "core/matching/scan_matcher.h"

@@ -8,7 +8,7 @@
 // score minus the best one among the query's hypotheses at another place (stored frames more than other_place
 // apart), so a place that looks like several others gets a low confidence even when its score is high.
 // Their precision and recall against true map frames: core/evaluation/loop_evaluation.h; the pose graph they
-// join: submap_graph.h.
+// join, and the LoopClosure type: submap_graph.h.
 #pragma once
 
 #include <string>
@@ -17,6 +17,7 @@
 #include "core/work_split.h"
 #include "core/maps/submap.h"
 #include "core/parallel.h"
+#include "core/slam/submap_graph.h"
 #include "core/types.h"
 
 namespace partslam {
@@ -50,18 +51,6 @@ struct LoopClosureConfig {
 
 /// Throws InputError naming the offending field.
 void validate(const LoopClosureConfig& config);
-
-struct LoopClosure {
-  std::size_t query = 0;  ///< index of the later submap
-  std::size_t match = 0;  ///< index of the earlier submap
-  Pose2 T_match_query;    ///< the query's frame in the match's frame (dMM)
-  double score = 0.0;     ///< dMM inlier fraction
-  double context_score = 0.0;  ///< mean likelihood of the match's context on the query's (0 without context)
-  double confidence = 0.0;  ///< context score (dMM score without context) minus the best one at another place
-  /// Same-place probability of the two submaps at dMM's verified pose (before the context stage refines it);
-  /// -1 when dMM was not verified (LoopClosureConfig::verify_dmm false).
-  double probability = -1.0;
-};
 
 /// Hypotheses of every query, in query order, each query's by decreasing score. Over a split of several
 /// processes (MPI ranks), each takes every size-th query (later queries have more candidates) and the hypotheses

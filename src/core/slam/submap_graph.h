@@ -6,10 +6,23 @@
 #include <vector>
 
 #include "core/maps/submap.h"
-#include "core/slam/loop_closure.h"
 #include "core/slam/pose_graph.h"
 
 namespace partslam {
+
+/// A loop closure: an edge of the graph between an earlier and a later submap, as core/slam/loop_closure.h finds
+/// them.
+struct LoopClosure {
+  std::size_t query = 0;  ///< index of the later submap
+  std::size_t match = 0;  ///< index of the earlier submap
+  Pose2 T_match_query;    ///< the query's frame in the match's frame (dMM)
+  double score = 0.0;     ///< dMM inlier fraction
+  double context_score = 0.0;  ///< mean likelihood of the match's context on the query's (0 without context)
+  double confidence = 0.0;  ///< context score (dMM score without context) minus the best one at another place
+  /// Same-place probability of the two submaps at dMM's verified pose (before the context stage refines it);
+  /// -1 when dMM was not verified (LoopClosureConfig::verify_dmm false).
+  double probability = -1.0;
+};
 
 /// Information of a submap pose graph's edges: consecutive submaps joined by their stored relative pose (the
 /// front end's; sigma 5 cm, 0.02 rad) and loop closures (sigma 0.2 m, 0.1 rad, under a Cauchy loss).
