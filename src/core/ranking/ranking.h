@@ -41,10 +41,10 @@ struct MapView {
 
 /// dMM's search for ranking: canonical frames with eight rotation families (multiples of 45 degrees, as the
 /// localizer's): a 2 m submap's own Manhattan alignment can be off by half a quarter turn from another
-/// submap's of the same place, and four families never find that pose (aces: dMM's ANR 11.3 -> 3.3,
-/// docs/NOTES.md, "Verifying a match"). Each family is searched +- 10 degrees, not DmmConfig's 3: a small
-/// map's alignment is often 10-17 degrees off the building's axes (acapulco: ANR 6.9 -> 4.5 at 1.5-2x the
-/// time per pair; docs/NOTES.md, "A wider rotation window for the ranking's dMM").
+/// submap's of the same place, and four families never find that pose (docs/NOTES.md, "Eight rotation families
+/// for the ranking's dMM" under "Verifying a match"). Each family is searched +- 10 degrees, not DmmConfig's 3: a
+/// small map's alignment is often further off the building's axes than that (docs/NOTES.md, "A wider rotation
+/// window for the ranking's dMM").
 inline DmmConfig ranking_dmm_config() {
   DmmConfig config;
   config.canonical_turns = 8;
