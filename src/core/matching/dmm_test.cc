@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <limits>
 #include <random>
+#include <utility>
 
 #include "core/error.h"
 #include "core/sim/simulator.h"
@@ -312,91 +312,12 @@ TEST(MatchDmm, ElsewhereEqualsBruteForceOutsideTheExcludedDisc) {
   EXPECT_THROW(match_dmm_elsewhere(q, prepare_map({{0.0, 0.0}}, small_config()), Pose2{}, -1.0, 0.1), InputError);
 }
 
-// A DmmSearch's poses in turn: the first scores match_dmm's optimum, each next one the brute-force maximum over
-// the candidates outside the exclusion of every pose returned before (so never more than the one before), with
-// and without a bar; at the last, nothing is left.
-TEST(DmmSearch, EachNextPoseIsTheBestElsewhereThanThoseBefore) {
-  std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> offset(-1.5, 1.5);
-  for (int p = 0; p < 4; ++p) {
-    const testing::SyntheticWorld world = testing::random_world(rng, 20.0, 20);
-    const testing::SyntheticPair pair = testing::make_pair(world, rng, {offset(rng), offset(rng)},
-                                                           {offset(rng), offset(rng)}, (p % 4) * std::numbers::pi / 2);
-    DmmConfig config = small_config();
-    config.linear_window = 1.2;
-    config.search_depth = p % 2 == 0 ? 0 : 2;
-    const PreparedQuery q = prepare_query(pair.query, config);
-    const PreparedMap m = prepare_map(pair.map, config);
-    const double min_distance = 0.5, min_angle = 1.5 * kDegree, r = config.resolution;
-    DmmSearch search(q, m, min_distance, min_angle);
-    std::vector<Pose2> returned;
-    const auto outside = [&](double angle, int i, int j) {
-      return std::all_of(returned.begin(), returned.end(), [&](const Pose2& pose) {
-        return std::hypot(i * r - pose.x, j * r - pose.y) >= min_distance - 1e-9 ||
-               angle_error(angle, pose.theta) > min_angle;
-      });
-    };
-    const int w = static_cast<int>(std::floor(config.linear_window / r + 1e-9));
-    int previous = std::numeric_limits<int>::max(), poses = 0, first = 0;
-    for (int k = 0; k < 200; ++k) {
-      int brute = -1;
-      for (const RotatedQuery& rq : q.rotations) {
-        for (int j = -w; j <= w; ++j) {
-          for (int i = -w; i <= w; ++i) {
-            if (!outside(rq.angle, i, j)) continue;
-            int score = 0;
-            for (std::size_t c = 0; c < rq.x.size(); ++c) score += m.grid.at(rq.x[c] + i, rq.y[c] + j);
-            brute = std::max(brute, score);
-          }
-        }
-      }
-      // From the sixth pose on, a bar: poses that do not beat it are not reported.
-      const int bar = k >= 5 ? first / 2 : -1;
-      const DmmResult next = search.next(bar);
-      if (k == 0) first = next.inliers;
-      if (brute <= bar) {
-        EXPECT_FALSE(next.exact) << "pair " << p;
-        EXPECT_EQ(next.inliers, 0) << "pair " << p;
-        break;
-      }
-      if (brute < 0) {  // every candidate returned or excluded
-        EXPECT_EQ(next.inliers, 0) << "pair " << p;
-        break;
-      }
-      if (k == 0) {
-        EXPECT_EQ(next.inliers, match_dmm(q, m).inliers) << "pair " << p;
-      }
-      ASSERT_TRUE(next.exact) << "pair " << p << " pose " << k;
-      ASSERT_EQ(next.inliers, brute) << "pair " << p << " pose " << k;
-      EXPECT_LE(next.inliers, previous);
-      EXPECT_TRUE(outside(next.T_map_query.theta, static_cast<int>(std::lround(next.T_map_query.x / r)),
-                          static_cast<int>(std::lround(next.T_map_query.y / r))));
-      previous = next.inliers;
-      returned.push_back(next.T_map_query);
-      ++poses;
-    }
-    EXPECT_GE(poses, 5) << "pair " << p;
-  }
-  DmmConfig coarse = small_config();
-  coarse.resolution = 0.2;
-  const PreparedQuery other = prepare_query({{0.0, 0.0}}, coarse);
-  const PreparedMap map = prepare_map({{0.0, 0.0}}, small_config());
-  EXPECT_THROW(DmmSearch(other, map, 1.0, 0.1), InputError);
-  const PreparedQuery same = prepare_query({{0.0, 0.0}}, small_config());
-  EXPECT_THROW(DmmSearch(same, map, -1.0, 0.1), InputError);
-}
-
 class MatchDmmMany : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::mt19937_64 rng(13);
-    std::uniform_real_distribution<double> offset(-3.0, 3.0);
-    const testing::SyntheticWorld world = testing::random_world(rng, 30.0, 40);
-    query = testing::make_pair(world, rng, {0, 0}, {0, 0}, 0.3 * kDegree).query;
-    for (int m = 0; m < 16; ++m) {
-      const testing::SyntheticWorld& source = m % 4 == 0 ? world : testing::random_world(rng, 30.0, 40);
-      maps.push_back(prepare_map(testing::make_pair(source, rng, {offset(rng), offset(rng)}, {0, 0}, 0.0).map));
-    }
+    testing::QueryAndMaps data = testing::query_and_sixteen_maps();
+    query = std::move(data.query);
+    for (const Points2& m : data.maps) maps.push_back(prepare_map(m));
   }
   Points2 query;
   std::vector<PreparedMap> maps;
@@ -526,45 +447,6 @@ TEST_F(SimulatedPairs, PoseOfRelevantPairsIsWithinACellAndAStep) {
   }
   EXPECT_GE(within_one, n * 8 / 10) << within_one << " of " << n;
   EXPECT_GE(within_two, n * 9 / 10) << within_two << " of " << n;
-}
-
-// The joint search returns exactly the k best maps (ties: the earlier map) with match_dmm's scores, on synthetic
-// maps and on the simulator's submaps (many near-ties), with less work than scoring every map.
-TEST_F(MatchDmmMany, JointSearchEqualsTheExactTopK) {
-  const auto check = [](const Points2& points, const std::vector<const PreparedMap*>& maps, int k) {
-    const PreparedQuery q = prepare_query(points);
-    const std::vector<DmmResult> all = match_dmm_many(q, maps);
-    std::vector<std::size_t> order(maps.size());
-    for (std::size_t m = 0; m < order.size(); ++m) order[m] = m;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return all[a].inliers > all[b].inliers; });
-    const std::vector<DmmResult> joint = match_dmm_joint(q, maps, k);
-    std::int64_t work_joint = 0, work_all = 0;
-    for (std::size_t r = 0; r < order.size(); ++r) {
-      const std::size_t m = order[r];
-      work_joint += joint[m].candidates_scored, work_all += all[m].candidates_scored;
-      EXPECT_EQ(joint[m].exact, r < static_cast<std::size_t>(k)) << "map " << m << " rank " << r << " k " << k;
-      if (joint[m].exact) {
-        EXPECT_EQ(joint[m].inliers, all[m].inliers) << "map " << m;
-        // The reported pose scores what is claimed (up to cell-boundary rounding of t + R x).
-        EXPECT_NEAR(count_inliers(points, maps[m]->grid, joint[m].T_map_query), joint[m].inliers,
-                    0.02 * joint[m].inliers + 1);
-      } else {
-        EXPECT_EQ(joint[m].inliers, 0);
-      }
-    }
-    EXPECT_LT(work_joint, work_all);
-  };
-  std::vector<const PreparedMap*> synthetic;
-  for (const PreparedMap& m : maps) synthetic.push_back(&m);
-  for (const int k : {1, 3, 5}) check(query, synthetic, k);
-  const Submaps& sim = testing::simulated_maps();
-  std::vector<PreparedMap> prepared;
-  for (std::size_t m = 0; m < 80; ++m) prepared.push_back(prepare_map(sim[m * 3].points));
-  std::vector<const PreparedMap*> pointers;
-  for (const PreparedMap& m : prepared) pointers.push_back(&m);
-  for (const int k : {1, 4}) check(sim[200].points, pointers, k);
-  EXPECT_THROW(match_dmm_joint(prepare_query(query), synthetic, 0), InputError);
 }
 
 // A query (not only a stored map) spread over more than kMaxMapExtent is refused at once, naming the extent: a

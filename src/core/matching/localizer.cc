@@ -134,24 +134,15 @@ bool is_confident(const Localization& l, double min_confidence, double min_proba
   return l.confidence >= min_confidence && (!l.calibrated || l.probability >= min_probability);
 }
 
-Localization Localizer::locate(const Points2& query_points, const Points2& query_origins) const {
-  if (query_points.empty()) throw InputError("localizer: the local map has no point");
-  const auto t0 = Clock::now();
-  const PreparedQuery query = prepare_query(query_points, config_.dmm);
+bool Localizer::apart(const Vec2& centre, const Pose2& a, const Pose2& b) const {
+  return (a * centre - b * centre).norm() >= config_.elsewhere_distance ||
+         std::abs(wrap_angle(a.theta - b.theta)) > config_.elsewhere_angle;
+}
+
+std::vector<Localizer::Candidate> Localizer::search_candidates(const Points2& query_points,
+                                                               const PreparedQuery& query, const Vec2& centre) const {
   const Pose2 T_map_canonical = T_canonical_map_.inverse();
-  struct Scored {
-    DmmResult dmm;
-    Pose2 T_map_query;
-    int conflicts = 0;
-    double score = 0;
-    bool place = false;  // the best of its place: no candidate found before it lies within "elsewhere" of it
-  };
-  std::vector<Scored> found;
-  const Vec2 centre = centroid(query_points);  // the local map's centre
-  const auto apart = [&](const Pose2& a, const Pose2& b) {
-    return (a * centre - b * centre).norm() >= config_.elsewhere_distance ||
-           std::abs(wrap_angle(a.theta - b.theta)) > config_.elsewhere_angle;
-  };
+  std::vector<Candidate> found;
   const double n = static_cast<double>(query_points.size());
   // The two best rescored scores of distinct places so far [points]: a candidate with no more inliers than
   // the second cannot change the answer's confidence (rescoring only subtracts), so it is the next search's
@@ -160,7 +151,7 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   // One best-first search yields the distinct candidates in turn.
   DmmSearch search(query, map_, config_.candidate_distance, config_.elsewhere_angle);
   for (int k = 0; k < config_.candidates; ++k) {
-    Scored s;
+    Candidate s;
     const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
     s.dmm = search.next(bar);
     if (k > 0 && (!s.dmm.exact || s.dmm.inliers == 0)) break;  // nothing left that could matter
@@ -169,7 +160,7 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     const double points = s.dmm.inliers - config_.free_weight * s.conflicts;
     s.score = points / n;
     s.place = std::all_of(found.begin(), found.end(),
-                          [&](const Scored& f) { return apart(f.T_map_query, s.T_map_query); });
+                          [&](const Candidate& f) { return apart(centre, f.T_map_query, s.T_map_query); });
     if (!s.place) {
       // a place found before, seen a little off: its margin is over other places
     } else if (points > first) {
@@ -180,15 +171,18 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     found.push_back(s);
   }
   // Best rescored first; ties keep the search order (the higher dMM score).
-  std::stable_sort(found.begin(), found.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
-  // The best few candidates verified against the building map around them (refined below the lattice, with
-  // their same-place probability); the most probable is the answer.
-  std::size_t chosen = 0;
-  const VerifyQuery verify_local = verify_query(query_points, query_origins);  // its beams cast once
-  Verified v = verify(verify_local, found.front().T_map_query);
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  return found;
+}
+
+Verified Localizer::verify_best(const VerifyQuery& query, const std::vector<Candidate>& found,
+                                std::size_t& chosen) const {
+  chosen = 0;
+  Verified v = verify(query, found.front().T_map_query);
   const std::size_t verified = std::min<std::size_t>(found.size(), static_cast<std::size_t>(config_.verified));
   for (std::size_t i = 1; i < verified; ++i) {
-    Verified other = verify(verify_local, found[i].T_map_query);
+    Verified other = verify(query, found[i].T_map_query);
     if (other.probability > v.probability) v = std::move(other), chosen = i;
   }
   // The answer verified again from starts around it: a candidate half a metre from the true pose does not
@@ -197,22 +191,21 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
     const Pose2 at = v.T_map_query;
     const double r = config_.restart_distance;
     for (const Vec2& d : {Vec2(r, 0), Vec2(-r, 0), Vec2(0, r), Vec2(0, -r)}) {
-      Verified other = verify(verify_local, Pose2{at.x + d.x(), at.y + d.y(), at.theta});
+      Verified other = verify(query, Pose2{at.x + d.x(), at.y + d.y(), at.theta});
       if (other.probability > v.probability) v = std::move(other);
     }
   }
-  Localization out;
-  const Scored& best = found[chosen];
-  out.T_map_lattice = best.T_map_query;
-  out.inliers = best.dmm.inliers;
-  out.inlier_fraction = best.dmm.inlier_fraction;
-  out.free_conflicts = best.conflicts;
-  out.score = best.score;
+  return v;
+}
+
+void Localizer::set_margin(const std::vector<Candidate>& found, std::size_t chosen, const Vec2& centre,
+                           Localization& out) const {
+  const Candidate& best = found[chosen];
   // The margin is over the other places: the candidates that are the best of their place (in the search's
   // order, as a search with candidate_distance = elsewhere_distance finds them) and lie elsewhere than the
   // answer (the candidates between are the same places seen a little off).
   const auto elsewhere = [&](std::size_t j) {
-    return found[j].place && apart(found[j].T_map_query, best.T_map_query);
+    return found[j].place && apart(centre, found[j].T_map_query, best.T_map_query);
   };
   for (std::size_t j = 0; j < found.size(); ++j) {
     if (j == chosen || !elsewhere(j)) continue;
@@ -222,10 +215,31 @@ Localization Localizer::locate(const Points2& query_points, const Points2& query
   }
   // The margin is from the answer's place: the best score of the candidates there.
   std::vector<double> scores;
-  for (const Scored& f : found) scores.push_back(f.score);
-  for (const Scored& f : found)
-    if (!apart(f.T_map_query, best.T_map_query)) scores[chosen] = std::max(scores[chosen], f.score);
+  for (const Candidate& f : found) scores.push_back(f.score);
+  for (const Candidate& f : found)
+    if (!apart(centre, f.T_map_query, best.T_map_query)) scores[chosen] = std::max(scores[chosen], f.score);
   out.confidence = std::max(0.0, distinctiveness(scores, chosen, elsewhere));
+}
+
+Localization Localizer::locate(const Points2& query_points, const Points2& query_origins) const {
+  if (query_points.empty()) throw InputError("localizer: the local map has no point");
+  const auto t0 = Clock::now();
+  const PreparedQuery query = prepare_query(query_points, config_.dmm);
+  const Vec2 centre = centroid(query_points);  // the local map's centre
+  const std::vector<Candidate> found = search_candidates(query_points, query, centre);
+  // The best few candidates verified against the building map around them (refined below the lattice, with
+  // their same-place probability); the most probable is the answer.
+  std::size_t chosen = 0;
+  const VerifyQuery verify_local = verify_query(query_points, query_origins);  // its beams cast once
+  const Verified v = verify_best(verify_local, found, chosen);
+  Localization out;
+  const Candidate& best = found[chosen];
+  out.T_map_lattice = best.T_map_query;
+  out.inliers = best.dmm.inliers;
+  out.inlier_fraction = best.dmm.inlier_fraction;
+  out.free_conflicts = best.conflicts;
+  out.score = best.score;
+  set_margin(found, chosen, centre, out);
   out.candidates = static_cast<int>(found.size());
   out.T_map_query = v.T_map_query;
   out.terms = v.terms;

@@ -18,8 +18,10 @@
 // angle have that wing's direction searched too (wall_directions).
 #pragma once
 
+#include <cstddef>
 #include <numbers>
 #include <optional>
+#include <vector>
 
 #include "core/maps/grid_map.h"
 #include "core/matching/dmm.h"
@@ -150,6 +152,26 @@ class Localizer {
   };
   VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;
   Verified verify(const VerifyQuery& query, const Pose2& T_map_query) const;
+  /// One of locate()'s candidate poses: dMM's match, rescored with the map's free space.
+  struct Candidate {
+    DmmResult dmm;
+    Pose2 T_map_query;
+    int conflicts = 0;
+    double score = 0;
+    bool place = false;  ///< the best of its place: no candidate found before it lies within "elsewhere" of it
+  };
+  /// Whether two poses of a local map whose centre is `centre` are at different places ("elsewhere").
+  bool apart(const Vec2& centre, const Pose2& a, const Pose2& b) const;
+  /// The distinct candidates of one search (at most `candidates`), best rescored first.
+  std::vector<Candidate> search_candidates(const Points2& query_points, const PreparedQuery& query,
+                                           const Vec2& centre) const;
+  /// The most probable of the best few candidates, verified (and verified again from starts around it); sets
+  /// `chosen` to its index.
+  Verified verify_best(const VerifyQuery& query, const std::vector<Candidate>& found, std::size_t& chosen) const;
+  /// The margin of the answer (found[chosen]) over the other places: elsewhere_score, T_map_elsewhere and
+  /// confidence.
+  void set_margin(const std::vector<Candidate>& found, std::size_t chosen, const Vec2& centre,
+                  Localization& out) const;
 
   LocalizerConfig config_;
   std::optional<GridMap> free_space_;  ///< the map, when it knows its free cells

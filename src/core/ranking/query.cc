@@ -10,14 +10,12 @@
 namespace partslam {
 namespace {
 
-// The answer's order: tier, score and the succinct stage's score (rerank's tie-break) descending, then the
-// candidates' order (a serial ranking's stable order).
+// The answer's order: the ranking's (compare_rank; the stage score is the succinct stage's, rerank's tie-break),
+// then the candidates' order (a serial ranking's stable order).
 bool row_above(const QueryRow& a, const QueryRow& b) {
-  if (a.tier != b.tier) return a.tier > b.tier;
-  if (a.score != b.score) return a.score > b.score;
-  const double sa = a.stage_score.value_or(0.0), sb = b.stage_score.value_or(0.0);
-  if (sa != sb) return sa > sb;
-  return a.candidate < b.candidate;
+  const int c = compare_rank({a.tier, a.score, a.stage_score.value_or(0.0)},
+                             {b.tier, b.score, b.stage_score.value_or(0.0)});
+  return c != 0 ? c > 0 : a.candidate < b.candidate;
 }
 
 // This process's ranking as rows (candidates [first, first + n)), best first.

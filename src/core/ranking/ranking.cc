@@ -9,17 +9,23 @@
 namespace partslam {
 namespace {
 
-// -1, 0 or 1 as candidate a ranks below, level with or above candidate b.
-int compare(const Ranking& r, std::size_t a, std::size_t b) {
-  const auto cmp = [](auto x, auto y) { return x > y ? 1 : x < y ? -1 : 0; };
-  if (!r.tiers.empty())
-    if (const int c = cmp(r.tiers.at(a), r.tiers.at(b)); c != 0) return c;
-  if (const int c = cmp(r.scores.at(a), r.scores.at(b)); c != 0) return c;
-  if (!r.shortlist_scores.empty()) return cmp(r.shortlist_scores.at(a), r.shortlist_scores.at(b));
-  return 0;
+// Candidate i's key: no tiers put every candidate in tier 0, no shortlist scores leave the stage score 0.
+RankKey rank_key(const Ranking& r, std::size_t i) {
+  return {r.tiers.empty() ? 0 : r.tiers.at(i), r.scores.at(i),
+          r.shortlist_scores.empty() ? 0.0 : r.shortlist_scores.at(i)};
 }
 
+// -1, 0 or 1 as candidate a ranks below, level with or above candidate b.
+int compare(const Ranking& r, std::size_t a, std::size_t b) { return compare_rank(rank_key(r, a), rank_key(r, b)); }
+
 }  // namespace
+
+int compare_rank(const RankKey& a, const RankKey& b) {
+  const auto cmp = [](auto x, auto y) { return x > y ? 1 : x < y ? -1 : 0; };
+  if (const int c = cmp(a.tier, b.tier); c != 0) return c;
+  if (const int c = cmp(a.score, b.score); c != 0) return c;
+  return cmp(a.stage_score, b.stage_score);
+}
 
 void validate(const RankingConfig& config) {
   validate(config.dmm);

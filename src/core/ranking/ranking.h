@@ -41,10 +41,10 @@ struct MapView {
 
 /// dMM's search for ranking: canonical frames with eight rotation families (multiples of 45 degrees, as the
 /// localizer's): a 2 m submap's own Manhattan alignment can be off by half a quarter turn from another
-/// submap's of the same place, and four families never find that pose (aces: dMM's ANR 11.3 -> 3.3,
-/// docs/NOTES.md, "Verifying a match"). Each family is searched +- 10 degrees, not DmmConfig's 3: a small
-/// map's alignment is often 10-17 degrees off the building's axes (acapulco: ANR 6.9 -> 4.5 at 1.5-2x the
-/// time per pair; docs/NOTES.md, "A wider rotation window for the ranking's dMM").
+/// submap's of the same place, and four families never find that pose (docs/NOTES.md, "Eight rotation families
+/// for the ranking's dMM" under "Verifying a match"). Each family is searched +- 10 degrees, not DmmConfig's 3: a
+/// small map's alignment is often further off the building's axes than that (docs/NOTES.md, "A wider rotation
+/// window for the ranking's dMM").
 inline DmmConfig ranking_dmm_config() {
   DmmConfig config;
   config.canonical_turns = 8;
@@ -71,8 +71,19 @@ struct RankOptions {
   int top_k = 0;
 };
 
-/// A ranking's order: by tier (higher first), then score, then the first stage's score (where there is one),
-/// then the candidates' order.
+/// What a candidate ranks by, in this order, higher first: its tier, its score, then the first stage's score (0
+/// where there is none).
+struct RankKey {
+  int tier = 0;
+  double score = 0.0;
+  double stage_score = 0.0;
+};
+/// The ranking order, the one definition of it (Ranking's, and a query answer's rows, core/ranking/query.h): 1 when
+/// a ranks above b, -1 when below, 0 when tied (then the candidates' order decides).
+int compare_rank(const RankKey& a, const RankKey& b);
+
+/// A ranking's order: compare_rank of its candidates' keys (tiers, scores, shortlist_scores), then the candidates'
+/// order.
 struct Ranking {
   std::vector<double> scores;                    ///< one per candidate, higher = more likely the same place
   /// rerank: 1 for the candidates it reordered by dMM (their score is then dMM's), 0 for the others (their
@@ -128,7 +139,7 @@ std::unique_ptr<Ranker> make_ranker(const MethodSpec& method, const RankingConfi
 
 /// Candidate positions sorted by score, best first; ties keep their order.
 std::vector<std::size_t> ranking_order(const std::vector<double>& scores);
-/// Candidate positions in the ranking's order (tier, score, first-stage score, best first; ties keep their order).
+/// Candidate positions in the ranking's order (compare_rank, best first; ties keep their order).
 std::vector<std::size_t> ranking_order(const Ranking& ranking);
 /// Whether candidate a ranks above candidate b.
 bool ranks_above(const Ranking& ranking, std::size_t a, std::size_t b);

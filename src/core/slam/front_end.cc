@@ -92,6 +92,58 @@ class LocalMap {
   LikelihoodField field_, fine_field_;
 };
 
+// A scan's match on the local map from `prediction` (the odometry's, from the previous scan's pose). Where the
+// front end's constant velocity predicts far from it, that prediction is matched too, and kept (in `prediction`
+// too) when it scores more than second_margin better.
+ScanMatch match_predicted(const LocalMap& local, const Points2& points, const Scans& done, const Scan& scan,
+                          const FrontEndConfig& config, FrontEndStats& stats, Pose2& prediction) {
+  ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
+  if (config.second_prediction > 0) {
+    const Pose2 velocity = constant_velocity(done, scan.timestamp);
+    const Pose2 d = prediction.inverse() * velocity;
+    if (d.translation().norm() > config.second_prediction * config.matcher.linear_window ||
+        std::abs(d.theta) > config.second_prediction * config.matcher.angular_window) {
+      ++stats.second_predictions;
+      const ScanMatch v = match_scan(local.field(), points, velocity, config.matcher);
+      if (v.score > m.score + config.second_margin) {
+        m = v, prediction = velocity;
+        ++stats.velocity_kept;
+      }
+    }
+  }
+  return m;
+}
+
+// The pose of an accepted match: refined on the fine field (fine_sigma > 0), and where the odometry moves, its
+// translation along the scan's weak direction (a bare corridor's axis) taken from the prediction.
+Pose2 accepted_pose(const LocalMap& local, const Points2& points, const Scan& scan, const Pose2& matched,
+                    const Pose2& prediction, bool odometry_moves, const FrontEndConfig& config,
+                    FrontEndStats& stats) {
+  Pose2 pose = matched;
+  if (config.fine_sigma > 0) {
+    ScanMatcherConfig fine = config.matcher;
+    fine.sigma = config.fine_sigma, fine.linear_window = 0, fine.angular_window = 0;
+    pose = match_scan(local.fine_field(), points, matched, fine).pose;
+  }
+  if (const std::optional<Vec2> weak = odometry_moves ? weak_direction(scan, config) : std::nullopt) {
+    pose = keep_prediction_along(pose, prediction, *weak);
+    ++stats.degenerate;
+  }
+  return pose;
+}
+
+// Counts a heading jump: the scan (kept as scan `index`, at T_world_laser) turned from the previous one by more
+// than jump_turn away from the odometry's turn.
+void count_heading_jump(const Scan& prev, const Scan& scan, const Pose2& T_world_laser, std::size_t index,
+                        const FrontEndConfig& config, FrontEndStats& stats) {
+  const double turn = wrap_angle(T_world_laser.theta - prev.T_world_laser.theta);
+  const double odometry_turn = wrap_angle(scan.T_world_odom.theta - prev.T_world_odom.theta);
+  if (std::abs(wrap_angle(turn - odometry_turn)) > config.jump_turn) {
+    if (stats.jump_scans.size() < 100) stats.jump_scans.push_back(index);
+    ++stats.heading_jumps;
+  }
+}
+
 }  // namespace
 
 void validate(const FrontEndConfig& c) {
@@ -147,43 +199,16 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
     if (!result.scans.empty()) {
       const Scan& prev = result.scans.back();
       Pose2 prediction = prev.T_world_laser * (prev.T_world_odom.inverse() * scan.T_world_odom);
-      ScanMatch m = match_scan(local.field(), points, prediction, config.matcher);
-      if (config.second_prediction > 0) {
-        const Pose2 velocity = constant_velocity(result.scans, scan.timestamp);
-        const Pose2 d = prediction.inverse() * velocity;
-        if (d.translation().norm() > config.second_prediction * config.matcher.linear_window ||
-            std::abs(d.theta) > config.second_prediction * config.matcher.angular_window) {
-          ++stats.second_predictions;
-          const ScanMatch v = match_scan(local.field(), points, velocity, config.matcher);
-          if (v.score > m.score + config.second_margin) {
-            m = v, prediction = velocity;
-            ++stats.velocity_kept;
-          }
-        }
-      }
+      const ScanMatch m = match_predicted(local, points, result.scans, scan, config, stats, prediction);
       if (m.score >= config.min_score) {
-        out.T_world_laser = m.pose;
-        if (config.fine_sigma > 0) {
-          ScanMatcherConfig fine = config.matcher;
-          fine.sigma = config.fine_sigma, fine.linear_window = 0, fine.angular_window = 0;
-          out.T_world_laser = match_scan(local.fine_field(), points, m.pose, fine).pose;
-        }
-        if (const std::optional<Vec2> weak = odometry_moves ? weak_direction(scan, config) : std::nullopt) {
-          out.T_world_laser = keep_prediction_along(out.T_world_laser, prediction, *weak);
-          ++stats.degenerate;
-        }
+        out.T_world_laser = accepted_pose(local, points, scan, m.pose, prediction, odometry_moves, config, stats);
         score_sum += m.score;
         ++matched;
       } else {
         out.T_world_laser = prediction;
         ++stats.rejected;
       }
-      const double turn = wrap_angle(out.T_world_laser.theta - prev.T_world_laser.theta);
-      const double odometry_turn = wrap_angle(scan.T_world_odom.theta - prev.T_world_odom.theta);
-      if (odometry_moves && std::abs(wrap_angle(turn - odometry_turn)) > config.jump_turn) {
-        if (stats.jump_scans.size() < 100) stats.jump_scans.push_back(result.scans.size());
-        ++stats.heading_jumps;
-      }
+      if (odometry_moves) count_heading_jump(prev, scan, out.T_world_laser, result.scans.size(), config, stats);
     }
     if (result.scans.empty() ||
         moved(last_key, out.T_world_laser, config.key_translation, config.key_rotation)) {

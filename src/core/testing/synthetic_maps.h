@@ -5,6 +5,7 @@
 
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include "core/maps/submap.h"
 #include "core/types.h"
@@ -86,6 +87,27 @@ inline SyntheticPair make_pair(const SyntheticWorld& world, std::mt19937_64& rng
   pair.query = transform(T_world_query.inverse(), query_world);
   pair.T_map_query = T_world_map.inverse() * T_world_query;
   return pair;
+}
+
+/// A query and sixteen maps for 1-to-N matching: the query is a random 30 m world's crop about its origin, turned
+/// by 0.3 degrees; every fourth map is a crop of the same world about a random point within 3 m of the origin, the
+/// others each a crop of another random world. Deterministic (seed 13).
+struct QueryAndMaps {
+  Points2 query;
+  std::vector<Points2> maps;
+};
+
+inline QueryAndMaps query_and_sixteen_maps() {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> offset(-3.0, 3.0);
+  const SyntheticWorld world = random_world(rng, 30.0, 40);
+  QueryAndMaps out;
+  out.query = make_pair(world, rng, {0, 0}, {0, 0}, 0.3 * kDegree).query;
+  for (int m = 0; m < 16; ++m) {
+    const SyntheticWorld& source = m % 4 == 0 ? world : random_world(rng, 30.0, 40);
+    out.maps.push_back(make_pair(source, rng, {offset(rng), offset(rng)}, {0, 0}, 0.0).map);
+  }
+  return out;
 }
 
 }  // namespace partslam::testing
