@@ -39,9 +39,9 @@ int main(int argc, char** argv) {
       else if (name == "turns") config.localizer.dmm.canonical_turns = static_cast<int>(value);
       else if (name == "free_weight") config.localizer.free_weight = value;
       else if (name == "neighbourhood") config.localizer.neighbourhood = value;
-      else if (name == "confidence") config.min_confidence = value;
-      else if (name == "probability") config.min_probability = value;
-      else if (name == "elsewhere") config.localizer.elsewhere_distance = value;
+      else if (name == "confidence") config.confident_rule.min_margin = value;
+      else if (name == "probability") config.confident_rule.min_probability = value;
+      else if (name == "elsewhere") config.localizer.elsewhere.distance = value;
       else if (name == "window") config.submap.window_length = value;
       else if (name == "full_circle") config.localizer.dmm.canonical = false;
       else if (name == "restart")
@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
                 100 * config.min_overlap, r.in_map, config.correct.translation,
                 config.correct.rotation * 180 / std::numbers::pi, r.in_map_correct, share(r.in_map_correct, r.in_map));
     std::printf("confident (>= %.2f, probability >= %.3f): %zu, wrong among them: %zu (%.1f %%)\n",
-                config.min_confidence, config.min_probability, r.confident,
+                config.confident_rule.min_margin, config.confident_rule.min_probability, r.confident,
                 r.confident_wrong, share(r.confident_wrong, r.confident));
     std::printf("outside the map (overlap < %.0f %%): %zu, reported confidently: %zu (%.1f %%)\n",
                 100 * config.min_overlap, r.outside, r.outside_confident, share(r.outside_confident, r.outside));

@@ -32,7 +32,6 @@
 namespace partslam::apps {
 namespace {
 
-constexpr double kConfident = kConfidentLocalization;
 
 struct LocateOptions {
   std::string map;
@@ -204,7 +203,7 @@ void print_all(const std::vector<Located>& located) {
     std::sort(times.begin(), times.end());
     std::printf("%zu local maps, %zu confident (>= %.1f, probability >= %.3f); time per local map: median %.1f ms, "
                 "max %.1f ms\n",
-                located.size(), confident, kConfident, kConfidentLocalizationProbability, times[times.size() / 2],
+                located.size(), confident, ConfidenceRule{}.min_margin, ConfidenceRule{}.min_probability, times[times.size() / 2],
                 times.back());
   }
 }
@@ -235,8 +234,8 @@ void run_locate(const LocateOptions& o) {
   print_all(located);
   if (!o.plot.empty() && !located.empty()) write_plot(o, map, located);
   if (!o.json.empty()) {
-    nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", kConfident},
-                          {"confident_probability_at", kConfidentLocalizationProbability},
+    nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", ConfidenceRule{}.min_margin},
+                          {"confident_probability_at", ConfidenceRule{}.min_probability},
                           {"wing_directions_deg", wings},
                           {"warnings", log.warnings}};
     out["located"] = nlohmann::json::array();

@@ -30,7 +30,6 @@
 #include "apps/mpi_split.h"
 #include "apps/query_options.h"
 #include "core/error.h"
-#include "core/matching/localizer.h"     // kConfidentLocalization: the confidence called confident
 #include "core/matching/verification.h"  // pose_ambiguous
 #include "core/parts/descriptor_layout.h"
 #include "core/ranking/query.h"
@@ -195,16 +194,16 @@ void load_query(const io::MapDatabase& db, const MatchOptions& o, Query& q) {
     if (d.id == q.where.dataset_id || (every && d.spec.kind == io::DatasetKind::kSubmaps))
       q.loaded.emplace_back(d.spec.name, db.load_submaps(d.id));
   }
+  std::vector<const Submaps*> datasets;
+  std::optional<std::size_t> own;
   for (const auto& [name, maps] : q.loaded) {
-    for (const Submap& m : maps) {
-      if (m.id == q.map.id) continue;
-      if (name == q.where.dataset_name && std::abs(m.travel - q.map.travel) < o.min_gap) {
-        ++q.too_recent;
-        continue;
-      }
-      q.candidates.push_back({&m, name});
-    }
+    if (!q.new_map && name == q.where.dataset_name) own = datasets.size();
+    datasets.push_back(&maps);
   }
+  const CandidateChoice chosen = choose_candidates(q.map, datasets, own, o.min_gap);
+  q.too_recent = chosen.too_recent;
+  for (const ChosenMap& c : chosen.maps)
+    q.candidates.push_back({&(*datasets[c.dataset])[c.map], q.loaded[c.dataset].first});
   if (q.candidates.empty()) throw InputError("match: no other map to rank for map " + std::to_string(o.query));
 }
 
@@ -263,7 +262,7 @@ void write_match_plot(const std::string& path, const Query& q, const QueryAnswer
     if (row.pose) {
       const bool sure =
           r == 0 && answer.confidence &&
-          *answer.confidence >= (answer.calibrated ? kConfidentProbability : kConfidentLocalization) &&
+          ConfidenceRule{}.confident_answer(*answer.confidence, answer.calibrated) &&
           !ambiguous(row);
       panel.layers.push_back({plot::transformed(q.map.points, row.pose->T_map_query),
                               sure ? plot::kGood : plot::kDoubtful, 1.5});

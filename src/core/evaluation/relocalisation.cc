@@ -60,7 +60,7 @@ RelocalisationReport evaluate_relocalisation(const GridMap& map, const Scans& sc
     o.rotation_error = std::abs(error.theta);
     o.correct = config.correct.accepts(o.truth, o.result.T_map_query);
     const bool in_map = o.overlap >= config.min_overlap;
-    const bool confident = is_confident(o.result, config.min_confidence, config.min_probability);
+    const bool confident = is_confident(o.result, config.confident_rule);
     report.in_map += in_map;
     report.in_map_correct += in_map && o.correct;
     report.confident += confident;

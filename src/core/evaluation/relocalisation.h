@@ -22,8 +22,7 @@ struct RelocalisationConfig {
   double query_spacing = 2.0;    ///< travel between the starts of consecutive query local maps [m]
   double min_overlap = 0.3;      ///< queries at least this much in the map are the ones that must be found
   PoseTolerance correct{0.3, 3.0 * std::numbers::pi / 180};  ///< a pose counts as correct within this
-  double min_confidence = kConfidentLocalization;  ///< a localisation at least this confident ...
-  double min_probability = kConfidentLocalizationProbability;  ///< ... and probable is "confident" (is_confident)
+  ConfidenceRule confident_rule;  ///< which localisations are "confident" (is_confident)
   SubmapConfig submap;           ///< how local maps are built (window_length, range, alignment)
   LocalizerConfig localizer;
 };
@@ -51,10 +50,10 @@ struct RelocalisationReport {
   std::vector<RelocalisationOutcome> outcomes;
   std::size_t in_map = 0;           ///< queries with overlap >= min_overlap
   std::size_t in_map_correct = 0;   ///< ... whose pose is correct
-  std::size_t confident = 0;        ///< queries with confidence >= min_confidence
+  std::size_t confident = 0;        ///< queries confident by the rule
   std::size_t confident_wrong = 0;  ///< ... whose pose is wrong (the rate a user would be misled)
   std::size_t outside = 0;          ///< queries with overlap < min_overlap
-  std::size_t outside_confident = 0;  ///< ... reported with confidence >= min_confidence anyway
+  std::size_t outside_confident = 0;  ///< ... reported as confident anyway
   double median_ms = 0.0, p95_ms = 0.0;  ///< time per query (both searches)
   std::vector<double> wing_directions;  ///< Localizer::wing_directions of the map [rad]
 };

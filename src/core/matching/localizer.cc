@@ -20,11 +20,11 @@ DmmConfig localizer_dmm_config() {
 void validate(const LocalizerConfig& c) {
   validate(c.dmm);
   validate(c.verify);
-  if (!(c.elsewhere_distance >= 0.0 && c.elsewhere_distance <= 100.0))
+  if (!(c.elsewhere.distance >= 0.0 && c.elsewhere.distance <= 100.0))
     throw InputError("localizer: elsewhere_distance must be in [0, 100] m");
-  if (!(c.candidate_distance > 0.0 && c.candidate_distance <= c.elsewhere_distance))
+  if (!(c.candidate_distance > 0.0 && c.candidate_distance <= c.elsewhere.distance))
     throw InputError("localizer: candidate_distance must be in (0, elsewhere_distance]");
-  if (!(c.elsewhere_angle >= 0.0 && c.elsewhere_angle <= std::numbers::pi))
+  if (!(c.elsewhere.angle >= 0.0 && c.elsewhere.angle <= std::numbers::pi))
     throw InputError("localizer: elsewhere_angle must be in [0, pi] rad");
   if (c.candidates < 2 || c.candidates > 100) throw InputError("localizer: candidates must be in [2, 100]");
   if (!(c.free_weight >= 0.0 && c.free_weight <= 100.0)) throw InputError("localizer: free_weight must be in [0, 100]");
@@ -130,13 +130,8 @@ Verified Localizer::verify(const Points2& query_points, const Points2& query_ori
   return verify(verify_query(query_points, query_origins), T_map_query);
 }
 
-bool is_confident(const Localization& l, double min_confidence, double min_probability) {
-  return l.confidence >= min_confidence && (!l.calibrated || l.probability >= min_probability);
-}
-
-bool Localizer::apart(const Vec2& centre, const Pose2& a, const Pose2& b) const {
-  return (a * centre - b * centre).norm() >= config_.elsewhere_distance ||
-         std::abs(wrap_angle(a.theta - b.theta)) > config_.elsewhere_angle;
+bool is_confident(const Localization& l, const ConfidenceRule& rule) {
+  return rule.confident(l.confidence, l.calibrated ? std::optional(l.probability) : std::nullopt);
 }
 
 std::vector<Localizer::Candidate> Localizer::search_candidates(const Points2& query_points,
@@ -149,7 +144,7 @@ std::vector<Localizer::Candidate> Localizer::search_candidates(const Points2& qu
   // bar.
   double first = -1e300, second = -1e300;
   // One best-first search yields the distinct candidates in turn.
-  DmmSearch search(query, map_, config_.candidate_distance, config_.elsewhere_angle);
+  DmmSearch search(query, map_, config_.candidate_distance, config_.elsewhere.angle);
   for (int k = 0; k < config_.candidates; ++k) {
     Candidate s;
     const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
@@ -159,8 +154,9 @@ std::vector<Localizer::Candidate> Localizer::search_candidates(const Points2& qu
     s.conflicts = free_conflicts(query_points, s.T_map_query);
     const double points = s.dmm.inliers - config_.free_weight * s.conflicts;
     s.score = points / n;
-    s.place = std::all_of(found.begin(), found.end(),
-                          [&](const Candidate& f) { return apart(centre, f.T_map_query, s.T_map_query); });
+    s.place = std::all_of(found.begin(), found.end(), [&](const Candidate& f) {
+      return config_.elsewhere.apart(f.T_map_query, s.T_map_query, centre);
+    });
     if (!s.place) {
       // a place found before, seen a little off: its margin is over other places
     } else if (points > first) {
@@ -202,10 +198,10 @@ void Localizer::set_margin(const std::vector<Candidate>& found, std::size_t chos
                            Localization& out) const {
   const Candidate& best = found[chosen];
   // The margin is over the other places: the candidates that are the best of their place (in the search's
-  // order, as a search with candidate_distance = elsewhere_distance finds them) and lie elsewhere than the
+  // order, as a search with candidate_distance = elsewhere.distance finds them) and lie elsewhere than the
   // answer (the candidates between are the same places seen a little off).
   const auto elsewhere = [&](std::size_t j) {
-    return found[j].place && apart(centre, found[j].T_map_query, best.T_map_query);
+    return found[j].place && config_.elsewhere.apart(found[j].T_map_query, best.T_map_query, centre);
   };
   for (std::size_t j = 0; j < found.size(); ++j) {
     if (j == chosen || !elsewhere(j)) continue;
@@ -217,7 +213,8 @@ void Localizer::set_margin(const std::vector<Candidate>& found, std::size_t chos
   std::vector<double> scores;
   for (const Candidate& f : found) scores.push_back(f.score);
   for (const Candidate& f : found)
-    if (!apart(centre, f.T_map_query, best.T_map_query)) scores[chosen] = std::max(scores[chosen], f.score);
+    if (!config_.elsewhere.apart(f.T_map_query, best.T_map_query, centre))
+      scores[chosen] = std::max(scores[chosen], f.score);
   out.confidence = std::max(0.0, distinctiveness(scores, chosen, elsewhere));
 }
 

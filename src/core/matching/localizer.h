@@ -12,7 +12,7 @@
 // is the answer (in a long corridor the true place often scores a few inliers below an alias that the free
 // space and the fit tell apart), verified again from starts around it (restart_distance). How unique it is:
 // confidence = the best score at its place - the best score at another place (shares of the query's points;
-// "another place": elsewhere_distance away, candidates may lie closer together), near 0 for a corridor that
+// "another place": elsewhere.distance away, candidates may lie closer together), near 0 for a corridor that
 // fits two places or a place the map does not hold; it is reported as found when that margin and its
 // probability are both high enough (is_confident; docs/NOTES.md, "Locate"). Buildings with a wing at another
 // angle have that wing's direction searched too (wall_directions).
@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "core/maps/grid_map.h"
+#include "core/matching/distinctiveness.h"
 #include "core/matching/dmm.h"
 #include "core/matching/verification.h"
 
@@ -32,14 +33,6 @@ namespace partslam {
 /// The whole-map window, canonical frames, eight rotation families: a 2 m local map's own Manhattan alignment
 /// is off by about 45 degrees often enough in a cluttered lab (intel) to need them (docs/NOTES.md, "Locate").
 DmmConfig localizer_dmm_config();
-
-/// A localisation at least this confident is reported as found: chosen on fr079 (the lowest threshold with no
-/// wrong answer there; docs/NOTES.md, "Locate").
-inline constexpr double kConfidentLocalization = 0.2;
-/// ... and, where its probability is calibrated (free space on both sides), at least this probable: chosen on
-/// fr079, above every wrong or out-of-map answer's probability there (at most 0.023 then, 0.004 with the
-/// corner-weighted terms; kept, docs/NOTES.md, "Corner-weighted terms").
-inline constexpr double kConfidentLocalizationProbability = 0.025;
 
 /// The verification of the answer, refined within +-0.15 m (a lattice step and a half): with +-0.3 m the fit terms
 /// drew one of intel's answers 0.37 m along a corridor, a confident wrong answer (docs/NOTES.md, "Locate").
@@ -52,11 +45,10 @@ inline VerifyConfig localizer_verify_config() {
 struct LocalizerConfig {
   DmmConfig dmm = localizer_dmm_config();
   VerifyConfig verify = localizer_verify_config();  ///< the verification of the answer
-  /// The confidence's "elsewhere": the local map's centre at least this far away [m] ...
-  double elsewhere_distance = 2.0;
-  double elsewhere_angle = 10.0 * std::numbers::pi / 180;  ///< ... or turned by more than this [rad]
-  /// The search's candidates are poses at least this far apart (or turned by more than elsewhere_angle) [m],
-  /// in (0, elsewhere_distance]: finer than "elsewhere", so that the true place a metre along a corridor from
+  /// The confidence's "elsewhere": the local map's centre at least 2 m away, or turned by more than 10 degrees.
+  OtherPlace elsewhere{2.0, 10.0 * std::numbers::pi / 180};
+  /// The search's candidates are poses at least this far apart (or turned by more than elsewhere.angle) [m],
+  /// in (0, elsewhere.distance]: finer than "elsewhere", so that the true place a metre along a corridor from
   /// an alias that Eq. 1 prefers is examined too. 1 m with 32 candidates and 16 verified (chosen on fr079 and
   /// intel: 75 of 80 and 184 of 192 within 0.3 m / 3 deg, against 74 and 180 with 2 m, 16 and 8; 1 m with 16
   /// candidates: 71 and 181; 0.5 m with 32 and 16: 71 and 182; docs/NOTES.md, "Locate").
@@ -107,11 +99,9 @@ struct Localization {
   double time_ms = 0.0;           ///< all searches and verification [ms]
 };
 
-/// Whether an answer is reported as found: confidence >= min_confidence and, when `calibrated`, probability >=
-/// min_probability (a margin over the other candidates says the answer is unique, the probability that it is the
-/// place; on buildings other than the tuning ones, unique answers outside the map were common).
-bool is_confident(const Localization& l, double min_confidence = kConfidentLocalization,
-                  double min_probability = kConfidentLocalizationProbability);
+/// Whether an answer is reported as found: the rule's verdict on its confidence and, when `calibrated`, its
+/// probability.
+bool is_confident(const Localization& l, const ConfidenceRule& rule = {});
 
 class Localizer {
  public:
@@ -160,8 +150,6 @@ class Localizer {
     double score = 0;
     bool place = false;  ///< the best of its place: no candidate found before it lies within "elsewhere" of it
   };
-  /// Whether two poses of a local map whose centre is `centre` are at different places ("elsewhere").
-  bool apart(const Vec2& centre, const Pose2& a, const Pose2& b) const;
   /// The distinct candidates of one search (at most `candidates`), best rescored first.
   std::vector<Candidate> search_candidates(const Points2& query_points, const PreparedQuery& query,
                                            const Vec2& centre) const;

@@ -24,7 +24,7 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
   const Scans& scans = building_scans();
   LocalizerConfig config;
   config.candidate_distance = GetParam();
-  config.candidates = config.candidate_distance < config.elsewhere_distance ? 48 : config.candidates;
+  config.candidates = config.candidate_distance < config.elsewhere.distance ? 48 : config.candidates;
   const Localizer localizer(build_grid_map(scans), config);
   const std::vector<double> travel = travel_distances(scans);
   int tried = 0, correct = 0;
@@ -43,7 +43,7 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
     // The answer is the most probable of the verified candidates, so another place may score higher: margin
     // 0. The margin is from the best score at the answer's place, the answer's own or a candidate's beside
     // it.
-    if (GetParam() == config.elsewhere_distance) {
+    if (GetParam() == config.elsewhere.distance) {
       EXPECT_NEAR(l.confidence, std::max(0.0, l.score - l.elsewhere_score), 1e-12);
     } else {
       EXPECT_GE(l.confidence, std::max(0.0, l.score - l.elsewhere_score) - 1e-12);
@@ -75,7 +75,7 @@ TEST(Localizer, VerifyingMoreCandidatesAnswersWithTheMostProbable) {
   const Scans& scans = building_scans();
   const GridMap map = build_grid_map(scans);
   LocalizerConfig one;  // candidates a place apart, so that the best-scoring other one is the margin's
-  one.candidate_distance = one.elsewhere_distance;
+  one.candidate_distance = one.elsewhere.distance;
   one.restart_distance = 0;  // the candidates' own verification
   one.verified = 1;
   LocalizerConfig many = one;
@@ -148,12 +148,12 @@ TEST(Localizer, RefusesEmptyOrBadInput) {
   EXPECT_THROW(Localizer(Points2{}), InputError);
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}, {1e9, 0.0}}), InputError);
   LocalizerConfig c;
-  c.elsewhere_distance = -1;
+  c.elsewhere.distance = -1;
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
   c = {};
   c.candidate_distance = 0;  // the search needs distinct poses
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
-  c.candidate_distance = c.elsewhere_distance + 0.5;  // finer than "elsewhere" or the same
+  c.candidate_distance = c.elsewhere.distance + 0.5;  // finer than "elsewhere" or the same
   EXPECT_THROW(Localizer(Points2{{0.0, 0.0}}, c), InputError);
   c = {};
   c.restart_distance = -0.5;
@@ -179,7 +179,13 @@ TEST(Localizer, ConfidentNeedsAMarginAndWhereCalibratedAProbability) {
   EXPECT_FALSE(is_confident(l));  // probable, but another candidate scores nearly as well
   l.confidence = 0.3, l.calibrated = false, l.probability = 0.0;
   EXPECT_TRUE(is_confident(l));  // bare points: the probability is not calibrated, the margin decides
-  EXPECT_FALSE(is_confident(l, 0.5));
+  ConfidenceRule stricter;
+  stricter.min_margin = 0.5;
+  EXPECT_FALSE(is_confident(l, stricter));
+  // A ranking's answer: a decision probability when calibrated, a margin otherwise.
+  EXPECT_TRUE(ConfidenceRule{}.confident_answer(0.3, false));
+  EXPECT_FALSE(ConfidenceRule{}.confident_answer(0.3, true));
+  EXPECT_TRUE(ConfidenceRule{}.confident_answer(0.6, true));
 }
 
 }  // namespace

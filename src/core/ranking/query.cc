@@ -1,6 +1,7 @@
 #include "core/ranking/query.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <string>
 
@@ -109,6 +110,23 @@ QueryAnswer rank_query(const MethodSpec& method, const RankingConfig& config,
   answer.confidence = answer.calibrated ? decision_probability(values, 0, everyone_elsewhere)
                                         : distinctiveness(values, 0, everyone_elsewhere);
   return answer;
+}
+
+CandidateChoice choose_candidates(const Submap& query, std::span<const Submaps* const> datasets,
+                                  std::optional<std::size_t> own, double min_gap) {
+  CandidateChoice out;
+  for (std::size_t d = 0; d < datasets.size(); ++d) {
+    for (std::size_t i = 0; i < datasets[d]->size(); ++i) {
+      const Submap& m = (*datasets[d])[i];
+      if (m.id == query.id) continue;
+      if (own == d && std::abs(m.travel - query.travel) < min_gap) {
+        ++out.too_recent;
+        continue;
+      }
+      out.maps.push_back({d, i});
+    }
+  }
+  return out;
 }
 
 }  // namespace partslam

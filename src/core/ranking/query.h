@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "core/maps/submap.h"
 #include "core/work_split.h"
 #include "core/matching/distinctiveness.h"
 #include "core/ranking/ranking.h"
@@ -51,6 +52,21 @@ struct QueryRankOptions {
   int num_threads = 1;    ///< threads (results do not depend on it)
   OtherPlace other_place;
 };
+
+/// A stored map chosen as a candidate: its dataset (index into the datasets given) and its index there.
+struct ChosenMap {
+  std::size_t dataset = 0, map = 0;
+};
+
+/// The stored maps a stored or new query map is ranked against, in the order given: every map of `datasets` but
+/// the query itself (the same id) and, in the query's own dataset (`own`, none for a new local map), the maps
+/// anchored within min_gap of travel of it (the same pass, not a revisit), which `too_recent` counts.
+struct CandidateChoice {
+  std::vector<ChosenMap> maps;
+  std::size_t too_recent = 0;
+};
+CandidateChoice choose_candidates(const Submap& query, std::span<const Submaps* const> datasets,
+                                  std::optional<std::size_t> own, double min_gap);
 
 /// Ranks the candidates for the query (same answer for any threads and processes). Throws InputError when the
 /// method cannot be split between processes (MethodTraits::shardable) and split has more than one, or when

@@ -74,5 +74,24 @@ TEST(RankQuery, RefusesNoCandidatesAndZeroRows) {
                InputError);
 }
 
+// A stored query: every other map but those of its own pass within min_gap; a new local map: every stored map.
+TEST(RankQuery, CandidatesAreEveryOtherMapButTheQuerysOwnPass) {
+  Submaps own(5), other(3);
+  for (std::size_t i = 0; i < own.size(); ++i) own[i].id = static_cast<std::int64_t>(1 + i), own[i].travel = 2.0 * i;
+  for (std::size_t i = 0; i < other.size(); ++i) other[i].id = static_cast<std::int64_t>(10 + i), other[i].travel = 4.0;
+  const std::vector<const Submaps*> datasets = {&own, &other};
+  const CandidateChoice stored = choose_candidates(own[2], datasets, 0, 3.0);  // travel 4: 2 and 6 are too recent
+  EXPECT_EQ(stored.too_recent, 2u);
+  std::vector<std::pair<std::size_t, std::size_t>> maps;
+  for (const ChosenMap& c : stored.maps) maps.emplace_back(c.dataset, c.map);
+  EXPECT_EQ(maps, (std::vector<std::pair<std::size_t, std::size_t>>{{0, 0}, {0, 4}, {1, 0}, {1, 1}, {1, 2}}));
+  Submap fresh;
+  fresh.id = -1;
+  fresh.travel = 4.0;
+  const CandidateChoice all = choose_candidates(fresh, datasets, std::nullopt, 3.0);
+  EXPECT_EQ(all.maps.size(), own.size() + other.size());
+  EXPECT_EQ(all.too_recent, 0u);
+}
+
 }  // namespace
 }  // namespace partslam

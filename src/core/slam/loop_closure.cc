@@ -61,7 +61,7 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
   }
   std::vector<double> values;
   for (const LoopClosure& h : out) values.push_back(c.context > 0 ? h.context_score : h.score);
-  const OtherPlace other{c.other_place};
+  const OtherPlace& other = c.other_place;
   for (std::size_t i = 0; i < out.size(); ++i) {
     out[i].confidence = distinctiveness(values, i, [&](std::size_t j) {
       return other.apart(maps[out[j].match].T_world_map.translation(), maps[out[i].match].T_world_map.translation());
@@ -92,7 +92,7 @@ void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
 void validate(const LoopClosureConfig& c) {
   if (!(c.min_travel_gap >= 0.0) || !std::isfinite(c.min_travel_gap))
     throw InputError("loop closure config: min_travel_gap must be a finite number >= 0 [m]");
-  if (!(c.other_place > 0.0) || !std::isfinite(c.other_place))
+  if (!(c.other_place.distance > 0.0) || !std::isfinite(c.other_place.distance))
     throw InputError("loop closure config: other_place must be a positive finite number [m]");
   if (!(c.min_score >= 0.0 && c.min_score <= 1.0))
     throw InputError("loop closure config: min_score must be in [0, 1]");

@@ -1,19 +1,19 @@
-// Loop closures: for every submap, the earlier submaps (beyond a travel gap) of the
-// same place, found by a ranking method that verifies its shortlist by dMM (core/ranking/ranking.h:
-// rerank:R[:SPEC], the succinct shortlist reordered by dMM, or dmm itself). Every verified candidate is a
-// hypothesis (unless the drift gate rules it out) with the dMM relative pose, its score (inlier fraction), a
-// context score (the submaps a few metres
-// of travel around the query and around the match, joined, matched around that pose: a corridor that looks the
-// same over one 2 m submap rarely does over 10 m; the pose is refined by it) and a confidence: the context
-// score minus the best one among the query's hypotheses at another place (stored frames more than other_place
-// apart), so a place that looks like several others gets a low confidence even when its score is high.
-// Their precision and recall against true map frames: core/evaluation/loop_evaluation.h; the pose graph they
-// join, and the LoopClosure type: submap_graph.h.
+// Loop closures: for every submap, the earlier submaps (beyond a travel gap) of the same place, found by a ranking
+// method that verifies its shortlist by dMM (core/ranking/ranking.h: rerank:R[:SPEC], the succinct shortlist
+// reordered by dMM, or dmm itself). Every verified candidate is a hypothesis (unless the drift gate rules it out)
+// with the dMM relative pose, its score (inlier fraction), a context score (the submaps a few metres of travel around
+// the query and around the match, joined, matched around that pose: a corridor that looks the same over one 2 m
+// submap rarely does over 10 m; the pose is refined by it) and a confidence: the context score minus the best one
+// among the query's hypotheses at another place (stored frames other_place.distance or more apart), so a place that
+// looks like several others gets a low confidence even when its score is high. Their precision and recall against
+// true map frames: core/evaluation/loop_evaluation.h; the pose graph they join, and the LoopClosure type:
+// submap_graph.h.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "core/matching/distinctiveness.h"
 #include "core/work_split.h"
 #include "core/maps/submap.h"
 #include "core/parallel.h"
@@ -25,7 +25,7 @@ namespace partslam {
 struct LoopClosureConfig {
   std::string method = "rerank:20";  ///< a method spec whose candidates carry a dMM pose (rerank:R..., dmm)
   double min_travel_gap = 20.0;      ///< G: candidates were anchored at least this much travel earlier [m]
-  double other_place = 4.0;          ///< stored frames farther apart are another place (confidence) [m]
+  OtherPlace other_place{4.0};       ///< stored frames this far apart are another place (confidence)
   double min_score = 0.0;            ///< hypotheses with a lower dMM inlier fraction are not kept
   /// Verification in context: the submaps within this much travel of the query (and of the match) are joined
   /// in its frame (stored frames: locally consistent) and the match's context is matched against the query's

@@ -132,7 +132,7 @@ TEST(LoopClosure, RefusesMethodsWithoutAPoseAndAbsurdConfigs) {
   c.method = "bogus";
   EXPECT_THROW(validate(c), InputError);
   c = {};
-  c.other_place = 0;
+  c.other_place.distance = 0;
   EXPECT_THROW(validate(c), InputError);
   c = {};
   c.min_score = 2;

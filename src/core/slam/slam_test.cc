@@ -96,7 +96,7 @@ TEST(Slam, ValidateNamesTheNestedField) {
   c.submaps.spacing = -2;
   EXPECT_THAT(message(c), ::testing::StartsWith("slam config: submaps.spacing must be"));
   c = {};
-  c.loops.other_place = 0;
+  c.loops.other_place.distance = 0;
   EXPECT_THAT(message(c), ::testing::StartsWith("slam config: loops.other_place must be"));
   c = {};
   c.min_confidence = std::numeric_limits<double>::infinity();

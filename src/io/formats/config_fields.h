@@ -84,7 +84,7 @@ void config_fields(V& v, std::type_identity<LoopClosureConfig>) {
   using C = LoopClosureConfig;
   v.field("method", &C::method, "");
   v.field("min_travel_gap", &C::min_travel_gap, "");
-  v.field("other_place", &C::other_place, "");
+  v.field("other_place", &C::other_place, &OtherPlace::distance, "");
   v.field("min_score", &C::min_score, "");
   v.field("context", &C::context, "");
   v.field("drift_offset", &C::drift_offset, "");
@@ -207,9 +207,9 @@ void config_fields(V& v, std::type_identity<LocalizerConfig>) {
   using C = LocalizerConfig;
   v.section("dmm", &C::dmm, "the global search");
   v.section("verify", &C::verify, "the verification of the best candidates");
-  v.field("elsewhere_distance", &C::elsewhere_distance,
+  v.field("elsewhere_distance", &C::elsewhere, &OtherPlace::distance,
           "the confidence's other place: the local map's centre at least this far away [m] ...");
-  v.field("elsewhere_angle", &C::elsewhere_angle, "... or turned by more than this [rad]");
+  v.field("elsewhere_angle", &C::elsewhere, &OtherPlace::angle, "... or turned by more than this [rad]");
   v.field("candidate_distance", &C::candidate_distance,
           "the search's candidates lie at least this far apart [m], at most elsewhere_distance");
   v.field("candidates", &C::candidates, "distinct poses examined");
