@@ -144,9 +144,19 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
   }
   EXPECT_GT(terms["query_corner"].get<double>(), 0.5);
   // --every sweeps the log; --until keeps the first scans only.
-  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet");
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --every 40 --quiet --json " + quoted(json) +
+                     " --plot " + quoted(dir_ / "every.png"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("local maps,"));
+  EXPECT_TRUE(fs::exists(dir_ / "every.png"));
+  // An answer that is not confident says which test it failed, on its line and in the JSON.
+  for (const nlohmann::json& l : read_json(json)["located"]) {
+    const std::string why = l["not_confident_because"].get<std::string>();
+    EXPECT_EQ(l["confident"].get<bool>(), why.empty()) << why;
+    if (!why.empty()) {
+      EXPECT_THAT(run.output, HasSubstr("(low: " + why + ")"));
+    }
+  }
   EXPECT_THAT(run.output, HasSubstr("0.0 .. 2.0 m of travel, log time "));  // both clocks, as match's label
   ASSERT_EQ(run_partslam("export-map sim:1 --until 10 --out " + quoted(dir_ / "first.yaml")).exit_code, 0);
   EXPECT_LT(fs::file_size(dir_ / "first.pgm"), fs::file_size(dir_ / "building.pgm"));

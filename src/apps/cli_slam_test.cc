@@ -32,13 +32,16 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
                                   " --compare --threads 2 --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("verdict: "));
+  EXPECT_THAT(run.output, HasSubstr("; checked: "));  // what the verdict looked at, in one sentence
   EXPECT_THAT(run.output, HasSubstr("no relation matched"));
   EXPECT_THAT(run.output, HasSubstr("no relation names a scan of"));
+  EXPECT_THAT(run.output, HasSubstr("checked before the run"));
   for (const char* name : {"corrected.log", "map.yaml", "map.pgm", "map.png", "loops.json", "slam.json"})
     EXPECT_TRUE(fs::exists(out / name)) << name;
   std::ifstream in(out / "slam.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   const std::string verdict = j["verdict"].get<std::string>();
+  EXPECT_THAT(j["verdict_checks"].get<std::string>(), HasSubstr("closures offered agree with the solution"));
   EXPECT_TRUE(verdict == "closed" || verdict == "open" || verdict == "doubtful" || verdict == "front end") << verdict;
   EXPECT_EQ(verdict, "closed");  // the simulated building closes its loops
   EXPECT_TRUE(j["trusted"].get<bool>());

@@ -52,16 +52,19 @@ struct Located {
   Localization result;
   Pose2 T_map_source;            // the log's world frame or the point file's frame, in the map
   std::optional<Pose2> robot;    // the stretch's first laser pose in the map (logs)
+  std::optional<Pose2> robot_in_log;  // the same pose in the log's own frame (logs)
   Points2 points_in_map;         // the local map's points where they were found (kept for --plot)
 };
 
 void print(const Located& l) {
   const Localization& r = l.result;
+  const std::string why = not_confident_because(r);
+  const std::string low = why.empty() ? "" : " (low: " + why + ")";
   const Pose2& p = l.robot ? *l.robot : l.T_map_source;
   std::printf("%s\n  %s in the map: x %.2f m, y %.2f m, theta %.1f deg; inliers %.1f %%, %d on free space; "
               "confidence %.3f%s; same-place probability %.3f%s; %.1f ms\n",
               l.label.c_str(), l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
-              100 * r.inlier_fraction, r.free_conflicts, r.confidence, is_confident(r) ? "" : " (low)",
+              100 * r.inlier_fraction, r.free_conflicts, r.confidence, low.c_str(),
               r.probability, r.calibrated ? "" : " (bare points: no laser origins)", r.time_ms);
 }
 
@@ -93,6 +96,7 @@ nlohmann::json located_json(const Located& l) {
       {"calibrated", r.calibrated},
       {"confidence", r.confidence},
       {"confident", is_confident(r)},
+      {"not_confident_because", not_confident_because(r)},
       {"elsewhere", {{"score", r.elsewhere_score}, {"T_map_query", pose_json(r.T_map_elsewhere)}}},
       {"candidates", r.candidates},
       {"time_ms", r.time_ms}};
@@ -107,7 +111,10 @@ Located locate_one(const Localizer& localizer, const Submap& query, const Scans&
   l.result = localizer.locate(query.points, query.origins);
   if (keep_points) l.points_in_map = plot::transformed(query.points, l.result.T_map_query);
   l.T_map_source = l.result.T_map_query * query.T_world_map.inverse();
-  if (!scans.empty()) l.robot = l.T_map_source * scans[static_cast<std::size_t>(query.anchor_scan)].T_world_laser;
+  if (!scans.empty()) {
+    l.robot_in_log = scans[static_cast<std::size_t>(query.anchor_scan)].T_world_laser;
+    l.robot = l.T_map_source * *l.robot_in_log;
+  }
   return l;
 }
 
@@ -116,7 +123,7 @@ Located locate_one(const Localizer& localizer, const Submap& query, const Scans&
 void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Located>& located) {
   plot::Panel panel;
   panel.map = &map;
-  char title[240];
+  char title[400];
   if (located.size() == 1) {
     const Located& l = located.front();
     const Pose2& p = l.robot ? *l.robot : l.T_map_source;
@@ -127,16 +134,25 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
     panel.layers.push_back({l.points_in_map, confident ? plot::kGood : plot::kDoubtful, 1.5});
     panel.path = {p.translation()};  // the robot (or the points' frame) as a dot
   } else {
-    std::size_t confident = 0;
-    for (const Located& l : located) {
+    std::size_t confident = 0, breaks = 0;
+    for (std::size_t i = 0; i < located.size(); ++i) {
+      const Located& l = located[i];
       const Pose2& p = l.robot ? *l.robot : l.T_map_source;
       panel.path.push_back(p.translation());
       const bool sure = is_confident(l.result);
       panel.path_colours.push_back(sure ? plot::kGood : plot::kDoubtful);
       confident += sure;
+      // A line only where two consecutive answers moved as the log did: a wrong answer stands alone.
+      const Located* before = i > 0 ? &located[i - 1] : nullptr;
+      const bool joined = before != nullptr && l.robot && before->robot &&
+                          answers_agree(*before->robot, *l.robot, *before->robot_in_log, *l.robot_in_log);
+      panel.path_joined.push_back(joined);
+      breaks += i > 0 && !joined;
     }
-    std::snprintf(title, sizeof title, "%zu local maps located every %.1f m: %zu confident (green), %zu low (orange)",
-                  located.size(), o.every.value_or(0.0), confident, located.size() - confident);
+    std::snprintf(title, sizeof title,
+                  "%zu local maps located every %.1f m: %zu confident (green), %zu low (orange); lines join answers "
+                  "that moved as the log did (%zu breaks)",
+                  located.size(), o.every.value_or(0.0), confident, located.size() - confident, breaks);
   }
   panel.title = title;
   panel.legend = located.size() == 1 ? "the local map's points; the dot: the robot" : "green: confident; orange: low";

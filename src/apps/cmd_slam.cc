@@ -106,6 +106,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
           {"verdict", b.verdict},
           {"trusted", b.trusted()},
           {"reason", b.reason},
+          {"verdict_checks", verdict_checks(r, o.config)},
           {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}, {"check", r.check_s}}}};
 }
 
@@ -171,7 +172,8 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << " beams that revisit a place cross a wall another visit saw ("
             << (r.map_check.judged ? "" : "too few to judge, ") << std::setprecision(1)
             << 100 * r.map_check.crossing_share << " %; the front end's map: " << 100 * r.front_end_map_check.crossing_share
-            << " %)\nverdict: " << b.verdict << (b.reason.empty() ? "" : " (" + b.reason + ")") << "\n";
+            << " %)\nverdict: " << b.verdict << (b.reason.empty() ? "" : " (" + b.reason + ")") << "; checked: "
+            << verdict_checks(r, o.config) << "\n";
   if (!b.trusted())
     std::cerr << "partslam: warning: " << o.log << ": the corrected map may be worse than the front end's ("
               << b.reason << ")" << (b.verdict == "front end" ? "; the front end's trajectory is written" : "")
@@ -181,8 +183,10 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
   if (fe.heading_jumps > 0) {  // a measurement, not a warning: poor odometry (intel) disagrees this way too
     const std::vector<double> travel = travel_distances(r.scans);
     std::cout << "front end: " << fe.heading_jumps << " scans turned more than " << o.config.front_end.jump_turn
-              << " rad away from the odometry (first at " << static_cast<long>(travel.at(fe.jump_scans.front()))
-              << " m of travel), " << fe.degenerate << " kept the odometry along a bare corridor\n";
+              << " rad away from the odometry (the scans overruled the wheels' heading: many where the odometry is "
+                 "poor; first at "
+              << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel), " << fe.degenerate
+              << " kept the odometry along a bare corridor (too few walls across it to match)\n";
   }
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
@@ -212,15 +216,17 @@ void write_relations(const SlamOptions& o, const std::filesystem::path& dir, con
                        [&](std::ostream& out) { out << json_text(io::relations_error_json(after)); });
   std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size()
             << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
-  if (after.relations == 0)
-    std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
-              << " (its timestamps are not the log's: a re-timed bag, or another run?)\n";
 }
 
 // The run itself, its files into dir.
 void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
   const io::ScanSource source = load_scans(o.log, o.read);
+  // The relations against the log's scans before the run, not after it: matching is by timestamp.
+  if (!o.relations.empty() && relations_error(source.scans, relations).relations == 0)
+    std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
+              << " (its timestamps are not the log's: a re-timed bag, or another run?); checked before the run, "
+                 "which goes on without relation errors\n";
   SlamResult r;
   {
     ProgressBar bar(!o.quiet);

@@ -109,7 +109,7 @@ void draw_path(cairo_t* cr, const Panel& p, const PanelView& v) {
   cairo_set_line_width(cr, 1.2);
   for (std::size_t i = 0; i < p.path.size(); ++i) {
     const Vec2 d = v.px(p.path[i]);
-    if (i == 0) cairo_move_to(cr, d.x(), d.y());
+    if (i == 0 || (!p.path_joined.empty() && !p.path_joined[i])) cairo_move_to(cr, d.x(), d.y());
     else cairo_line_to(cr, d.x(), d.y());
   }
   cairo_stroke(cr);
@@ -189,6 +189,8 @@ void write_panels_png(const std::filesystem::path& path, const std::vector<Panel
     if (p.map) validate(*p.map);
     if (!p.path_colours.empty() && p.path_colours.size() != p.path.size())
       throw InputError(path.string() + ": panel '" + p.title + "': one path colour per path point");
+    if (!p.path_joined.empty() && p.path_joined.size() != p.path.size())
+      throw InputError(path.string() + ": panel '" + p.title + "': one path_joined flag per path point");
     if (bounds(p).empty()) throw InputError(path.string() + ": panel '" + p.title + "' has nothing to draw");
   }
   int width = -kGap, height = 0;

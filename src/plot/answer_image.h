@@ -35,12 +35,14 @@ struct Panel {
   std::vector<Vec2> path;         ///< a trajectory in the panel's frame, drawn as a line through dots
   std::vector<Rgb> path_colours;  ///< one per path point (the dot's colour); empty: kGood
   std::string legend;             ///< a line of small text at the panel's bottom right (what the colours mean)
+  /// one per path point: whether a line joins it to the point before (the first's is ignored); empty: all joined
+  std::vector<bool> path_joined;
 };
 
 /// Writes the panels side by side as a PNG, atomically, each panel_side pixels on its longer side and as its
 /// drawing's aspect asks on the other (all as high as the highest), under its title. Throws
-/// InputError for no panel, an invalid map, path_colours of another length than path, a panel with nothing to
-/// draw, or a PNG that cannot be written.
+/// InputError for no panel, an invalid map, path_colours or path_joined of another length than path, a panel with
+/// nothing to draw, or a PNG that cannot be written.
 void write_panels_png(const std::filesystem::path& path, const std::vector<Panel>& panels, int panel_side = 800);
 
 /// The points moved by T (e.g. a query's points into the map frame by T_map_query).

@@ -33,13 +33,14 @@ GridMap grid() {
 TEST(AnswerImage, PointsAndPathLandWhereTheMapSaysInEachPanel) {
   const fs::path png = fs::temp_directory_path() / ("partslam_answer_" + std::to_string(::getpid()) + ".png");
   const GridMap m = grid();
-  Panel located{"located", &m, {{{Vec2(1.0, 1.0)}, kGood, 2.0}}, {}, {}, ""};
+  Panel located{"located", &m, {{{Vec2(1.0, 1.0)}, kGood, 2.0}}, {}, {}, "", {}};
   // The second panel: points only, moved by a quarter turn about the origin, and a two-point path.
   Panel matched{"matched", nullptr,
                 {{transformed({Vec2(0.0, -2.0), Vec2(2.0, 0.0)}, Pose2{0, 0, std::numbers::pi / 2}), kDoubtful, 2.0}},
                 {Vec2(1.0, 0.5), Vec2(2.0, 2.0)},
                 {kGood, kDoubtful},
-                "a legend"};
+                "a legend",
+                {}};
   write_panels_png(png, {located, matched}, 200);
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
@@ -59,14 +60,32 @@ TEST(AnswerImage, PointsAndPathLandWhereTheMapSaysInEachPanel) {
   fs::remove(png);
 }
 
+// A path of three dots on a line whose middle one is not joined to the first: no line between the first two, a
+// line between the last two.
+TEST(AnswerImage, APathIsBrokenWhereItsPointsAreNotJoined) {
+  const fs::path png = fs::temp_directory_path() / ("partslam_answer_break_" + std::to_string(::getpid()) + ".png");
+  Panel p{"broken path", nullptr, {}, {Vec2(0.0, 0.0), Vec2(1.0, 0.0), Vec2(2.0, 0.0)}, {}, "", {true, false, true}};
+  write_panels_png(png, {p}, 200);
+  cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
+  ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+  // The path spans [0, 2] m in 180 px: x = 0.5 m at pixel 55, x = 1.5 m at 145, the line's y at the middle.
+  const int y = 26 + cairo_image_surface_get_height(s) / 2 - 13;
+  EXPECT_NE(pixel(s, 145, y), pixel(s, 55, y));
+  EXPECT_EQ(pixel(s, 55, y), pixel(s, 55, y - 15));  // no line: the background
+  cairo_surface_destroy(s);
+  p.path_joined = {true, true};
+  EXPECT_THROW(write_panels_png(png, {p}, 200), InputError);
+  fs::remove(png);
+}
+
 TEST(AnswerImage, RefusesWhatItCannotDraw) {
   const fs::path png = fs::temp_directory_path() / ("partslam_answer_bad_" + std::to_string(::getpid()) + ".png");
   EXPECT_THROW(write_panels_png(png, {}), InputError);
-  EXPECT_THROW(write_panels_png(png, {Panel{"empty", nullptr, {}, {}, {}, ""}}), InputError);
-  EXPECT_THROW(write_panels_png(png, {Panel{"colours", nullptr, {}, {Vec2(0, 0)}, {kGood, kGood}, ""}}), InputError);
+  EXPECT_THROW(write_panels_png(png, {Panel{"empty", nullptr, {}, {}, {}, "", {}}}), InputError);
+  EXPECT_THROW(write_panels_png(png, {Panel{"colours", nullptr, {}, {Vec2(0, 0)}, {kGood, kGood}, "", {}}}), InputError);
   GridMap broken = grid();
   broken.cells.pop_back();
-  EXPECT_THROW(write_panels_png(png, {Panel{"broken", &broken, {}, {}, {}, ""}}), InputError);
+  EXPECT_THROW(write_panels_png(png, {Panel{"broken", &broken, {}, {}, {}, "", {}}}), InputError);
   EXPECT_FALSE(fs::exists(png));
 }
 

@@ -1,6 +1,7 @@
 #include "core/matching/localizer.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 
 #include "core/error.h"
@@ -128,6 +129,28 @@ Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query) c
 
 Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {
   return verify(verify_query(query_points, query_origins), T_map_query);
+}
+
+bool answers_agree(const Pose2& T_map_a, const Pose2& T_map_b, const Pose2& T_log_a, const Pose2& T_log_b,
+                   const PoseTolerance& tolerance) {
+  const Pose2 in_map = T_map_a.inverse() * T_map_b, in_log = T_log_a.inverse() * T_log_b;
+  PoseTolerance allowed = tolerance;
+  allowed.translation += 0.1 * in_log.translation().norm();
+  return allowed.accepts(in_map, in_log);
+}
+
+std::string not_confident_because(const Localization& l, const ConfidenceRule& rule) {
+  char text[160];
+  std::string out;
+  if (!(l.confidence >= rule.min_margin)) {
+    std::snprintf(text, sizeof text, "margin %.3f < %g", l.confidence, rule.min_margin);
+    out = text;
+  }
+  if (l.calibrated && !(l.probability >= rule.min_probability)) {
+    std::snprintf(text, sizeof text, "same-place probability %.3f < %g", l.probability, rule.min_probability);
+    out += (out.empty() ? "" : "; ") + std::string(text);
+  }
+  return out;
 }
 
 bool is_confident(const Localization& l, const ConfidenceRule& rule) {

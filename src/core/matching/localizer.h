@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/maps/grid_map.h"
@@ -102,6 +103,16 @@ struct Localization {
 /// Whether an answer is reported as found: the rule's verdict on its confidence and, when `calibrated`, its
 /// probability.
 bool is_confident(const Localization& l, const ConfidenceRule& rule = {});
+/// Whether the answers for two local maps of one log agree with the log's own motion between them: the second
+/// answer's pose seen from the first's, and the log's second pose seen from its first, differ by at most
+/// `tolerance` plus a tenth of the distance between the log's poses in translation (its odometry drifts with
+/// travel). T_map_*: the answers' robot poses in the map; T_log_*: the same scans' poses in the log.
+bool answers_agree(const Pose2& T_map_a, const Pose2& T_map_b, const Pose2& T_log_a, const Pose2& T_log_b,
+                   const PoseTolerance& tolerance = {0.5, 10.0 * std::numbers::pi / 180});
+
+/// Why an answer is not confident, in words ("margin 0.12 < 0.2", "same-place probability 0.010 < 0.025", or
+/// both, joined by "; "); empty when it is.
+std::string not_confident_because(const Localization& l, const ConfidenceRule& rule = {});
 
 class Localizer {
  public:

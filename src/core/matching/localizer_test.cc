@@ -169,6 +169,16 @@ TEST(Localizer, RefusesEmptyOrBadInput) {
   EXPECT_THROW(ok.locate(Points2{{NAN, 0.0}}), InputError);
 }
 
+TEST(Localizer, ConsecutiveAnswersAgreeWhenTheyMoveAsTheLogDoes) {
+  const Pose2 log_a{10.0, 5.0, 0.3}, log_b = log_a * Pose2{2.0, 0.1, 0.05};  // 2 m along, a little turn
+  const Pose2 map_a{-3.0, 7.0, 1.2};
+  EXPECT_TRUE(answers_agree(map_a, map_a * Pose2{2.0, 0.1, 0.05}, log_a, log_b));
+  EXPECT_TRUE(answers_agree(map_a, map_a * Pose2{2.3, 0.3, 0.1}, log_a, log_b));  // odometry's drift allowed
+  EXPECT_FALSE(answers_agree(map_a, map_a * Pose2{-2.0, 0.1, 0.05}, log_a, log_b));  // the twin of a corridor
+  EXPECT_FALSE(answers_agree(map_a, map_a * Pose2{2.0, 0.1, 0.05 + std::numbers::pi / 2}, log_a, log_b));
+  EXPECT_FALSE(answers_agree(map_a, Pose2{30.0, 7.0, 1.2}, log_a, log_b));
+}
+
 TEST(Localizer, ConfidentNeedsAMarginAndWhereCalibratedAProbability) {
   Localization l;
   l.confidence = 0.3, l.calibrated = true, l.probability = 0.01;
@@ -179,9 +189,13 @@ TEST(Localizer, ConfidentNeedsAMarginAndWhereCalibratedAProbability) {
   EXPECT_FALSE(is_confident(l));  // probable, but another candidate scores nearly as well
   l.confidence = 0.3, l.calibrated = false, l.probability = 0.0;
   EXPECT_TRUE(is_confident(l));  // bare points: the probability is not calibrated, the margin decides
+  EXPECT_EQ(not_confident_because(l), "");
   ConfidenceRule stricter;
   stricter.min_margin = 0.5;
   EXPECT_FALSE(is_confident(l, stricter));
+  EXPECT_EQ(not_confident_because(l, stricter), "margin 0.300 < 0.5");
+  l.calibrated = true, l.probability = 0.01;
+  EXPECT_EQ(not_confident_because(l, stricter), "margin 0.300 < 0.5; same-place probability 0.010 < 0.025");
   // A ranking's answer: a decision probability when calibrated, a margin otherwise.
   EXPECT_TRUE(ConfidenceRule{}.confident_answer(0.3, false));
   EXPECT_FALSE(ConfidenceRule{}.confident_answer(0.3, true));

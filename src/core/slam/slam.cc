@@ -100,4 +100,19 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   return r;
 }
 
+std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
+  const BackEndResult& b = r.back_end;
+  std::ostringstream out;
+  out << std::fixed << b.used_count << " of " << b.used.size() << " closures offered agree with the solution (at least "
+      << std::setprecision(0) << 100 * (1 - c.back_end.max_rejected_share)
+      << " % must); they bend the front end's trajectory by up to " << std::setprecision(2)
+      << b.max_chain_translation << " m / " << b.max_chain_rotation << " rad between consecutive submaps (limits "
+      << c.back_end.max_chain_translation << " m / " << c.back_end.max_chain_rotation << " rad); "
+      << std::setprecision(1) << 100 * r.map_check.crossing_share
+      << " % of the beams that revisit a place cross a wall another visit saw (limit " << std::setprecision(0)
+      << 100 * c.map_check.max_crossing_share << " %" << (r.map_check.judged ? "" : ", too few beams to judge")
+      << ")";
+  return out.str();
+}
+
 }  // namespace partslam

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 #include "core/maps/submap.h"
 #include "core/slam/back_end.h"
@@ -54,5 +55,9 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config = {}, const Progr
 /// interpolated along the travel between their anchors; scans before the first anchor and after the last take
 /// the nearest one's. `old_maps` and `new_maps` are the same submaps before and after optimisation.
 Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps& new_maps);
+
+/// What the verdict checked, in one sentence: how many closures agreed, how far the closures bent the front end's
+/// trajectory against its limit, and how many revisiting beams cross a wall another visit saw against its limit.
+std::string verdict_checks(const SlamResult& result, const SlamConfig& config);
 
 }  // namespace partslam

@@ -46,6 +46,14 @@ TEST(Slam, ClosingTheLoopsUndoesTheDriftOfARawLog) {
       << slam.translation_mean << " vs " << front_end_only.translation_mean << " (odometry "
       << odometry.translation_mean << ")";
   EXPECT_LT(slam.translation_mean, 0.15);
+  // The verdict's sentence names the counts and limits it judged by.
+  const std::string checks = verdict_checks(r, config);
+  EXPECT_NE(checks.find(std::to_string(r.back_end.used_count) + " of " + std::to_string(r.back_end.used.size()) +
+                        " closures offered agree"),
+            std::string::npos)
+      << checks;
+  EXPECT_NE(checks.find("(limits 0.30 m / 0.10 rad)"), std::string::npos) << checks;
+  EXPECT_NE(checks.find("(limit 30 %"), std::string::npos) << checks;
 }
 
 TEST(Slam, CorrectionsMoveScansWithTheirSubmaps) {

@@ -292,6 +292,7 @@ class Reader {
       } catch (const Malformed& e) {
         throw InputError(name_ + ": the chunk at byte " + std::to_string(offset) + ": " + e.what());
       }
+      ++report_.cut_chunk_records;
       at += 9 + static_cast<std::size_t>(len);
     }
   }

@@ -30,6 +30,7 @@ struct ReadReport {
   /// decompress).
   bool truncated = false;
   std::uint64_t read_bytes = 0;
+  std::uint64_t cut_chunk_records = 0;  ///< records read from the first part of a chunk the cut went through
   /// Chunks that could not be opened (corrupt compression, CRC mismatch, malformed records inside), skipped
   /// because skip_damaged was set; without it the first one is an error.
   std::size_t damaged_chunks = 0;

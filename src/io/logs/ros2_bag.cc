@@ -50,7 +50,8 @@ struct FileRead {
 
 class Decoder {
  public:
-  Decoder(const LogReadOptions& options, bool zstd_messages) : options_(options), zstd_messages_(zstd_messages) {}
+  Decoder(const LogReadOptions& options, bool zstd_messages, bool detect_zstd = false)
+      : options_(options), zstd_messages_(zstd_messages), detect_zstd_(detect_zstd) {}
   bool skip_damaged() const { return options_.skip_damaged; }
 
   // Decodes one message; "where" names it for errors. Damage is counted when skip_damaged, else thrown.
@@ -63,7 +64,7 @@ class Decoder {
     try {
       if (encoding != "cdr") throw rm::BagError("message encoding '" + encoding + "' (only cdr is read)");
       std::vector<std::uint8_t> plain;
-      if (zstd_messages_) {
+      if (zstd_messages_ || (detect_zstd_ && is_zstd_frame(data))) {
         plain = unzstd(data);
         data = plain;
       }
@@ -102,6 +103,11 @@ class Decoder {
 
   const LogReadOptions& options_;
   bool zstd_messages_;
+  bool detect_zstd_;
+  // A zstd frame starts with its magic number; a CDR message with its encapsulation header (0x00 0x00|0x01 ...).
+  static bool is_zstd_frame(std::span<const std::uint8_t> data) {
+    return data.size() >= 4 && data[0] == 0x28 && data[1] == 0xb5 && data[2] == 0x2f && data[3] == 0xfd;
+  }
   std::size_t ranges_ = 0;
 };
 
@@ -118,8 +124,12 @@ FileRead read_mcap(const std::filesystem::path& path, Decoder& decoder, const Lo
       options.skip_damaged);
   out.damaged += report.damaged_chunks;
   if (out.first_damage.empty()) out.first_damage = report.first_damage;
-  if (report.truncated)
-    out.cut = "byte " + std::to_string(report.read_bytes) + " of " + std::to_string(report.file_bytes);
+  if (report.truncated) {
+    out.cut = "the file (" + std::to_string(report.file_bytes) + " bytes) ends inside the record at byte " +
+              std::to_string(report.read_bytes) + "; read every record before it";
+    if (report.cut_chunk_records > 0)
+      out.cut += " and the first " + std::to_string(report.cut_chunk_records) + " records of that chunk";
+  }
   return out;
 }
 
@@ -164,8 +174,8 @@ void salvage_db3(const std::filesystem::path& path, Decoder& decoder, FileRead& 
                 name + ": messages row " + std::to_string(id));
     last = id;
   }
-  out.cut = "messages row " + std::to_string(last) + " (" + std::to_string(rows.size()) +
-            " whole rows in the pages before the cut)";
+  out.cut = "read the " + std::to_string(rows.size()) + " whole messages rows of the pages before the cut, up to row " +
+            std::to_string(last);
 }
 
 FileRead read_db3(const std::filesystem::path& path, Decoder& decoder) {
@@ -219,7 +229,42 @@ FileRead read_db3(const std::filesystem::path& path, Decoder& decoder) {
 struct Storage {
   std::vector<std::filesystem::path> files;
   bool zstd_messages = false;
+  bool detect_zstd = false;  ///< no metadata.yaml: a message that is a zstd frame is decompressed
+  std::map<std::string, std::uint64_t> counts;  ///< messages per topic, as metadata.yaml states them
+  std::string warning;
 };
+
+// The storage files of a rosbag2 folder (.db3, .mcap), in the order rosbag2 splits them: <name>_<k>.<ext> by k.
+std::vector<std::filesystem::path> storage_files(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    const std::filesystem::path& p = entry.path();
+    if ((p.extension() == ".db3" || p.extension() == ".mcap") && entry.is_regular_file(ec)) files.push_back(p);
+  }
+  const auto split_index = [](const std::filesystem::path& p) {
+    const std::string stem = p.stem().string();
+    const std::size_t digits = stem.find_last_not_of("0123456789") + 1;
+    const bool numbered = digits < stem.size() && digits > 0 && stem[digits - 1] == '_' && stem.size() - digits < 10;
+    return std::pair(numbered ? stem.substr(0, digits) : stem, numbered ? std::stoul(stem.substr(digits)) : 0ul);
+  };
+  std::sort(files.begin(), files.end(), [&](const auto& a, const auto& b) {
+    return std::pair(split_index(a), a.filename()) < std::pair(split_index(b), b.filename());
+  });
+  return files;
+}
+
+// Messages per topic as metadata.yaml's topics_with_message_count states them (none when it does not).
+std::map<std::string, std::uint64_t> stated_counts(const YAML::Node& info) {
+  std::map<std::string, std::uint64_t> counts;
+  const YAML::Node topics = info["topics_with_message_count"];
+  if (!topics || !topics.IsSequence()) return counts;
+  for (const YAML::Node& t : topics) {
+    const YAML::Node name = t["topic_metadata"] ? t["topic_metadata"]["name"] : YAML::Node();
+    if (name && t["message_count"]) counts[name.as<std::string>()] = t["message_count"].as<std::uint64_t>();
+  }
+  return counts;
+}
 
 Storage storage_of(std::filesystem::path path) {
   if (path.filename() == "metadata.yaml") path = path.parent_path().empty() ? "." : path.parent_path();
@@ -228,10 +273,20 @@ Storage storage_of(std::filesystem::path path) {
   if (!std::filesystem::is_directory(path, ec)) {
     if (!std::filesystem::exists(path, ec)) throw InputError(name + ": no such file");
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": not a regular file");
-    return {{path}, false};
+    Storage s;
+    s.files = {path};
+    return s;
   }
   const std::filesystem::path meta = path / "metadata.yaml";
   Storage s;
+  if (!std::filesystem::exists(meta, ec)) {  // as after a power loss: the files as `ros2 bag reindex` finds them
+    s.files = storage_files(path);
+    if (s.files.empty()) throw InputError(name + ": a folder without metadata.yaml or any .db3 or .mcap file");
+    s.detect_zstd = true;
+    s.warning = name + ": no metadata.yaml (a recording not closed, or the file lost); read the " +
+                std::to_string(s.files.size()) + " storage files in it in split order, as `ros2 bag reindex` would";
+    return s;
+  }
   try {
     const YAML::Node info = YAML::LoadFile(meta.string())["rosbag2_bagfile_information"];
     if (!info) throw InputError(meta.string() + ": no rosbag2_bagfile_information (not a rosbag2 metadata file)");
@@ -250,6 +305,7 @@ Storage storage_of(std::filesystem::path path) {
     if (!files || !files.IsSequence() || files.size() == 0)
       throw InputError(meta.string() + ": relative_file_paths: missing or empty");
     for (const YAML::Node& f : files) s.files.push_back(path / f.as<std::string>());
+    s.counts = stated_counts(info);
   } catch (const YAML::Exception& e) {
     throw InputError(meta.string() + ": " + e.what());
   }
@@ -266,7 +322,8 @@ std::string seconds(std::uint64_t ns) {
 
 bool is_ros2_bag(const std::filesystem::path& path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return std::filesystem::exists(path / "metadata.yaml", ec);
+  if (std::filesystem::is_directory(path, ec))
+    return std::filesystem::exists(path / "metadata.yaml", ec) || !storage_files(path).empty();
   return path.extension() == ".mcap" || path.extension() == ".db3" || path.filename() == "metadata.yaml";
 }
 
@@ -274,9 +331,10 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
   validate(options);
   const std::string name = path.string();
   const Storage storage = storage_of(path);
-  Decoder decoder(options, storage.zstd_messages);
+  Decoder decoder(options, storage.zstd_messages, storage.detect_zstd);
   std::vector<Event> events;
   std::vector<std::string> warnings;
+  if (!storage.warning.empty()) warnings.push_back(storage.warning);
   rm::BagSelection selection(options.max_points, options.scan_topic, options.odom_topic);
   for (std::size_t k = 0; k < storage.files.size(); ++k) {
     const std::filesystem::path& file = storage.files[k];
@@ -294,8 +352,8 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
       warnings.push_back(file.string() + ": skipped " + std::to_string(read.damaged) + " damaged " +
                          (mcap ? "chunks or messages" : "pages or messages") + " (the first: " + read.first_damage + ")");
     if (!read.cut.empty()) {
-      warnings.push_back(file.string() + ": the recording is cut short; read it up to its last whole message, " +
-                         read.cut + ": " + std::to_string(scans) + " scans, up to log time " + seconds(last) + " s" +
+      warnings.push_back(file.string() + ": the recording is cut short: " + read.cut + " (" + std::to_string(scans) +
+                         " scans, up to log time " + seconds(last) + " s)" +
                          (k + 1 < storage.files.size() ? "; the files after it are read too" : ""));
     }
     std::move(read.events.begin(), read.events.end(), std::back_inserter(events));
@@ -316,6 +374,16 @@ RosBagLog read_ros2_bag(const std::filesystem::path& path, const LogReadOptions&
     messages = std::move(selection).finish();
   } catch (const rm::BagError& e) {
     throw InputError(name + ": " + e.what());
+  }
+  // The scans read against the count metadata.yaml states for their topic.
+  if (const auto stated = storage.counts.find(messages.scan_topic); stated != storage.counts.end()) {
+    const auto read = static_cast<std::uint64_t>(std::count_if(events.begin(), events.end(), [&](const Event& e) {
+      return e.topic == messages.scan_topic && std::holds_alternative<rm::LaserScanMessage>(e.message);
+    }));
+    if (read != stated->second)
+      warnings.push_back(name + ": its metadata.yaml says " + messages.scan_topic + " holds " +
+                         std::to_string(stated->second) + " messages, its storage files hold " +
+                         std::to_string(read) + " (files missing, cut short or edited)");
   }
   RosBagLog log = scans_from_bag_messages(messages, options, name);
   log.warnings.insert(log.warnings.end(), warnings.begin(), warnings.end());

@@ -125,6 +125,42 @@ TEST(Ros2Bag, Db3FilesAndRosbag2FoldersGiveTheSameScans) {
   expect_same_scans(read_ros2_bag(dir / "bag" / "metadata.yaml"), ros1(), ros1().scans.size());  // the folder's
 }
 
+// A rosbag2 folder as a power loss leaves it: no metadata.yaml. Its storage files are read in split order (bag_2
+// before bag_10), zstd messages found by their frames, with a warning; a metadata.yaml whose count for the scan
+// topic disagrees with the files is said.
+TEST(Ros2Bag, AFolderWithoutMetadataIsReadAndACountThatDisagreesIsSaid) {
+  testing::TempDir dir;
+  const std::vector<Raw> messages = raw_messages(shared_mcap());
+  std::filesystem::create_directories(dir / "bag");
+  const std::size_t third = messages.size() / 3;
+  const auto at = [&](std::size_t k) { return messages.begin() + static_cast<std::ptrdiff_t>(k); };
+  write_db3(dir / "bag" / "bag_2.db3", {at(0), at(third)}, true);
+  write_db3(dir / "bag" / "bag_10.db3", {at(third), at(2 * third)}, true);
+  write_db3(dir / "bag" / "bag_11.db3", {at(2 * third), messages.end()}, true);
+  ASSERT_TRUE(is_ros2_bag(dir / "bag"));
+  const RosBagLog recovered = read_ros2_bag(dir / "bag");
+  expect_same_scans(recovered, ros1(), ros1().scans.size());
+  ASSERT_EQ(recovered.warnings.size(), 1u);
+  EXPECT_THAT(recovered.warnings[0], HasSubstr("no metadata.yaml"));
+  EXPECT_THAT(recovered.warnings[0], HasSubstr("read the 3 storage files in it in split order"));
+  EXPECT_EQ(load_scan_source((dir / "bag").string()).scans.size(), ros1().scans.size());
+  // A metadata.yaml that states 5 scans.
+  std::ofstream(dir / "bag" / "metadata.yaml")
+      << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
+         "  relative_file_paths: [bag_2.db3, bag_10.db3, bag_11.db3]\n"
+         "  compression_format: zstd\n  compression_mode: message\n"
+         "  topics_with_message_count:\n"
+         "    - topic_metadata: {name: /scan, type: sensor_msgs/msg/LaserScan, serialization_format: cdr}\n"
+         "      message_count: 5\n";
+  const RosBagLog stated = read_ros2_bag(dir / "bag");
+  ASSERT_EQ(stated.warnings.size(), 1u);
+  EXPECT_THAT(stated.warnings[0], HasSubstr("its metadata.yaml says /scan holds 5 messages, its storage files hold " +
+                                            std::to_string(ros1().scans.size())));
+  // A folder with neither is no bag.
+  std::filesystem::create_directories(dir / "empty");
+  EXPECT_FALSE(is_ros2_bag(dir / "empty"));
+}
+
 TEST(Ros2Bag, TopicsCanBeChosen) {
   LogReadOptions o;
   o.odom_topic = "/tf";  // odom -> base_link on /tf instead of /odom: the same poses in this bag
@@ -162,6 +198,13 @@ TEST(Ros2Bag, RecordingsCutShortAreReadUpToTheCut) {
       if (log.scans.size() < ros1().scans.size() || log.warnings.size() == 1) {
         ASSERT_EQ(log.warnings.size(), 1u) << whole << " cut at " << n;
         EXPECT_THAT(log.warnings[0], HasSubstr("the recording is cut short")) << n;
+        // Where the file ends and where reading stopped, both named.
+        if (ext == ".mcap") {
+          EXPECT_THAT(log.warnings[0], HasSubstr("the file (" + std::to_string(n) + " bytes) ends inside the record "
+                                                 "at byte ")) << n;
+        } else {
+          EXPECT_THAT(log.warnings[0], HasSubstr("whole messages rows of the pages before the cut")) << n;
+        }
       }
       expect_same_scans(log, ros1(), log.scans.size(), 2);
       // About the share of the scans that the share of the bytes holds (the messages are not spread evenly: within
