@@ -29,7 +29,7 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   const fs::path out = dir / "out", relations = dir / "other.relations";
   std::ofstream(relations) << "1.0 2.0 0.5 0 0 0 0 0.1\n";
   const CliRun run = run_partslam("slam sim:2 --out " + quoted(out) + " --relations " + quoted(relations) +
-                                  " --compare --threads 2 --quiet");
+                                  " --compare --threads 2 --quiet --picture-side 300");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("verdict: "));
   EXPECT_THAT(run.output, HasSubstr("; checked: "));  // what the verdict looked at, in one sentence
@@ -38,6 +38,16 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_THAT(run.output, HasSubstr("checked before the run"));
   for (const char* name : {"corrected.log", "map.yaml", "map.pgm", "map.png", "loops.json", "slam.json"})
     EXPECT_TRUE(fs::exists(out / name)) << name;
+  {  // --picture-side bounds map.png (two maps side by side, a title row above): its IHDR width and height
+    std::ifstream png(out / "map.png", std::ios::binary);
+    unsigned char header[24] = {};
+    png.read(reinterpret_cast<char*>(header), sizeof header);
+    const auto be32 = [&](int at) { return header[at] << 24 | header[at + 1] << 16 | header[at + 2] << 8 | header[at + 3]; };
+    EXPECT_LE(be32(16), 300);
+    EXPECT_GT(be32(16), 100);
+    EXPECT_LE(be32(20), 300 + 40);
+  }
+  EXPECT_NE(run_partslam("slam sim:2 --out " + quoted(dir / "x") + " --picture-side 5").exit_code, 0);
   std::ifstream in(out / "slam.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   const std::string verdict = j["verdict"].get<std::string>();

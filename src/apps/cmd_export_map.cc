@@ -62,7 +62,7 @@ void run_export_map(const ExportMapOptions& o) {
   char title[200];
   std::snprintf(title, sizeof title, "%s: %d x %d cells at %.3g m", std::filesystem::path(o.log).filename().c_str(),
                 map.width, map.height, map.resolution);
-  plot::write_grid_maps_png(preview, {{&map, title, {}, {}}});
+  plot::write_grid_maps_png(preview, {{&map, title, {}, {}, {}}});
   std::size_t occupied = 0, free = 0;
   for (const CellState c : map.cells) occupied += c == CellState::kOccupied, free += c == CellState::kFree;
   std::cout << "wrote " << o.out << ", " << image.string() << " and " << preview.string() << " (preview): " << map.width << " x " << map.height

@@ -1,7 +1,8 @@
 // partslam slam RAW_LOG --out DIR: the whole chain for a raw log (core/slam/slam.h): front end, submaps, loop
 // closures (succinct shortlist, dMM and context verification, drift gate), a pose graph with a robust loss,
 // corrected scan poses. Writes DIR/corrected.log (CARMEN, corrected poses), DIR/map.yaml + map.pgm (the corrected
-// map for map_server and `locate`), DIR/map.png (the same occupancy grid; --compare: the odometry's beside it),
+// map for map_server and `locate`), DIR/map.png (the same occupancy grid with the path, its start and end, the used
+// closures and the verdict; --compare: the odometry's beside it),
 // DIR/loops.json, DIR/slam.json (closures used and set aside, the verdict: core/slam/back_end.h) and, with
 // --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric, rotation in degrees). Every
 // file is written atomically; DIR is created when missing. --config FILE.yaml sets any field of SlamConfig
@@ -46,6 +47,7 @@ struct SlamOptions {
   SlamConfig config;
   int threads = 1;
   bool compare = false;
+  int picture_side = 4000;
   bool quiet = false;
 };
 
@@ -120,23 +122,34 @@ Points2 laser_path(const Scans& scans) {
 // DIR/map.yaml + map.pgm (map_server, occupancy by ray casting) and DIR/map.png showing the same grid with the
 // robot's path (start green, end red) and, when the map check failed, its worst place circled; the odometry's map
 // and path beside it when asked.
+// The used closures as lines between their two submaps' centres (their frames' origins, corrected): the places
+// matched. (Between the robot's positions at the submaps' anchors the lines run far across: a place is seen from
+// up to the laser's range away.)
+std::vector<std::pair<Vec2, Vec2>> closure_links(const SlamResult& r) {
+  const auto at = [&](std::size_t submap) { return r.submaps.at(submap).T_world_map.translation(); };
+  std::vector<std::pair<Vec2, Vec2>> links;
+  for (std::size_t k = 0; k < r.offered.size(); ++k)
+    if (r.back_end.used[k]) links.emplace_back(at(r.offered[k].query), at(r.offered[k].match));
+  return links;
+}
+
 void write_maps(const std::filesystem::path& dir, const SlamResult& r, const Scans& raw, const std::string& title,
-                bool compare) {
+                bool compare, int side) {
   const GridMap map = build_grid_map(r.scans);
   io::write_map_yaml(dir / "map.yaml", map);
   Points2 marks;
   if (!r.map_check.passed) marks.push_back(r.map_check.worst_place);
-  std::vector<plot::TitledGrid> grids{{&map, title, laser_path(r.scans), marks}};
+  std::vector<plot::TitledGrid> grids{{&map, title, laser_path(r.scans), marks, closure_links(r)}};
   GridMap odometry;
   if (compare) {
     try {
       odometry = build_grid_map(raw);
-      grids.push_back({&odometry, "odometry", laser_path(raw), {}});
+      grids.push_back({&odometry, "odometry", laser_path(raw), {}, {}});
     } catch (const InputError& e) {
       std::cerr << "partslam: warning: the odometry's map is not drawn: " << e.what() << "\n";
     }
   }
-  plot::write_grid_maps_png(dir / "map.png", grids);
+  plot::write_grid_maps_png(dir / "map.png", grids, side);
 }
 
 // DIR, created when missing (created: whether this run made it), and every file to be written there checked
@@ -236,8 +249,9 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   const BackEndResult& b = r.back_end;
   io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
   write_maps(dir, r, source.scans,
-             source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, " + b.verdict + ")",
-             o.compare);
+             source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, orange; verdict " +
+                 b.verdict + (b.reason.empty() ? "" : ": " + b.reason) + ")",
+             o.compare, o.picture_side);
   io::write_atomically(dir / "loops.json", [&](std::ostream& out) { out << json_text(loops_json(o, r)); });
   nlohmann::json summary = slam_json(o, r);
   summary["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
@@ -278,6 +292,10 @@ void register_slam(CLI::App& app) {
       ->capture_default_str()
       ->check(in_range(1, 1024));
   cmd->add_flag("--compare", o->compare, "map.png also shows the odometry's map beside the corrected one");
+  cmd->add_option("--picture-side", o->picture_side,
+                  "map.png's largest side [px]: the grid is shrunk by a whole factor to fit")
+      ->capture_default_str()
+      ->check(in_range(16, 20000));
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
   add_config_options(*cmd, o->config_file, [] { return io::config_yaml(SlamConfig{}); });
   cmd->callback([o, cmd] {

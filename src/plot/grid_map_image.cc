@@ -27,7 +27,8 @@ CellState block_state(const GridMap& m, int column, int row, int f) {
   return s;
 }
 
-// The path (a blue line, a green dot at its start, a red one at its end) and the marks (red circles) of one grid,
+// The links (thin orange lines), the path (a blue line, a green dot at its start, a red one at its end) and the
+// marks (red circles) of one grid,
 // drawn at column `left`, shrunk by f: a map-frame point's cell is origin^-1 * p / resolution, row 0 at the bottom.
 void draw_overlays(cairo_t* cr, const TitledGrid& g, int left, int f) {
   const GridMap& m = *g.map;
@@ -37,6 +38,14 @@ void draw_overlays(cairo_t* cr, const TitledGrid& g, int left, int f) {
     const Vec2 c = to_grid * p / (m.resolution * f);
     return Vec2(left + c.x(), kGridTitleHeight + h - c.y());
   };
+  cairo_set_source_rgb(cr, 1.0, 0.55, 0.0);
+  cairo_set_line_width(cr, 0.8);
+  for (const auto& [a, b] : g.links) {
+    const Vec2 p = pixel(a), q = pixel(b);
+    cairo_move_to(cr, p.x(), p.y());
+    cairo_line_to(cr, q.x(), q.y());
+  }
+  cairo_stroke(cr);
   if (!g.path.empty()) {
     cairo_set_source_rgb(cr, 0.1, 0.35, 0.9);
     cairo_set_line_width(cr, 1.0);
@@ -75,12 +84,16 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     total_width += g.map->width;
     max_height = std::max(max_height, g.map->height);
   }
-  const int f = std::max(1, std::max((total_width + max_side - 1) / max_side, (max_height + max_side - 1) / max_side));
-  int width = kGridGap * (static_cast<int>(grids.size()) - 1), height = 0;
-  for (const TitledGrid& g : grids) {
-    width += (g.map->width + f - 1) / f;
-    height = std::max(height, (g.map->height + f - 1) / f);
-  }
+  // The smallest whole factor at which the grids, side by side with their gaps, fit max_side.
+  const auto drawn_size = [&](int f) {
+    int w = kGridGap * (static_cast<int>(grids.size()) - 1), h = 0;
+    for (const TitledGrid& g : grids) w += (g.map->width + f - 1) / f, h = std::max(h, (g.map->height + f - 1) / f);
+    return std::pair(w, h);
+  };
+  int f = std::max(1, std::max((total_width + max_side - 1) / max_side, (max_height + max_side - 1) / max_side));
+  while (f < std::max(total_width, max_height) && (drawn_size(f).first > max_side || drawn_size(f).second > max_side))
+    ++f;
+  auto [width, height] = drawn_size(f);
   width = std::max(width, 200);
   height += kGridTitleHeight;
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/maps/grid_map.h"
@@ -18,6 +19,8 @@ struct TitledGrid {
   Points2 path;
   /// Places to look at (map frame; e.g. where `slam`'s map check failed), circled in red.
   Points2 marks;
+  /// Pairs of places joined by a loop closure (map frame), drawn as thin orange lines under the path.
+  std::vector<std::pair<Vec2, Vec2>> links;
 };
 
 /// Writes the grids side by side as a PNG, atomically, shrunk by a whole factor so the picture is at most

@@ -30,7 +30,7 @@ GridMap test_grid() {
 TEST(GridMapImage, DrawsFreeOccupiedAndUnknownNorthUpSideBySide) {
   const fs::path png = fs::temp_directory_path() / ("partslam_grid_" + std::to_string(::getpid()) + ".png");
   const GridMap a = test_grid(), b = test_grid();
-  write_grid_maps_png(png, {{&a, "slam", {}, {}}, {&b, "odometry", {}, {}}});
+  write_grid_maps_png(png, {{&a, "slam", {}, {}, {}}, {&b, "odometry", {}, {}, {}}});
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
   EXPECT_EQ(cairo_image_surface_get_width(s), 200);  // 40 + 16 + 40, widened to 200
@@ -46,7 +46,7 @@ TEST(GridMapImage, DrawsFreeOccupiedAndUnknownNorthUpSideBySide) {
 TEST(GridMapImage, ShrinksLargeGridsKeepingOccupiedCells) {
   const fs::path png = fs::temp_directory_path() / ("partslam_grid_small_" + std::to_string(::getpid()) + ".png");
   const GridMap a = test_grid();
-  write_grid_maps_png(png, {{&a, "", {}, {}}}, 20);  // 40 columns into 20 pixels: blocks of 2 x 2
+  write_grid_maps_png(png, {{&a, "", {}, {}, {}}}, 20);  // 40 columns into 20 pixels: blocks of 2 x 2
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
   EXPECT_EQ(pixel(s, 15, 24 + 9), 0x000000u);  // cell (30, 0) in block (15, 0), the last of 10 rows
@@ -61,7 +61,8 @@ TEST(GridMapImage, DrawsThePathItsEndsAndMarkedPlaces) {
   const fs::path png = fs::temp_directory_path() / ("partslam_grid_path_" + std::to_string(::getpid()) + ".png");
   GridMap a = test_grid();
   a.resolution = 1.0;  // a cell a metre: map-frame metres are pixels
-  const TitledGrid g{&a, "slam", {Vec2(2.5, 10.5), Vec2(17.5, 10.5)}, {Vec2(30.5, 10.5)}};
+  const TitledGrid g{&a, "slam", {Vec2(2.5, 10.5), Vec2(17.5, 10.5)}, {Vec2(30.5, 10.5)},
+                     {{Vec2(10.5, 2.5), Vec2(10.5, 6.5)}}};
   write_grid_maps_png(png, {g});
   cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
   ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
@@ -82,7 +83,11 @@ TEST(GridMapImage, DrawsThePathItsEndsAndMarkedPlaces) {
   EXPECT_GT(r4, 150);
   EXPECT_LT(b4, 100);
   EXPECT_EQ(pixel(s, 30, 24 + 9), 0xB4B4B4u);  // inside the circle the map shows through
-  (void)g1, (void)b2, (void)b3, (void)g4;
+  const auto [r5, g5, b5] = rgb(10, 24 + 15);  // the middle of the closure's line, (10.5, 4.5)
+  EXPECT_GT(r5, 150);
+  EXPECT_LT(b5, 150);
+  EXPECT_NE(pixel(s, 12, 24 + 15), pixel(s, 10, 24 + 15));  // beside it, the map
+  (void)g1, (void)b2, (void)b3, (void)g4, (void)g5;
   cairo_surface_destroy(s);
   fs::remove(png);
 }
