@@ -67,9 +67,9 @@ locate-check: build
 slam-bench: build
 	bash scripts/slam-bench.sh
 
-# The README's usage block, rewritten from `partslam CMD --help` (the ctest readme.usage checks they agree).
+# docs/USAGE.md's usage block, rewritten from `partslam CMD --help` (the ctest readme.usage checks they agree).
 readme-usage: build
-	/usr/bin/python3 scripts/readme-usage.py $(BUILD)/partslam README.md
+	/usr/bin/python3 scripts/readme-usage.py $(BUILD)/partslam docs/USAGE.md
 
 # docs/DESIGN.md's layers block, rewritten from scripts/check-layers.sh (the ctest design.layers_are_current).
 design-layers:

@@ -5,7 +5,7 @@
 # (the JSON without the hypothesis list, the curve thinned to 200 points);
 # and the whole chain (partslam slam --relations) -> docs/results/slam_LOG.json (its slam.json: relation errors of
 # the corrected and the odometry's trajectories, closures, verdict, seconds) and slam_LOG.png (the corrected map).
-# Then the README's raw-log table from them (scripts/raw_logs_table.py).
+# Then docs/USAGE.md's raw-log table from them (scripts/raw_logs_table.py).
 # Usage: scripts/make-raw-logs.sh [THREADS=2]. Needs ../shared/data and build/partslam (about 2 min).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -45,4 +45,4 @@ PY
   cp "$TMP/slam_$log/slam.json" "$OUT/slam_$log.json"
   cp "$TMP/slam_$log/map.png" "$OUT/slam_$log.png"
 done
-/usr/bin/python3 scripts/raw_logs_table.py --readme README.md "$OUT"
+/usr/bin/python3 scripts/raw_logs_table.py --readme docs/USAGE.md "$OUT"

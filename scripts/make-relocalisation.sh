@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Regenerates the relocalisation figures of docs/NOTES.md ("Locate") and the README: for each corrected log, a
+# Regenerates the relocalisation figures of docs/NOTES.md ("Locate") and docs/USAGE.md: for each corrected log, a
 # map_server map of its first visit (scans before the first revisit) and every later 2 m stretch located in it
 # with no initial pose (build/relocalisation_check) -> docs/results/relocalisation_LOG.txt, one line per query.
 # fr079 and intel are the floor's sets (the defaults were chosen on them); the buildings of corrected/ validate.
-# Then the tables (scripts/relocalisation_tables.py): per log, which it also writes into README.md between its
+# Then the tables (scripts/relocalisation_tables.py): per log, which it also writes into docs/USAGE.md between its
 # relocalisation markers, and the in-map queries by true overlap.
 # Usage: scripts/make-relocalisation.sh. Needs ../shared/data and build/relocalisation_check (about 6 min).
 set -euo pipefail
@@ -24,4 +24,4 @@ for log in "${logs[@]}"; do
   build/relocalisation_check "$log" "$TMP" | sed "s|$DATA/||" > "$OUT/relocalisation_$name.txt"
   reports+=("$OUT/relocalisation_$name.txt")
 done
-/usr/bin/python3 scripts/relocalisation_tables.py --readme README.md "${reports[@]}"
+/usr/bin/python3 scripts/relocalisation_tables.py --readme docs/USAGE.md "${reports[@]}"

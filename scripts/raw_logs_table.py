@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README's raw-log table, from what `make raw-logs` commits in docs/results: slam_LOG.json (the slam.json of
+"""docs/USAGE.md's raw-log table, from what `make raw-logs` commits in docs/results: slam_LOG.json (the slam.json of
 `partslam slam LOG --relations LOG.relations`: relation errors of the corrected and of the odometry's trajectory,
 the stages' seconds) and loops_LOG.json (`partslam loops --truth`: the places closed at 100 % precision), beside
 the published figures of two peers on the same relations.

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The README's usage block, generated from the CLI's own --help.
+"""The usage block of docs/USAGE.md (or any Markdown file holding one), generated from the CLI's own --help.
 
     scripts/readme-usage.py BIN README.md           rewrites the block between the usage markers
     scripts/readme-usage.py --check BIN README.md   exits 1 (and prints a diff) when the block differs

@@ -2,7 +2,7 @@
 """The relocalisation tables, from the reports build/relocalisation_check writes (docs/results/relocalisation_LOG.txt,
 through scripts/make-relocalisation.sh):
 - per log: queries, those in the map, how many came back within the tool's tolerance and within 0.1 m / 1 deg,
-  confident wrong answers, confident answers outside the map, median / p95 time (the README's table);
+  confident wrong answers, confident answers outside the map, median / p95 time (docs/USAGE.md's table);
 - per log, the in-map queries split by their true overlap with the map (30-50, 50-70, >= 70 %): whether a log's
   misses are partial views or places the query sees whole.
 The in-map overlap and the tolerance are read from each report's own summary line ("in the map (overlap >= 30 %):

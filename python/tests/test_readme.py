@@ -1,4 +1,4 @@
-"""The README's Python example runs as printed and finds the place the simulated robot revisits."""
+"""The Python example of docs/USAGE.md runs as printed and finds the place the simulated robot revisits."""
 import contextlib
 import io
 import math
@@ -8,12 +8,12 @@ from conftest import REPO
 
 
 def test_the_readme_example_matches_the_revisited_map():
-    readme = (REPO / "README.md").read_text()
+    readme = (REPO / "docs" / "USAGE.md").read_text()
     section = readme[readme.index("## Python"):]
     code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
     names = {}
     with contextlib.redirect_stdout(io.StringIO()) as out:
-        exec(compile(code, "README.md", "exec"), names)  # noqa: S102 - our own documentation
+        exec(compile(code, "docs/USAGE.md", "exec"), names)  # noqa: S102 - our own documentation
     assert out.getvalue().count("\n") == 3
     partslam, r, query, stored = names["partslam"], names["r"], names["query"], names["stored"]
     truth = partslam.compose(partslam.inverse(stored.T_world_map), query.T_world_map)

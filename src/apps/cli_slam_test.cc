@@ -68,7 +68,7 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
 }
 
 // A map the program cannot vouch for is still written, with a warning, the verdict in slam.json and exit status 3
-// (README, "Exit status"). Forced here by a map check that tolerates no crossing beam at all: the simulated
+// (docs/USAGE.md, "Exit status"). Forced here by a map check that tolerates no crossing beam at all: the simulated
 // building's map has a few (beams past a door's edge), so its check fails.
 TEST(CliSlam, AMapThatFailsItsCheckIsWrittenButExitsWithStatus3) {
   const io::testing::TempDir dir;

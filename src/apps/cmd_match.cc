@@ -61,7 +61,7 @@ struct MatchOptions {
   DmmRansacConfig ransac;
 };
 
-// What the ranking's columns mean (printed under the table and in --help; the README says the same).
+// What the ranking's columns mean (printed under the table and in --help; docs/USAGE.md says the same).
 constexpr const char* kPoseColumns =
     "x, y, th: T_map_query, the query's frame in the stored map's frame (dMM's relative pose); dx, dy, dth: where "
     "that puts the query in the dataset's world frame (T_world_map * T_map_query) minus the query's own stored pose "
