@@ -149,13 +149,12 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
       panel.path_joined.push_back(joined);
       breaks += i > 0 && !joined;
     }
-    std::snprintf(title, sizeof title,
-                  "%zu local maps located every %.1f m: %zu confident (green), %zu low (orange); lines join answers "
-                  "that moved as the log did (%zu breaks)",
+    std::snprintf(title, sizeof title, "%zu local maps every %.1f m: %zu confident, %zu low; %zu breaks in the line",
                   located.size(), o.every.value_or(0.0), confident, located.size() - confident, breaks);
   }
   panel.title = title;
-  panel.legend = located.size() == 1 ? "the local map's points; the dot: the robot" : "green: confident; orange: low";
+  panel.legend = located.size() == 1 ? "the local map's points; the dot: the robot"
+                                     : "green: confident; orange: low; a line: two answers that moved as the log did";
   plot::write_panels_png(o.plot, {panel});
   std::printf("wrote %s\n", o.plot.c_str());
 }
