@@ -2,7 +2,8 @@
 // closures (succinct shortlist, dMM and context verification, drift gate), a pose graph with a robust loss,
 // corrected scan poses. Writes DIR/corrected.log (CARMEN, corrected poses), DIR/map.yaml + map.pgm (the corrected
 // map for map_server and `locate`), DIR/map.png (the same occupancy grid with the path, its start and end, the used
-// closures and the verdict; --compare: the odometry's beside it),
+// closures and the verdict; --compare: the odometry's beside it), DIR/result.mcap (the same as ROS 2 messages:
+// io/formats/result_mcap.h),
 // DIR/loops.json, DIR/slam.json (closures used and set aside, the verdict: core/slam/back_end.h) and, with
 // --relations, DIR/relations_error.json (the Kuemmerle et al. 2009 metric, rotation in degrees). Every
 // file is written atomically; DIR is created when missing. --config FILE.yaml sets any field of SlamConfig
@@ -31,6 +32,7 @@
 #include "io/logs/carmen_log.h"
 #include "io/formats/config_file.h"
 #include "io/formats/map_server.h"
+#include "io/formats/result_mcap.h"
 #include "io/logs/relations.h"
 #include "io/logs/scan_source.h"
 #include "plot/grid_map_image.h"
@@ -150,6 +152,7 @@ void write_maps(const std::filesystem::path& dir, const SlamResult& r, const Sca
     }
   }
   plot::write_grid_maps_png(dir / "map.png", grids, side);
+  io::write_result_mcap(dir / "result.mcap", {&map, &r.scans, &raw, closure_links(r)});
 }
 
 // DIR, created when missing (created: whether this run made it), and every file to be written there checked
@@ -163,7 +166,8 @@ std::filesystem::path output_folder(const SlamOptions& o, bool& created) {
   created = fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw InputError(o.out + ": cannot create the output folder");
   for (const char* name :
-       {"corrected.log", "map.png", "map.yaml", "map.pgm", "loops.json", "slam.json", "relations_error.json"})
+       {"corrected.log", "map.png", "map.yaml", "map.pgm", "result.mcap", "loops.json", "slam.json",
+        "relations_error.json"})
     io::check_writable(dir / name);
   return dir;
 }
@@ -255,7 +259,8 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   io::write_atomically(dir / "loops.json", [&](std::ostream& out) { out << json_text(loops_json(o, r)); });
   nlohmann::json summary = slam_json(o, r);
   summary["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
-  std::cout << "wrote " << (dir / "corrected.log").string() << ", map.yaml, map.pgm, map.png, loops.json, slam.json";
+  std::cout << "wrote " << (dir / "corrected.log").string()
+            << ", map.yaml, map.pgm, map.png, result.mcap, loops.json, slam.json";
   if (!o.relations.empty()) write_relations(o, dir, relations, source, r, summary);
   std::cout << "\n";
   io::write_atomically(dir / "slam.json", [&](std::ostream& out) { out << json_text(summary); });
