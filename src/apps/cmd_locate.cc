@@ -27,6 +27,7 @@
 #include "io/files/atomic_file.h"
 #include "io/formats/config_file.h"
 #include "io/formats/map_server.h"
+#include "io/formats/result_mcap.h"
 #include "plot/answer_image.h"
 
 namespace partslam::apps {
@@ -42,6 +43,7 @@ struct LocateOptions {
   LocalizerConfig localizer;
   std::string json;
   std::string plot;
+  std::string mcap;
   bool quiet = false;
 };
 
@@ -53,6 +55,7 @@ struct Located {
   Pose2 T_map_source;            // the log's world frame or the point file's frame, in the map
   std::optional<Pose2> robot;    // the stretch's first laser pose in the map (logs)
   std::optional<Pose2> robot_in_log;  // the same pose in the log's own frame (logs)
+  double stamp = 0;              // the log time of the stretch's first scan (logs)
   Points2 points_in_map;         // the local map's points where they were found (kept for --plot)
 };
 
@@ -113,6 +116,7 @@ Located locate_one(const Localizer& localizer, const Submap& query, const Scans&
   l.T_map_source = l.result.T_map_query * query.T_world_map.inverse();
   if (!scans.empty()) {
     l.robot_in_log = scans[static_cast<std::size_t>(query.anchor_scan)].T_world_laser;
+    l.stamp = scans[static_cast<std::size_t>(query.anchor_scan)].timestamp;
     l.robot = l.T_map_source * *l.robot_in_log;
   }
   return l;
@@ -169,7 +173,7 @@ void check_options(const LocateOptions& o) {
     throw InputError("--every goes with --query-log alone (it sweeps the whole log)");
   validate(o.submap);
   validate(o.localizer);
-  io::check_outputs({{"--json", o.json}, {"--plot", o.plot}},
+  io::check_outputs({{"--json", o.json}, {"--plot", o.plot}, {"--mcap", o.mcap}},
                     {{"--map", o.map}, {"--query-log", o.query.log}, {"--query-points", o.query.points}});
 }
 
@@ -248,6 +252,12 @@ void run_locate(const LocateOptions& o) {
   }
   print_all(located);
   if (!o.plot.empty() && !located.empty()) write_plot(o, map, located);
+  if (!o.mcap.empty() && !located.empty()) {
+    std::vector<io::LocatedPose> poses;
+    for (const Located& l : located) poses.push_back({l.stamp, l.robot ? *l.robot : l.T_map_source, is_confident(l.result)});
+    io::write_located_mcap(o.mcap, map, poses);
+    std::printf("wrote %s\n", o.mcap.c_str());
+  }
   if (!o.json.empty()) {
     nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"confident_at", ConfidenceRule{}.min_margin},
                           {"confident_probability_at", ConfidenceRule{}.min_probability},
@@ -273,6 +283,9 @@ void register_locate(CLI::App& app) {
   cmd->add_option("--candidates", o->localizer.candidates, "distinct poses examined per local map")
       ->capture_default_str();
   cmd->add_option("--json", o->json, "write every localisation (pose, confidence, time) as JSON");
+  cmd->add_option("--mcap", o->mcap,
+                  "write the building map and every answer as ROS 2 messages (MCAP: /map, /located/path, /located "
+                  "markers, green confident, orange low) for Foxglove");
   cmd->add_option("--plot", o->plot,
                   "draw the answer as a PNG: the local map's points on the building map where they were found "
                   "(--every: the located trajectory), green when confident, orange when not");

@@ -2,7 +2,8 @@
 # Test-time only (make test, the ctest ResultMcap.ReadByFoxglove): `partslam slam` on fr079's raw log, then its
 # result.mcap read by Foxglove's readers (read-result.js, with the npm packages the ctest fixture Ros2Bags
 # installed), and what they decoded compared with the files slam wrote beside it: the map cell for cell in its
-# counts (map.pgm: 0 occupied, 254 free, 205 unknown), one pose per corrected scan, the used closures.
+# counts (map.pgm: 0 occupied, 254 free, 205 unknown), one pose per corrected scan, the used closures. Then
+# `locate --every 20 --mcap` in that map along fr079's corrected log: one pose and one coloured marker per answer.
 #   tests/ros2/check-result-mcap.sh BIN SHARED_DATA ROS2_BAGS_DIR
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -41,4 +42,14 @@ for name, ok in checks.items():
     print(("ok   " if ok else "FAIL ") + name)
 print(json.dumps(summary["map"]))
 sys.exit(0 if all(checks.values()) else 1)
+PY
+"$bin" locate --map "$out/fr079/map.yaml" --query-log "$data/fr079/fr079-corrected.log.gz" --every 20 --quiet \
+  --json "$out/located.json" --mcap "$out/located.mcap" > /dev/null
+node "$npm/read-result.js" "$out/located.mcap" > "$out/located_summary.json"
+/usr/bin/python3 - "$out/located.json" "$out/located_summary.json" <<'PY'
+import json, sys
+answers, summary = len(json.load(open(sys.argv[1]))["located"]), json.load(open(sys.argv[2]))
+ok = answers > 5 and summary["located_path"] == summary["located_points"] == summary["located_colours"] == answers
+print(("ok   " if ok else "FAIL ") + f"locate --mcap: {answers} answers, {summary['located_path']} poses")
+sys.exit(0 if ok else 1)
 PY

@@ -1,5 +1,5 @@
 // Test-time only (make test, the ctest ResultMcap.ReadByFoxglove): reads a result.mcap that `partslam slam`
-// wrote, with libraries independent of the project: @mcap/core's stream reader for the container, and for every
+// wrote (or the MCAP of `locate --mcap`), with libraries independent of the project: @mcap/core's stream reader for the container, and for every
 // message Foxglove's ROS 2 reader (@foxglove/rosmsg parses the schema the file carries, @foxglove/rosmsg2-
 // serialization decodes the CDR by it), as Foxglove Studio does. A message that does not decode, or leaves bytes
 // its schema does not account for, fails. Prints a JSON summary of what it read.
@@ -15,7 +15,8 @@ const file = process.argv[2];
 const stream = new McapStreamReader();
 stream.append(fs.readFileSync(file));
 const schemas = new Map(), channels = new Map(), readers = new Map();
-const summary = { topics: {}, map: null, slam_path: 0, odom_path: 0, closure_points: 0, scan_points: 0, tf: 0 };
+const summary = { topics: {}, map: null, slam_path: 0, odom_path: 0, closure_points: 0, scan_points: 0, tf: 0,
+                  located_path: 0, located_points: 0, located_colours: 0 };
 let record;
 while ((record = stream.nextRecord()) !== undefined) {
   if (record.type === "Schema") schemas.set(record.id, record);
@@ -42,6 +43,11 @@ while ((record = stream.nextRecord()) !== undefined) {
     else if (channel.topic === "/loop_closures") summary.closure_points = m.markers[0].points.length;
     else if (channel.topic === "/tf") summary.tf += m.transforms.length;
     else if (channel.topic === "/scan") summary.scan_points += m.width * m.height;
+    else if (channel.topic === "/located/path") summary.located_path = m.poses.length;
+    else if (channel.topic === "/located") {
+      summary.located_points = m.markers[0].points.length;
+      summary.located_colours = m.markers[0].colors.length;
+    }
   }
 }
 if (!stream.done()) throw new Error(`${file}: the stream did not end with its footer and magic`);

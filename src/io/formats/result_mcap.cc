@@ -165,16 +165,38 @@ std::vector<std::uint8_t> point_cloud(const Scan& s) {
   return c.bytes();
 }
 
-std::vector<std::uint8_t> closure_lines(const std::vector<std::pair<Vec2, Vec2>>& closures, double stamp) {
+struct Rgba {
+  float r, g, b, a;
+};
+
+// A MarkerArray of one marker in the map frame: `type` (5 LINE_LIST, 7 SPHERE_LIST), its points, its colour
+// (or one per point), `size` its lines' width or its spheres' diameter [m].
+std::vector<std::uint8_t> marker(double stamp, const std::string& ns, int type, const Points2& points, double size,
+                                 const Rgba& colour, const std::vector<Rgba>& colours = {}) {
   Cdr c;
-  c.count(1).header(stamp, "map").string("loop_closures").i32(0).i32(5).i32(0);  // id 0, LINE_LIST, ADD
-  c.pose(Pose2{}).f64(0.03).f64(0).f64(0);                                       // line width 3 cm
-  c.f32(1.0f).f32(0.55f).f32(0.0f).f32(0.8f);                                    // orange, as map.png
-  c.i32(0).u32(0).boolean(false).count(2 * closures.size());                     // lifetime forever
-  for (const auto& [a, b] : closures) c.f64(a.x()).f64(a.y()).f64(0).f64(b.x()).f64(b.y()).f64(0);
-  c.count(0).string("");                                 // colors, texture_resource
-  c.header(stamp, "").string("").count(0).count(0);      // texture (CompressedImage), uv_coordinates
+  c.count(1).header(stamp, "map").string(ns).i32(0).i32(type).i32(0);  // id 0, ADD
+  c.pose(Pose2{}).f64(size).f64(size).f64(size);
+  c.f32(colour.r).f32(colour.g).f32(colour.b).f32(colour.a);
+  c.i32(0).u32(0).boolean(false).count(points.size());  // lifetime forever
+  for (const Vec2& p : points) c.f64(p.x()).f64(p.y()).f64(0);
+  c.count(colours.size());
+  for (const Rgba& k : colours) c.f32(k.r).f32(k.g).f32(k.b).f32(k.a);
+  c.string("");                                           // texture_resource
+  c.header(stamp, "").string("").count(0).count(0);       // texture (CompressedImage), uv_coordinates
   c.string("").string("").string("").count(0).boolean(false);  // text, mesh_resource, mesh_file, embedded
+  return c.bytes();
+}
+
+std::vector<std::uint8_t> closure_lines(const std::vector<std::pair<Vec2, Vec2>>& closures, double stamp) {
+  Points2 ends;
+  for (const auto& [a, b] : closures) ends.push_back(a), ends.push_back(b);
+  return marker(stamp, "loop_closures", 5, ends, 0.03, {1.0f, 0.55f, 0.0f, 0.8f});  // orange, as map.png
+}
+
+std::vector<std::uint8_t> path(const std::vector<std::pair<double, Pose2>>& poses, double stamp) {
+  Cdr c;
+  c.header(stamp, "map").count(poses.size());
+  for (const auto& [t, p] : poses) c.header(t, "map").pose(p);
   return c.bytes();
 }
 
@@ -238,6 +260,29 @@ class McapOut {
 };
 
 }  // namespace
+
+void write_located_mcap(const std::filesystem::path& file, const GridMap& map, const std::vector<LocatedPose>& located) {
+  if (located.empty()) throw InputError(file.string() + ": no answer to write");
+  const double end = located.back().stamp;
+  std::vector<std::pair<double, Pose2>> poses;
+  Points2 points;
+  std::vector<Rgba> colours;
+  for (const LocatedPose& l : located) {
+    poses.emplace_back(l.stamp, l.robot);
+    points.push_back(l.robot.translation());
+    colours.push_back(l.confident ? Rgba{0.1f, 0.7f, 0.2f, 1.0f} : Rgba{1.0f, 0.55f, 0.0f, 1.0f});  // as the plot
+  }
+  write_atomically(file, [&](std::ostream& out) {
+    McapOut mcap(out);
+    const auto map_channel = mcap.channel("/map", "nav_msgs/msg/OccupancyGrid", occupancy_grid_definition());
+    const auto path_channel = mcap.channel("/located/path", "nav_msgs/msg/Path", path_definition());
+    const auto answers = mcap.channel("/located", "visualization_msgs/msg/MarkerArray", marker_array_definition());
+    mcap.message(map_channel, end, occupancy_grid(map, end));
+    mcap.message(path_channel, end, path(poses, end));
+    mcap.message(answers, end, marker(end, "located", 7, points, 0.3, {1, 1, 1, 1}, colours));
+    mcap.finish();
+  });
+}
 
 void write_result_mcap(const std::filesystem::path& file, const SlamResultLayers& layers) {
   if (layers.map == nullptr || layers.corrected == nullptr || layers.corrected->empty())

@@ -75,5 +75,20 @@ TEST(ResultMcap, HoldsTheMapThePathsTheClosuresAndEveryScan) {
   EXPECT_THROW(write_result_mcap(dir / "bad.mcap", {nullptr, &scans, nullptr, {}}), InputError);
 }
 
+TEST(ResultMcap, LocatedAnswersAreAPathAndColouredMarkers) {
+  GridMap map;
+  map.width = map.height = 10;
+  map.cells.assign(100, CellState::kFree);
+  testing::TempDir dir;
+  write_located_mcap(dir / "located.mcap", map, {{1.0, Pose2{1, 2, 0}, true}, {2.0, Pose2{3, 2, 0.5}, false}});
+  std::map<std::string, int> counts;
+  mcap::read_messages(
+      dir / "located.mcap",
+      [&](const mcap::Channel& c, std::uint64_t, std::span<const std::uint8_t>) { ++counts[c.topic]; }, false);
+  EXPECT_EQ(counts, (std::map<std::string, int>{{"/located", 1}, {"/located/path", 1}, {"/map", 1}}));
+  EXPECT_THROW(write_located_mcap(dir / "none.mcap", map, {}), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "none.mcap"));
+}
+
 }  // namespace
 }  // namespace partslam::io
