@@ -1,8 +1,8 @@
-// Private to dMM's .cc files (dmm.h's searches): what the depth-first branch-and-bound (dmm_branch_and_bound.cc),
-// the best-first DmmSearch (dmm_search.cc), the joint search (dmm_joint.cc) and the exhaustive reference
-// (dmm_exhaustive.cc) share. A named namespace, not an anonymous one: DmmSearch::State, a class of the public
-// header, holds these types, which GCC accepts from an anonymous namespace only in a file compiled on its own
-// (outside the unity build's batches).
+// Private to dMM's .cc files (dmm.h's searches): what the depth-first branch-and-bound
+// (dmm_branch_and_bound.cc), the best-first DmmSearch (dmm_search.cc), the joint search (dmm_joint.cc) and
+// the exhaustive reference (dmm_exhaustive.cc) share. A named namespace, not an anonymous one:
+// DmmSearch::State, a class of the public header, holds these types, which GCC accepts from an anonymous
+// namespace only in a file compiled on its own (outside the unity build's batches).
 #pragma once
 
 #include <algorithm>
@@ -36,7 +36,8 @@ std::vector<Range> search_ranges(const PreparedQuery& query, const PreparedMap& 
 // chosen for it).
 void check_compatible(const PreparedQuery& query, const PreparedMap& map);
 
-DmmResult make_result(const PreparedQuery& query, const DmmConfig& config, int inliers, int rotation, int i, int j);
+DmmResult make_result(const PreparedQuery& query, const DmmConfig& config, int inliers, int rotation, int i,
+                      int j);
 
 // Bounds the sixteen children of the node at (i, j) over `cells` with `packed` (child_bounds; values as
 // there) and calls emit(i, j, bound, bit) for each child inside the search range r, bit = a + 4 b its index;
@@ -157,9 +158,13 @@ struct Exclusion {
 // Definitions: dmm_branch_and_bound.cc.
 class BranchAndBound {
  public:
-  BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges, int bar,
-                 const Exclusion* exclusion = nullptr)
-      : query_(query), map_(map), ranges_(ranges), best_(Candidate{-1, 0, 0, bar, 0, 0}), exclusion_(exclusion) {}
+  BranchAndBound(const PreparedQuery& query, const PreparedMap& map, const std::vector<Range>& ranges,
+                 int bar, const Exclusion* exclusion = nullptr)
+      : query_(query),
+        map_(map),
+        ranges_(ranges),
+        best_(Candidate{-1, 0, 0, bar, 0, 0}),
+        exclusion_(exclusion) {}
 
   // Searches with candidates whose score does not exceed the bar pruned; returns the best candidate found
   // above the bar (rotation -1 when none).
@@ -168,8 +173,8 @@ class BranchAndBound {
   // The search from root children computed before (root_children), with bar raised to at least `bar`.
   Candidate run_from(const std::vector<Candidate>& candidates, int bar = -1);
 
-  // The children of every root (the roots tile the search range and are not bounded themselves), bounded; their
-  // values stay in root_values_ for descend.
+  // The children of every root (the roots tile the search range and are not bounded themselves), bounded;
+  // their values stay in root_values_ for descend.
   std::vector<Candidate> root_children();
 
   std::int64_t candidates_scored() const { return scored_; }
@@ -208,8 +213,8 @@ class BranchAndBound {
   Candidate best_;
   const Exclusion* exclusion_;
   std::int64_t scored_ = 0;
-  std::vector<Buffers> buffers_;              // index: depth
-  std::array<CellList, 16> lists_{};          // cells of the node being expanded at depth d
+  std::vector<Buffers> buffers_;                  // index: depth
+  std::array<CellList, 16> lists_{};              // cells of the node being expanded at depth d
   std::unique_ptr<std::uint16_t[]> root_values_;  // per root, the values of its pass over the full cells
 };
 

@@ -1,5 +1,5 @@
-// The fields of every settings struct a settings file sets, listed once: each field's key, where it is and a line
-// of help. The YAML reader and writer (config_file.cc: --config, --print-config) and the Python bindings
+// The fields of every settings struct a settings file sets, listed once: each field's key, where it is and a
+// line of help. The YAML reader and writer (config_file.cc: --config, --print-config) and the Python bindings
 // (python/src) walk these tables, so a field added here is read, printed and bound alike, and one left out is
 // none of these. A table is config_fields(v, std::type_identity<T>{}), which calls, for each field in order,
 //   v.field(key, &T::member, help)             a value: bool, int, double or std::string
@@ -25,8 +25,8 @@
 
 namespace partslam::io {
 
-/// What `partslam loops` is set by: the loop closures, which are accepted, and how they are judged (the truth's
-/// min_travel_gap is the loops' and has no key of its own).
+/// What `partslam loops` is set by: the loop closures, which are accepted, and how they are judged (the
+/// truth's min_travel_gap is the loops' and has no key of its own).
 struct LoopsConfig {
   LoopClosureConfig loops;
   double min_confidence = 0.2;  ///< closures at least this confident are accepted
@@ -175,10 +175,13 @@ void config_fields(V& v, std::type_identity<DmmConfig>) {
   using C = DmmConfig;
   v.field("resolution", &C::resolution, "grid cell and translation step [m]");
   v.field("linear_window", &C::linear_window,
-          "translations |t_x|, |t_y| <= this [m]; <= 0: every translation at which the query overlaps the target");
-  v.field("angular_window", &C::angular_window, "canonical: residual +- this about each multiple of 90 deg [rad]");
+          "translations |t_x|, |t_y| <= this [m]; <= 0: every translation at which the query overlaps the "
+          "target");
+  v.field("angular_window", &C::angular_window,
+          "canonical: residual +- this about each multiple of 90 deg [rad]");
   v.field("angular_step", &C::angular_step, "rotation step [rad]; 0: one cell at the far point");
-  v.field("canonical", &C::canonical, "both maps are in the canonical frame (turns x residual); false: full circle");
+  v.field("canonical", &C::canonical,
+          "both maps are in the canonical frame (turns x residual); false: full circle");
   v.field("canonical_turns", &C::canonical_turns,
           "canonical: rotation families, 4 (multiples of 90 deg) or 8 (of 45 deg)");
   v.field("extra_window", &C::extra_window, "residual about each extra direction [rad]");
@@ -199,7 +202,8 @@ void config_fields(V& v, std::type_identity<VerifyConfig>) {
   v.field("alternative_distance", &C::alternative_distance, "distinct: translations this far apart [m]");
   v.field("alternative_angle", &C::alternative_angle, "... or rotations this far apart [rad]");
   v.field("refined", &C::refined, "the most probable this many poses are refined");
-  v.field("corner_radius", &C::corner_radius, "a point's cornerness is read off its neighbours within this [m]");
+  v.field("corner_radius", &C::corner_radius,
+          "a point's cornerness is read off its neighbours within this [m]");
 }
 
 template <class V>
@@ -214,11 +218,13 @@ void config_fields(V& v, std::type_identity<LocalizerConfig>) {
           "the search's candidates lie at least this far apart [m], at most elsewhere_distance");
   v.field("candidates", &C::candidates, "distinct poses examined");
   v.field("free_weight", &C::free_weight, "inliers a point on the map's free space costs");
-  v.field("neighbourhood", &C::neighbourhood, "the verification's map: the local map's box grown by this [m]");
+  v.field("neighbourhood", &C::neighbourhood,
+          "the verification's map: the local map's box grown by this [m]");
   v.field("wall_direction_share", &C::wall_direction_share,
           "wall directions off the axes holding this share of the walls are searched too; 0: none");
   v.field("wall_direction_length", &C::wall_direction_length, "... and at least this length of wall [m]");
-  v.field("verified", &C::verified, "the best-scoring candidates verified; the most probable of them is the answer");
+  v.field("verified", &C::verified,
+          "the best-scoring candidates verified; the most probable of them is the answer");
   v.field("restart_distance", &C::restart_distance,
           "the answer is verified again from starts this far from it along each axis [m]; 0: not");
 }

@@ -13,7 +13,8 @@
 namespace partslam::io {
 namespace {
 
-// ---- CDR (little endian, XCDR1 as ROS 2 writes it): alignment counts from after the 4-byte encapsulation ----
+// ---- CDR (little endian, XCDR1 as ROS 2 writes it): alignment counts from after the 4-byte encapsulation
+// ----
 
 class Cdr {
  public:
@@ -37,7 +38,8 @@ class Cdr {
   // builtin_interfaces/Time, std_msgs/Header, geometry_msgs/Pose (a 2D pose: z 0, a turn about z).
   Cdr& time(double seconds) {
     const double sec = std::floor(seconds);
-    return i32(static_cast<std::int32_t>(sec)).u32(static_cast<std::uint32_t>(std::lround((seconds - sec) * 1e9) % 1000000000));
+    return i32(static_cast<std::int32_t>(sec))
+        .u32(static_cast<std::uint32_t>(std::lround((seconds - sec) * 1e9) % 1000000000));
   }
   Cdr& header(double stamp, const std::string& frame) { return time(stamp).string(frame); }
   Cdr& quaternion(double theta) { return f64(0).f64(0).f64(std::sin(theta / 2)).f64(std::cos(theta / 2)); }
@@ -57,7 +59,8 @@ class Cdr {
 
 // ---- the message definitions (ros2msg: the type's own, then each dependency under a separator) ----
 
-constexpr const char* kSeparator = "================================================================================\n";
+constexpr const char* kSeparator =
+    "================================================================================\n";
 
 std::string definition(const std::string& own, std::initializer_list<const char*> dependencies) {
   std::string out = own;
@@ -69,7 +72,8 @@ constexpr const char* kTime = "builtin_interfaces/Time\nint32 sec\nuint32 nanose
 constexpr const char* kDuration = "builtin_interfaces/Duration\nint32 sec\nuint32 nanosec\n";
 constexpr const char* kHeader = "std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id\n";
 constexpr const char* kPoint = "geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z\n";
-constexpr const char* kQuaternion = "geometry_msgs/Quaternion\nfloat64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n";
+constexpr const char* kQuaternion =
+    "geometry_msgs/Quaternion\nfloat64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n";
 constexpr const char* kPose = "geometry_msgs/Pose\nPoint position\nQuaternion orientation\n";
 constexpr const char* kVector3 = "geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n";
 
@@ -83,25 +87,26 @@ std::string occupancy_grid_definition() {
 
 std::string path_definition() {
   return definition("std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n",
-                    {kHeader, kTime, "geometry_msgs/PoseStamped\nstd_msgs/Header header\nPose pose\n", kPose, kPoint,
-                     kQuaternion});
+                    {kHeader, kTime, "geometry_msgs/PoseStamped\nstd_msgs/Header header\nPose pose\n", kPose,
+                     kPoint, kQuaternion});
 }
 
 std::string tf_definition() {
   return definition("geometry_msgs/TransformStamped[] transforms\n",
                     {"geometry_msgs/TransformStamped\nstd_msgs/Header header\nstring child_frame_id\n"
                      "Transform transform\n",
-                     kHeader, kTime, "geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n", kVector3,
-                     kQuaternion});
+                     kHeader, kTime, "geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n",
+                     kVector3, kQuaternion});
 }
 
 std::string point_cloud_definition() {
-  return definition("std_msgs/Header header\nuint32 height\nuint32 width\nPointField[] fields\nbool is_bigendian\n"
-                    "uint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n",
-                    {kHeader, kTime,
-                     "sensor_msgs/PointField\nuint8 INT8 = 1\nuint8 UINT8 = 2\nuint8 INT16 = 3\nuint8 UINT16 = 4\n"
-                     "uint8 INT32 = 5\nuint8 UINT32 = 6\nuint8 FLOAT32 = 7\nuint8 FLOAT64 = 8\nstring name\n"
-                     "uint32 offset\nuint8 datatype\nuint32 count\n"});
+  return definition(
+      "std_msgs/Header header\nuint32 height\nuint32 width\nPointField[] fields\nbool is_bigendian\n"
+      "uint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n",
+      {kHeader, kTime,
+       "sensor_msgs/PointField\nuint8 INT8 = 1\nuint8 UINT8 = 2\nuint8 INT16 = 3\nuint8 UINT16 = 4\n"
+       "uint8 INT32 = 5\nuint8 UINT32 = 6\nuint8 FLOAT32 = 7\nuint8 FLOAT64 = 8\nstring name\n"
+       "uint32 offset\nuint8 datatype\nuint32 count\n"});
 }
 
 // Humble's visualization_msgs/Marker, every field (texture, uv_coordinates and mesh_file included).
@@ -109,16 +114,20 @@ std::string marker_array_definition() {
   return definition(
       "visualization_msgs/Marker[] markers\n",
       {"visualization_msgs/Marker\nint32 ARROW = 0\nint32 CUBE = 1\nint32 SPHERE = 2\nint32 CYLINDER = 3\n"
-       "int32 LINE_STRIP = 4\nint32 LINE_LIST = 5\nint32 CUBE_LIST = 6\nint32 SPHERE_LIST = 7\nint32 POINTS = 8\n"
+       "int32 LINE_STRIP = 4\nint32 LINE_LIST = 5\nint32 CUBE_LIST = 6\nint32 SPHERE_LIST = 7\nint32 POINTS "
+       "= 8\n"
        "int32 TEXT_VIEW_FACING = 9\nint32 MESH_RESOURCE = 10\nint32 TRIANGLE_LIST = 11\nint32 ADD = 0\n"
-       "int32 MODIFY = 0\nint32 DELETE = 2\nint32 DELETEALL = 3\nstd_msgs/Header header\nstring ns\nint32 id\n"
-       "int32 type\nint32 action\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 scale\nstd_msgs/ColorRGBA color\n"
+       "int32 MODIFY = 0\nint32 DELETE = 2\nint32 DELETEALL = 3\nstd_msgs/Header header\nstring ns\nint32 "
+       "id\n"
+       "int32 type\nint32 action\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 scale\nstd_msgs/ColorRGBA "
+       "color\n"
        "builtin_interfaces/Duration lifetime\nbool frame_locked\ngeometry_msgs/Point[] points\n"
        "std_msgs/ColorRGBA[] colors\nstring texture_resource\nsensor_msgs/CompressedImage texture\n"
        "UVCoordinate[] uv_coordinates\nstring text\nstring mesh_resource\nMeshFile mesh_file\n"
        "bool mesh_use_embedded_materials\n",
-       kHeader, kTime, kPose, kPoint, kQuaternion, kVector3, "std_msgs/ColorRGBA\nfloat32 r\nfloat32 g\nfloat32 b\nfloat32 a\n",
-       kDuration, "sensor_msgs/CompressedImage\nstd_msgs/Header header\nstring format\nuint8[] data\n",
+       kHeader, kTime, kPose, kPoint, kQuaternion, kVector3,
+       "std_msgs/ColorRGBA\nfloat32 r\nfloat32 g\nfloat32 b\nfloat32 a\n", kDuration,
+       "sensor_msgs/CompressedImage\nstd_msgs/Header header\nstring format\nuint8[] data\n",
        "visualization_msgs/UVCoordinate\nfloat32 u\nfloat32 v\n",
        "visualization_msgs/MeshFile\nstring filename\nuint8[] data\n"});
 }
@@ -127,7 +136,10 @@ std::string marker_array_definition() {
 
 std::vector<std::uint8_t> occupancy_grid(const GridMap& m, double stamp) {
   Cdr c;
-  c.header(stamp, "map").time(stamp).f32(static_cast<float>(m.resolution)).u32(static_cast<std::uint32_t>(m.width));
+  c.header(stamp, "map")
+      .time(stamp)
+      .f32(static_cast<float>(m.resolution))
+      .u32(static_cast<std::uint32_t>(m.width));
   c.u32(static_cast<std::uint32_t>(m.height)).pose(m.origin).count(m.cells.size());
   for (const CellState s : m.cells) c.i8(s == CellState::kOccupied ? 100 : s == CellState::kFree ? 0 : -1);
   return c.bytes();
@@ -153,7 +165,10 @@ std::vector<std::uint8_t> point_cloud(const Scan& s) {
   c.header(s.timestamp, "laser").u32(1).u32(static_cast<std::uint32_t>(s.points_laser.size())).count(3);
   for (const auto& [name, offset] : {std::pair{"x", 0u}, std::pair{"y", 4u}, std::pair{"z", 8u}})
     c.string(name).u32(offset).u8(7).u32(1);  // FLOAT32
-  c.boolean(false).u32(12).u32(static_cast<std::uint32_t>(12 * s.points_laser.size())).count(12 * s.points_laser.size());
+  c.boolean(false)
+      .u32(12)
+      .u32(static_cast<std::uint32_t>(12 * s.points_laser.size()))
+      .count(12 * s.points_laser.size());
   for (const Vec2& p : s.points_laser) {
     for (const float v : {static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f}) {
       std::uint8_t raw[4];
@@ -171,8 +186,8 @@ struct Rgba {
 
 // A MarkerArray of one marker in the map frame: `type` (5 LINE_LIST, 7 SPHERE_LIST), its points, its colour
 // (or one per point), `size` its lines' width or its spheres' diameter [m].
-std::vector<std::uint8_t> marker(double stamp, const std::string& ns, int type, const Points2& points, double size,
-                                 const Rgba& colour, const std::vector<Rgba>& colours = {}) {
+std::vector<std::uint8_t> marker(double stamp, const std::string& ns, int type, const Points2& points,
+                                 double size, const Rgba& colour, const std::vector<Rgba>& colours = {}) {
   Cdr c;
   c.count(1).header(stamp, "map").string(ns).i32(0).i32(type).i32(0);  // id 0, ADD
   c.pose(Pose2{}).f64(size).f64(size).f64(size);
@@ -181,8 +196,8 @@ std::vector<std::uint8_t> marker(double stamp, const std::string& ns, int type, 
   for (const Vec2& p : points) c.f64(p.x()).f64(p.y()).f64(0);
   c.count(colours.size());
   for (const Rgba& k : colours) c.f32(k.r).f32(k.g).f32(k.b).f32(k.a);
-  c.string("");                                           // texture_resource
-  c.header(stamp, "").string("").count(0).count(0);       // texture (CompressedImage), uv_coordinates
+  c.string("");                                                // texture_resource
+  c.header(stamp, "").string("").count(0).count(0);            // texture (CompressedImage), uv_coordinates
   c.string("").string("").string("").count(0).boolean(false);  // text, mesh_resource, mesh_file, embedded
   return c.bytes();
 }
@@ -211,8 +226,8 @@ class McapOut {
   }
   std::uint16_t channel(const std::string& topic, const std::string& type, const std::string& schema) {
     const auto id = static_cast<std::uint16_t>(++channels_);
-    record(0x03, Bytes().u16(id).string(type).string("ros2msg").bytes(schema));                     // Schema
-    record(0x04, Bytes().u16(id).u16(id).string(topic).string("cdr").u32(0));                      // Channel
+    record(0x03, Bytes().u16(id).string(type).string("ros2msg").bytes(schema));  // Schema
+    record(0x04, Bytes().u16(id).u16(id).string(topic).string("cdr").u32(0));    // Channel
     return id;
   }
   void message(std::uint16_t channel, double stamp, const std::vector<std::uint8_t>& data) {
@@ -261,7 +276,8 @@ class McapOut {
 
 }  // namespace
 
-void write_located_mcap(const std::filesystem::path& file, const GridMap& map, const std::vector<LocatedPose>& located) {
+void write_located_mcap(const std::filesystem::path& file, const GridMap& map,
+                        const std::vector<LocatedPose>& located) {
   if (located.empty()) throw InputError(file.string() + ": no answer to write");
   const double end = located.back().stamp;
   std::vector<std::pair<double, Pose2>> poses;
@@ -270,13 +286,15 @@ void write_located_mcap(const std::filesystem::path& file, const GridMap& map, c
   for (const LocatedPose& l : located) {
     poses.emplace_back(l.stamp, l.robot);
     points.push_back(l.robot.translation());
-    colours.push_back(l.confident ? Rgba{0.1f, 0.7f, 0.2f, 1.0f} : Rgba{1.0f, 0.55f, 0.0f, 1.0f});  // as the plot
+    colours.push_back(l.confident ? Rgba{0.1f, 0.7f, 0.2f, 1.0f}
+                                  : Rgba{1.0f, 0.55f, 0.0f, 1.0f});  // as the plot
   }
   write_atomically(file, [&](std::ostream& out) {
     McapOut mcap(out);
     const auto map_channel = mcap.channel("/map", "nav_msgs/msg/OccupancyGrid", occupancy_grid_definition());
     const auto path_channel = mcap.channel("/located/path", "nav_msgs/msg/Path", path_definition());
-    const auto answers = mcap.channel("/located", "visualization_msgs/msg/MarkerArray", marker_array_definition());
+    const auto answers =
+        mcap.channel("/located", "visualization_msgs/msg/MarkerArray", marker_array_definition());
     mcap.message(map_channel, end, occupancy_grid(map, end));
     mcap.message(path_channel, end, path(poses, end));
     mcap.message(answers, end, marker(end, "located", 7, points, 0.3, {1, 1, 1, 1}, colours));
@@ -294,7 +312,8 @@ void write_result_mcap(const std::filesystem::path& file, const SlamResultLayers
     const auto map = mcap.channel("/map", "nav_msgs/msg/OccupancyGrid", occupancy_grid_definition());
     const auto slam_path = mcap.channel("/slam/path", "nav_msgs/msg/Path", path_definition());
     const auto odom_path = mcap.channel("/odom/path", "nav_msgs/msg/Path", path_definition());
-    const auto closures = mcap.channel("/loop_closures", "visualization_msgs/msg/MarkerArray", marker_array_definition());
+    const auto closures =
+        mcap.channel("/loop_closures", "visualization_msgs/msg/MarkerArray", marker_array_definition());
     const auto tf = mcap.channel("/tf", "tf2_msgs/msg/TFMessage", tf_definition());
     const auto cloud = mcap.channel("/scan", "sensor_msgs/msg/PointCloud2", point_cloud_definition());
     for (const Scan& s : scans) {
@@ -303,7 +322,8 @@ void write_result_mcap(const std::filesystem::path& file, const SlamResultLayers
     }
     mcap.message(map, end, occupancy_grid(*layers.map, end));
     mcap.message(slam_path, end, path(scans, false, end));
-    if (layers.odometry != nullptr && !layers.odometry->empty()) mcap.message(odom_path, end, path(*layers.odometry, true, end));
+    if (layers.odometry != nullptr && !layers.odometry->empty())
+      mcap.message(odom_path, end, path(*layers.odometry, true, end));
     mcap.message(closures, end, closure_lines(layers.closures, end));
     mcap.finish();
   });

@@ -1,7 +1,7 @@
 // slam's result.mcap read back with the project's own MCAP reader: every topic with its ROS 2 type, one map
-// whose grid is the map's, one transform and one point cloud per scan; the independent check (Foxglove's MCAP and
-// ROS 2 message readers, from the npm registry, decoding every message by the schemas the file carries) is the
-// ctest ResultMcap.ReadByFoxglove (tests/ros2/check-result-mcap.sh).
+// whose grid is the map's, one transform and one point cloud per scan; the independent check (Foxglove's MCAP
+// and ROS 2 message readers, from the npm registry, decoding every message by the schemas the file carries)
+// is the ctest ResultMcap.ReadByFoxglove (tests/ros2/check-result-mcap.sh).
 #include "io/formats/result_mcap.h"
 
 #include <gtest/gtest.h>
@@ -50,8 +50,8 @@ TEST(ResultMcap, HoldsTheMapThePathsTheClosuresAndEveryScan) {
   EXPECT_EQ(counts["/map"], 1);
   EXPECT_EQ(counts["/tf"], static_cast<int>(scans.size()));
   EXPECT_EQ(counts["/scan"], static_cast<int>(scans.size()));
-  // The grid's CDR: encapsulation (4), header (stamp 8, frame "map": 4 + 4), map_load_time (8), resolution (4),
-  // width (4), height (4), then the origin (7 doubles, aligned to 8) and the cells' count and values.
+  // The grid's CDR: encapsulation (4), header (stamp 8, frame "map": 4 + 4), map_load_time (8), resolution
+  // (4), width (4), height (4), then the origin (7 doubles, aligned to 8) and the cells' count and values.
   ASSERT_GT(grid.size(), 100u);
   const auto u32_at = [&](std::size_t at) {
     std::uint32_t v = 0;
@@ -80,11 +80,13 @@ TEST(ResultMcap, LocatedAnswersAreAPathAndColouredMarkers) {
   map.width = map.height = 10;
   map.cells.assign(100, CellState::kFree);
   testing::TempDir dir;
-  write_located_mcap(dir / "located.mcap", map, {{1.0, Pose2{1, 2, 0}, true}, {2.0, Pose2{3, 2, 0.5}, false}});
+  write_located_mcap(dir / "located.mcap", map,
+                     {{1.0, Pose2{1, 2, 0}, true}, {2.0, Pose2{3, 2, 0.5}, false}});
   std::map<std::string, int> counts;
   mcap::read_messages(
       dir / "located.mcap",
-      [&](const mcap::Channel& c, std::uint64_t, std::span<const std::uint8_t>) { ++counts[c.topic]; }, false);
+      [&](const mcap::Channel& c, std::uint64_t, std::span<const std::uint8_t>) { ++counts[c.topic]; },
+      false);
   EXPECT_EQ(counts, (std::map<std::string, int>{{"/located", 1}, {"/located/path", 1}, {"/map", 1}}));
   EXPECT_THROW(write_located_mcap(dir / "none.mcap", map, {}), InputError);
   EXPECT_FALSE(std::filesystem::exists(dir / "none.mcap"));
