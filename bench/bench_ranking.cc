@@ -1,9 +1,12 @@
 // Online ranking speed of every method through the one entry point (core/ranking/ranking.h): one query against the
 // other submaps of fr101 (229 maps, ../shared/data) or, without the data, of the simulator. Counters:
 // us_per_pair = the ranker's matching time per stored map, ms_query_prep = the query's own preparation,
-// bits_per_map = what the method stores. dMM is the baseline of the same run.
+// bits_per_map = what the method stores. dMM is the baseline of the same run. BM_Query: one query against N = 100
+// stored maps with their laser origins, as `eval` and `match` rank them (dMM verified with free space: issue 57's
+// figure), in ms per query.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/ranking/ranking.h"
@@ -43,6 +46,31 @@ void BM_Rank(benchmark::State& state, const char* spec) {
   state.counters["bits_per_map"] = ranker->bits_per_map();
   state.counters["maps"] = static_cast<double>(candidates.size());
 }
+
+// One query against the next 100 stored maps (laser origins given), cycling through the queries.
+void BM_Query(benchmark::State& state, const char* spec) {
+  const Submaps& m = maps();
+  std::vector<MapView> views;
+  for (const Submap& s : m) views.push_back({&s.points, nullptr, &s.origins});
+  const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec(spec), {});
+  ranker->prepare(views, 1);
+  const std::size_t n = std::min<std::size_t>(100, m.size() - 1);
+  std::size_t queries = 0;
+  double ms = 0;
+  for (auto _ : state) {
+    const std::size_t q = (37 * queries) % m.size();
+    std::vector<std::size_t> candidates;
+    for (std::size_t k = 1; k <= n; ++k) candidates.push_back((q + k) % m.size());
+    const Ranking r = ranker->rank(views[q], candidates);
+    benchmark::DoNotOptimize(r.scores.data());
+    ms += r.match_ms + r.prep_ms, ++queries;
+  }
+  state.counters["ms_per_query"] = ms / static_cast<double>(queries);
+  state.counters["maps"] = static_cast<double>(n);
+}
+BENCHMARK_CAPTURE(BM_Query, dmm, "dmm")->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, rerank20, "rerank:20")->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, dmm_eq1, "dmm:eq1")->Iterations(20)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_CAPTURE(BM_Rank, dmm, "dmm")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rank, succinct, "succinct")->Unit(benchmark::kMillisecond);
