@@ -36,8 +36,12 @@ class Cdr {
   const std::vector<std::uint8_t>& bytes() const { return bytes_; }
 
   // builtin_interfaces/Time, std_msgs/Header, geometry_msgs/Pose (a 2D pose: z 0, a turn about z).
-  Cdr& time(double seconds) {
-    const double sec = std::floor(seconds);
+  // A time ROS 2 can hold: [0, 2^31) s (a log's absurd or missing stamps are clamped, not cast out of range).
+  static double ros_time(double seconds) {
+    return std::isfinite(seconds) ? std::clamp(seconds, 0.0, 2147483647.0) : 0.0;
+  }
+  Cdr& time(double stamp) {
+    const double seconds = ros_time(stamp), sec = std::floor(seconds);
     return i32(static_cast<std::int32_t>(sec))
         .u32(static_cast<std::uint32_t>(std::lround((seconds - sec) * 1e9) % 1000000000));
   }
@@ -231,7 +235,7 @@ class McapOut {
     return id;
   }
   void message(std::uint16_t channel, double stamp, const std::vector<std::uint8_t>& data) {
-    const auto ns = static_cast<std::uint64_t>(std::llround(std::max(0.0, stamp) * 1e9));
+    const auto ns = static_cast<std::uint64_t>(std::llround(Cdr::ros_time(stamp) * 1e9));
     Bytes b;
     b.u16(channel).u32(sequence_++).u64(ns).u64(ns);
     b.out.insert(b.out.end(), data.begin(), data.end());
