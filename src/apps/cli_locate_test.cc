@@ -150,7 +150,8 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
   EXPECT_THAT(run.output, HasSubstr("local maps,"));
   EXPECT_TRUE(fs::exists(dir_ / "every.png"));
   // An answer that is not confident says which test it failed, on its line and in the JSON.
-  for (const nlohmann::json& l : read_json(json)["located"]) {
+  const nlohmann::json every = read_json(json);  // kept: a loop over a temporary's member would outlive it
+  for (const nlohmann::json& l : every["located"]) {
     const std::string why = l["not_confident_because"].get<std::string>();
     EXPECT_EQ(l["confident"].get<bool>(), why.empty()) << why;
     if (!why.empty()) {
