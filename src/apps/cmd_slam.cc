@@ -121,9 +121,6 @@ Points2 laser_path(const Scans& scans) {
   return path;
 }
 
-// DIR/map.yaml + map.pgm (map_server, occupancy by ray casting) and DIR/map.png showing the same grid with the
-// robot's path (start green, end red) and, when the map check failed, its worst place circled; the odometry's map
-// and path beside it when asked.
 // The used closures as lines between their two submaps' centres (their frames' origins, corrected): the places
 // matched. (Between the robot's positions at the submaps' anchors the lines run far across: a place is seen from
 // up to the laser's range away.)
@@ -135,13 +132,17 @@ std::vector<std::pair<Vec2, Vec2>> closure_links(const SlamResult& r) {
   return links;
 }
 
+// DIR/map.yaml + map.pgm (map_server, occupancy by ray casting), DIR/map.png showing the same grid with the
+// robot's path (start green, end red), the used closures and, when the map check failed, its worst place circled
+// (the odometry's map and path beside it when asked), and DIR/result.mcap holding the same as ROS 2 messages.
 void write_maps(const std::filesystem::path& dir, const SlamResult& r, const Scans& raw, const std::string& title,
                 bool compare, int side) {
   const GridMap map = build_grid_map(r.scans);
   io::write_map_yaml(dir / "map.yaml", map);
   Points2 marks;
   if (!r.map_check.passed) marks.push_back(r.map_check.worst_place);
-  std::vector<plot::TitledGrid> grids{{&map, title, laser_path(r.scans), marks, closure_links(r)}};
+  const std::vector<std::pair<Vec2, Vec2>> closures = closure_links(r);
+  std::vector<plot::TitledGrid> grids{{&map, title, laser_path(r.scans), marks, closures}};
   GridMap odometry;
   if (compare) {
     try {
@@ -152,7 +153,7 @@ void write_maps(const std::filesystem::path& dir, const SlamResult& r, const Sca
     }
   }
   plot::write_grid_maps_png(dir / "map.png", grids, side);
-  io::write_result_mcap(dir / "result.mcap", {&map, &r.scans, &raw, closure_links(r)});
+  io::write_result_mcap(dir / "result.mcap", {&map, &r.scans, &raw, closures});
 }
 
 // DIR, created when missing (created: whether this run made it), and every file to be written there checked

@@ -115,25 +115,48 @@ std::string point_cloud_definition() {
 
 // Humble's visualization_msgs/Marker, every field (texture, uv_coordinates and mesh_file included).
 std::string marker_array_definition() {
-  return definition(
-      "visualization_msgs/Marker[] markers\n",
-      {"visualization_msgs/Marker\nint32 ARROW = 0\nint32 CUBE = 1\nint32 SPHERE = 2\nint32 CYLINDER = 3\n"
-       "int32 LINE_STRIP = 4\nint32 LINE_LIST = 5\nint32 CUBE_LIST = 6\nint32 SPHERE_LIST = 7\nint32 POINTS "
-       "= 8\n"
-       "int32 TEXT_VIEW_FACING = 9\nint32 MESH_RESOURCE = 10\nint32 TRIANGLE_LIST = 11\nint32 ADD = 0\n"
-       "int32 MODIFY = 0\nint32 DELETE = 2\nint32 DELETEALL = 3\nstd_msgs/Header header\nstring ns\nint32 "
-       "id\n"
-       "int32 type\nint32 action\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 scale\nstd_msgs/ColorRGBA "
-       "color\n"
-       "builtin_interfaces/Duration lifetime\nbool frame_locked\ngeometry_msgs/Point[] points\n"
-       "std_msgs/ColorRGBA[] colors\nstring texture_resource\nsensor_msgs/CompressedImage texture\n"
-       "UVCoordinate[] uv_coordinates\nstring text\nstring mesh_resource\nMeshFile mesh_file\n"
-       "bool mesh_use_embedded_materials\n",
-       kHeader, kTime, kPose, kPoint, kQuaternion, kVector3,
-       "std_msgs/ColorRGBA\nfloat32 r\nfloat32 g\nfloat32 b\nfloat32 a\n", kDuration,
-       "sensor_msgs/CompressedImage\nstd_msgs/Header header\nstring format\nuint8[] data\n",
-       "visualization_msgs/UVCoordinate\nfloat32 u\nfloat32 v\n",
-       "visualization_msgs/MeshFile\nstring filename\nuint8[] data\n"});
+  return definition("visualization_msgs/Marker[] markers\n",
+                    {"visualization_msgs/Marker\n"
+                     "int32 ARROW = 0\n"
+                     "int32 CUBE = 1\n"
+                     "int32 SPHERE = 2\n"
+                     "int32 CYLINDER = 3\n"
+                     "int32 LINE_STRIP = 4\n"
+                     "int32 LINE_LIST = 5\n"
+                     "int32 CUBE_LIST = 6\n"
+                     "int32 SPHERE_LIST = 7\n"
+                     "int32 POINTS = 8\n"
+                     "int32 TEXT_VIEW_FACING = 9\n"
+                     "int32 MESH_RESOURCE = 10\n"
+                     "int32 TRIANGLE_LIST = 11\n"
+                     "int32 ADD = 0\n"
+                     "int32 MODIFY = 0\n"
+                     "int32 DELETE = 2\n"
+                     "int32 DELETEALL = 3\n"
+                     "std_msgs/Header header\n"
+                     "string ns\n"
+                     "int32 id\n"
+                     "int32 type\n"
+                     "int32 action\n"
+                     "geometry_msgs/Pose pose\n"
+                     "geometry_msgs/Vector3 scale\n"
+                     "std_msgs/ColorRGBA color\n"
+                     "builtin_interfaces/Duration lifetime\n"
+                     "bool frame_locked\n"
+                     "geometry_msgs/Point[] points\n"
+                     "std_msgs/ColorRGBA[] colors\n"
+                     "string texture_resource\n"
+                     "sensor_msgs/CompressedImage texture\n"
+                     "UVCoordinate[] uv_coordinates\n"
+                     "string text\n"
+                     "string mesh_resource\n"
+                     "MeshFile mesh_file\n"
+                     "bool mesh_use_embedded_materials\n",
+                     kHeader, kTime, kPose, kPoint, kQuaternion, kVector3,
+                     "std_msgs/ColorRGBA\nfloat32 r\nfloat32 g\nfloat32 b\nfloat32 a\n", kDuration,
+                     "sensor_msgs/CompressedImage\nstd_msgs/Header header\nstring format\nuint8[] data\n",
+                     "visualization_msgs/UVCoordinate\nfloat32 u\nfloat32 v\n",
+                     "visualization_msgs/MeshFile\nstring filename\nuint8[] data\n"});
 }
 
 // ---- the messages ----
@@ -149,18 +172,11 @@ std::vector<std::uint8_t> occupancy_grid(const GridMap& m, double stamp) {
   return c.bytes();
 }
 
-std::vector<std::uint8_t> path(const Scans& scans, bool odometry, double stamp) {
-  Cdr c;
-  c.header(stamp, odometry ? "odom" : "map").count(scans.size());
-  for (const Scan& s : scans)
-    c.header(s.timestamp, odometry ? "odom" : "map").pose(odometry ? s.T_world_odom : s.T_world_laser);
-  return c.bytes();
-}
 
 std::vector<std::uint8_t> transform(const Scan& s) {
   Cdr c;
-  c.count(1).header(s.timestamp, "map").string("laser");
-  c.f64(s.T_world_laser.x).f64(s.T_world_laser.y).f64(0).quaternion(s.T_world_laser.theta);
+  // A Transform (Vector3 translation, Quaternion rotation) is laid out as a Pose (Point, Quaternion).
+  c.count(1).header(s.timestamp, "map").string("laser").pose(s.T_world_laser);
   return c.bytes();
 }
 
@@ -212,11 +228,20 @@ std::vector<std::uint8_t> closure_lines(const std::vector<std::pair<Vec2, Vec2>>
   return marker(stamp, "loop_closures", 5, ends, 0.03, {1.0f, 0.55f, 0.0f, 0.8f});  // orange, as map.png
 }
 
-std::vector<std::uint8_t> path(const std::vector<std::pair<double, Pose2>>& poses, double stamp) {
+// A nav_msgs/Path of stamped poses in `frame`.
+std::vector<std::uint8_t> path(const std::vector<std::pair<double, Pose2>>& poses, const std::string& frame,
+                               double stamp) {
   Cdr c;
-  c.header(stamp, "map").count(poses.size());
-  for (const auto& [t, p] : poses) c.header(t, "map").pose(p);
+  c.header(stamp, frame).count(poses.size());
+  for (const auto& [t, p] : poses) c.header(t, frame).pose(p);
   return c.bytes();
+}
+
+// The scans' laser poses (the log's odometry: T_world_odom, in "odom"; else the corrected ones, in "map").
+std::vector<std::uint8_t> path(const Scans& scans, bool odometry, double stamp) {
+  std::vector<std::pair<double, Pose2>> poses;
+  for (const Scan& s : scans) poses.emplace_back(s.timestamp, odometry ? s.T_world_odom : s.T_world_laser);
+  return path(poses, odometry ? "odom" : "map", stamp);
 }
 
 // ---- MCAP records ----
@@ -300,7 +325,7 @@ void write_located_mcap(const std::filesystem::path& file, const GridMap& map,
     const auto answers =
         mcap.channel("/located", "visualization_msgs/msg/MarkerArray", marker_array_definition());
     mcap.message(map_channel, end, occupancy_grid(map, end));
-    mcap.message(path_channel, end, path(poses, end));
+    mcap.message(path_channel, end, path(poses, "map", end));
     mcap.message(answers, end, marker(end, "located", 7, points, 0.3, {1, 1, 1, 1}, colours));
     mcap.finish();
   });
