@@ -4,8 +4,6 @@
 
 #include "apps/log_inputs.h"
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
