@@ -120,15 +120,52 @@ Localizer::VerifyQuery Localizer::verify_query(const Points2& query_points, cons
 }
 
 Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query) const {
+  return verify(query, T_map_query, config_.verify);
+}
+
+Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config) const {
   Vec2 a = T_map_query * query.lo, b = a;
   for (const Vec2& c : {query.lo, Vec2(query.hi.x(), query.lo.y()), query.hi, Vec2(query.lo.x(), query.hi.y())})
     a = a.cwiseMin(T_map_query * c), b = b.cwiseMax(T_map_query * c);
   const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
-  return verify_match(query.map, around, T_map_query, config_.verify);
+  return verify_match(query.map, around, T_map_query, config);
 }
 
 Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {
   return verify(verify_query(query_points, query_origins), T_map_query);
+}
+
+std::vector<Verified> Localizer::verify_all(const Points2& query_points, const Points2& query_origins,
+                                       std::span<const Pose2> poses, const VerifyConfig& config) const {
+  validate(config);
+  if (query_points.empty()) throw InputError("localizer: the local map has no point");
+  const VerifyQuery query = verify_query(query_points, query_origins);
+  std::vector<Verified> out;
+  for (const Pose2& pose : poses) out.push_back(verify(query, pose, config));
+  return out;
+}
+
+std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const Points2& query_origins,
+                                            int count) const {
+  if (query_points.empty()) throw InputError("localizer: the local map has no point");
+  const PreparedQuery query = prepare_query(query_points, config_.dmm);
+  const std::vector<Candidate> found = search_candidates(query_points, query, centroid(query_points));
+  const VerifyQuery verify_local = verify_query(query_points, query_origins);
+  const std::size_t verified = std::min<std::size_t>(found.size(), static_cast<std::size_t>(config_.verified));
+  std::vector<Verified> all;
+  for (std::size_t i = 0; i < verified; ++i) all.push_back(verify(verify_local, found[i].T_map_query));
+  std::stable_sort(all.begin(), all.end(),
+                   [](const Verified& a, const Verified& b) { return a.probability > b.probability; });
+  std::vector<Verified> out;
+  for (const Verified& v : all) {
+    if (out.size() >= static_cast<std::size_t>(std::max(count, 0))) break;
+    const bool same = std::any_of(out.begin(), out.end(), [&](const Verified& o) {
+      return PoseTolerance{config_.candidate_distance, config_.elsewhere.angle}.accepts(o.T_map_query,
+                                                                                        v.T_map_query);
+    });
+    if (!same) out.push_back(v);
+  }
+  return out;
 }
 
 bool answers_agree(const Pose2& T_map_a, const Pose2& T_map_b, const Pose2& T_log_a, const Pose2& T_log_b,

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -134,6 +135,16 @@ class Localizer {
   /// refined and scored (verify_match). query_points must not be empty.
   Verified verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const;
 
+  /// The global search's distinct answers, most probable first (a tracker's hypotheses): locate()'s best
+  /// `verified` candidates refined and scored as its answer is; an answer that refines within
+  /// candidate_distance and elsewhere.angle of a more probable one is the same pose and dropped; at most
+  /// `count`. Throws InputError as locate() does.
+  std::vector<Verified> hypotheses(const Points2& query_points, const Points2& query_origins, int count) const;
+  /// Each of `poses` verified as verify() does, refined within `config`'s window instead of the localizer's
+  /// (a pose carried by odometry is further off than a lattice pose); the local map's beams cast once.
+  std::vector<Verified> verify_all(const Points2& query_points, const Points2& query_origins,
+                                   std::span<const Pose2> poses, const VerifyConfig& config) const;
+
   const LocalizerConfig& config() const { return config_; }
   /// The rotation that took the building map into its canonical frame [rad].
   double alignment_angle() const { return T_canonical_map_.theta; }
@@ -153,6 +164,7 @@ class Localizer {
   };
   VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;
   Verified verify(const VerifyQuery& query, const Pose2& T_map_query) const;
+  Verified verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config) const;
   /// One of locate()'s candidate poses: dMM's match, rescored with the map's free space.
   struct Candidate {
     DmmResult dmm;

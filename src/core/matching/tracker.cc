@@ -1,0 +1,207 @@
+#include "core/matching/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/timing.h"
+
+namespace partslam {
+
+void validate(const TrackerConfig& c) {
+  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };  // false for NaN
+  if (c.hypotheses < 1 || c.hypotheses > 100) throw InputError("tracker: hypotheses must be in [1, 100]");
+  if (c.max_hypotheses < 1 || c.max_hypotheses > 1000)
+    throw InputError("tracker: max_hypotheses must be in [1, 1000]");
+  if (!in(c.track_window, 0, 5)) throw InputError("tracker: track_window must be in [0, 5] m");
+  if (!in(c.track_angle, 0, 1)) throw InputError("tracker: track_angle must be in [0, 1] rad");
+  if (!in(c.merge_distance, 0, 100)) throw InputError("tracker: merge_distance must be in [0, 100] m");
+  if (!in(c.merge_angle, 0, std::numbers::pi)) throw InputError("tracker: merge_angle must be in [0, pi] rad");
+  if (!in(c.floor_probability, 1e-9, 1)) throw InputError("tracker: floor_probability must be in [1e-9, 1]");
+  if (!in(c.other_probability, 1e-9, 1)) throw InputError("tracker: other_probability must be in [1e-9, 1]");
+  if (!in(c.declare_share, 0.5, 1)) throw InputError("tracker: declare_share must be in [0.5, 1]");
+  if (c.declare_steps < 1 || c.declare_steps > 1000) throw InputError("tracker: declare_steps must be in [1, 1000]");
+  if (!in(c.lost_probability, 0, 1)) throw InputError("tracker: lost_probability must be in [0, 1]");
+  if (c.lost_steps < 1 || c.lost_steps > 1000) throw InputError("tracker: lost_steps must be in [1, 1000]");
+  if (!in(c.drop_share, 0, 1)) throw InputError("tracker: drop_share must be in [0, 1]");
+  if (!in(c.min_seen, 0, 1)) throw InputError("tracker: min_seen must be in [0, 1]");
+}
+
+const char* to_string(TrackStatus status) {
+  switch (status) {
+    case TrackStatus::kSearching: return "searching";
+    case TrackStatus::kLocalised: return "localised";
+    case TrackStatus::kLost: return "lost";
+  }
+  return "?";
+}
+
+Tracker::Tracker(const Localizer& localizer, const TrackerConfig& config) : localizer_(localizer), config_(config) {
+  validate(config_);
+}
+
+void Tracker::reset() {
+  hypotheses_.clear();
+  none_log_weight_ = 0;
+  has_last_ = false;
+  status_ = TrackStatus::kSearching;
+  declared_ = dominant_ = -1;
+  dominant_steps_ = weak_steps_ = 0;
+}
+
+const Tracker::Hypothesis* Tracker::find(int id) const {
+  for (const Hypothesis& h : hypotheses_)
+    if (h.id == id) return &h;
+  return nullptr;
+}
+
+// Log weights shifted so that the weights and the none weight sum to 1.
+void Tracker::normalise() {
+  double top = none_log_weight_;
+  for (const Hypothesis& h : hypotheses_) top = std::max(top, h.log_weight);
+  double sum = std::exp(none_log_weight_ - top);
+  for (const Hypothesis& h : hypotheses_) sum += std::exp(h.log_weight - top);
+  const double shift = top + std::log(sum);
+  none_log_weight_ -= shift;
+  for (Hypothesis& h : hypotheses_) h.log_weight -= shift;
+}
+
+// Heaviest first; a hypothesis within the merge tolerance of a heavier one adds its weight to it (the declared
+// one's id goes with its weight); the light ones and those past max_hypotheses drop.
+void Tracker::merge_and_drop() {
+  std::stable_sort(hypotheses_.begin(), hypotheses_.end(),
+                   [](const Hypothesis& a, const Hypothesis& b) { return a.log_weight > b.log_weight; });
+  const PoseTolerance same{config_.merge_distance, config_.merge_angle};
+  std::vector<Hypothesis> kept;
+  for (const Hypothesis& h : hypotheses_) {
+    auto into = std::find_if(kept.begin(), kept.end(),
+                             [&](const Hypothesis& k) { return same.accepts(k.T_map_query, h.T_map_query); });
+    if (into == kept.end()) {
+      kept.push_back(h);
+      continue;
+    }
+    const double a = into->log_weight, b = h.log_weight;  // a >= b
+    into->log_weight = a + std::log1p(std::exp(b - a));
+    into->age = std::max(into->age, h.age);
+    if (h.id == declared_) declared_ = into->id;
+    if (h.id == dominant_) dominant_ = into->id;
+  }
+  const double floor = kept.empty() ? 0.0 : kept.front().log_weight + std::log(std::max(config_.drop_share, 1e-300));
+  std::vector<Hypothesis> out;
+  for (const Hypothesis& h : kept) {
+    const bool keep = h.id == declared_ || (h.log_weight >= floor &&
+                                            out.size() < static_cast<std::size_t>(config_.max_hypotheses));
+    if (keep) out.push_back(h);
+  }
+  hypotheses_ = std::move(out);
+}
+
+// Returns true when the robot was lost this step (every hypothesis dropped).
+bool Tracker::update_status(bool evidence) {
+  const Hypothesis* heaviest = hypotheses_.empty() ? nullptr : &hypotheses_.front();
+  if (status_ == TrackStatus::kLocalised) {
+    const Hypothesis* declared = find(declared_);
+    if (evidence && declared != nullptr)
+      weak_steps_ = declared->probability < config_.lost_probability ? weak_steps_ + 1 : 0;
+    if (declared == nullptr || weak_steps_ >= config_.lost_steps) {
+      status_ = TrackStatus::kLost;
+      hypotheses_.clear();
+      none_log_weight_ = 0;
+      declared_ = dominant_ = -1;
+      dominant_steps_ = weak_steps_ = 0;
+      return true;
+    }
+  }
+  // The heaviest hypothesis holding declare_share on consecutive steps with evidence is declared (again, or
+  // instead of the one declared before).
+  if (heaviest != nullptr && evidence && std::exp(heaviest->log_weight) >= config_.declare_share) {
+    dominant_steps_ = heaviest->id == dominant_ ? dominant_steps_ + 1 : 1;
+    dominant_ = heaviest->id;
+  } else if (evidence) {
+    dominant_steps_ = 0, dominant_ = -1;
+  }
+  if (dominant_ >= 0 && dominant_steps_ >= config_.declare_steps && dominant_ != declared_) {
+    status_ = TrackStatus::kLocalised;
+    declared_ = dominant_;
+    weak_steps_ = 0;
+  }
+  return false;
+}
+
+TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pose2& T_odom_map) {
+  const auto t0 = Clock::now();
+  if (points.empty()) throw InputError("tracker: the local map has no point");
+  if (!std::isfinite(T_odom_map.x) || !std::isfinite(T_odom_map.y) || !std::isfinite(T_odom_map.theta))
+    throw InputError("tracker: the local map's odometry pose is not finite");
+  const Pose2 motion = has_last_ ? T_odom_last_.inverse() * T_odom_map : Pose2{};
+  T_odom_last_ = T_odom_map, has_last_ = true;
+
+  // 1-2. Carry and weigh.
+  bool evidence = false, weighed = false;
+  if (!hypotheses_.empty()) {
+    std::vector<Pose2> carried;
+    for (Hypothesis& h : hypotheses_) h.T_map_query = h.T_map_query * motion, ++h.age, carried.push_back(h.T_map_query);
+    VerifyConfig verify = localizer_.config().verify;
+    verify.refine_window = config_.track_window;
+    verify.refine_angle = config_.track_angle;
+    const std::vector<Verified> seen = localizer_.verify_all(points, origins, carried, verify);
+    for (const Verified& v : seen) evidence = evidence || v.terms.query.seen >= config_.min_seen;
+    for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
+      Hypothesis& h = hypotheses_[i];
+      h.T_map_query = seen[i].T_map_query;
+      h.probability = seen[i].probability;
+      if (evidence) h.log_weight += std::log(std::max(h.probability, config_.floor_probability));
+    }
+    if (evidence) none_log_weight_ += std::log(config_.other_probability), weighed = true;
+    normalise();
+  }
+
+  // 3. The global search: new hypotheses out of the none weight, each weighed by its probability; the none
+  // weight weighed too if no carried hypothesis did it this step.
+  bool searched = false;
+  const auto search = [&] {
+    searched = true;
+    const std::vector<Verified> found = localizer_.hypotheses(points, origins, config_.hypotheses);
+    const PoseTolerance same{config_.merge_distance, config_.merge_angle};
+    const double from = none_log_weight_;
+    for (const Verified& v : found) {
+      evidence = evidence || v.terms.query.seen >= config_.min_seen;
+      const bool known = std::any_of(hypotheses_.begin(), hypotheses_.end(),
+                                     [&](const Hypothesis& h) { return same.accepts(h.T_map_query, v.T_map_query); });
+      if (known) continue;
+      Hypothesis h;
+      h.id = next_id_++;
+      h.T_map_query = v.T_map_query;
+      h.probability = v.probability;
+      h.log_weight = from + std::log(std::max(v.probability, config_.floor_probability));
+      hypotheses_.push_back(h);
+    }
+    if (!weighed) none_log_weight_ += std::log(config_.other_probability), weighed = true;
+    normalise();
+    merge_and_drop();
+    normalise();
+  };
+  if (status_ != TrackStatus::kLocalised) search();
+  else merge_and_drop(), normalise();
+  // 4. The status; lost this step: the search starts again at once.
+  if (update_status(evidence) && !searched) weighed = false, search();
+  return report(searched, evidence, ms_since(t0));
+}
+
+TrackStep Tracker::report(bool searched, bool evidence, double time_ms) const {
+  TrackStep s;
+  s.status = status_;
+  s.searched = searched;
+  s.evidence = evidence;
+  s.time_ms = time_ms;
+  s.none_share = std::exp(none_log_weight_);
+  for (const Hypothesis& h : hypotheses_)
+    s.hypotheses.push_back({h.T_map_query, h.probability, std::exp(h.log_weight), h.age});
+  const Hypothesis* shown = status_ == TrackStatus::kLocalised ? find(declared_) : nullptr;
+  if (shown == nullptr && !hypotheses_.empty()) shown = &hypotheses_.front();
+  if (shown != nullptr) s.has_pose = true, s.best = {shown->T_map_query, shown->probability, std::exp(shown->log_weight), shown->age};
+  return s;
+}
+
+}  // namespace partslam

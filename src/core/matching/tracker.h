@@ -1,0 +1,121 @@
+// Global localisation over travel (docs/NOTES.md, "Tracking"): where a robot is in a building map, from the
+// local maps it builds as it drives and the motion between them, keeping several hypotheses until the motion
+// tells them apart (clustered particle filters, Milstein et al. 2002; AMCL's global localisation, with a few
+// verified poses instead of thousands of particles).
+//
+// Each step takes a local map (points and laser origins in its own frame, core/maps/submap.h) and its frame in
+// the odometry's frame (T_odom_map: the robot's own motion estimate, odometry or scan matching). Then:
+//   1. every hypothesis (a pose of the local map in the building map) is carried by the odometry's motion
+//      since the last step and verified there (Localizer::verify_all: refined within track_window /
+//      track_angle, with the same-place probability of core/matching/verification.h);
+//   2. its weight is multiplied by that probability (at least floor_probability: one local map that matches
+//      badly, a person in the way, does not end the true hypothesis); a "none of these" weight, multiplied by
+//      other_probability each step, stands for "the robot is somewhere no hypothesis is" and keeps the shares
+//      honest when every hypothesis fits badly;
+//   3. while not localised, the global search's best distinct poses (Localizer::hypotheses) join as new
+//      hypotheses, each with the none weight's share times its probability; hypotheses that meet merge into
+//      the heavier, those below drop_share of the heaviest drop, at most max_hypotheses stay;
+//   4. a hypothesis is declared when its share of the weight (the none weight included) reaches
+//      declare_share on declare_steps consecutive steps; the declared one is then tracked alone with the others
+//      (they may still win back); when its probability stays below lost_probability for lost_steps steps in a
+//      row the robot was carried elsewhere (kidnapped) or the map no longer holds the place: "lost", every
+//      hypothesis is dropped and the search starts again.
+// Steps whose local map lands mostly on cells the building map never saw (query seen share below
+// min_seen at every hypothesis) carry the hypotheses without weighing them: there is no evidence either way.
+#pragma once
+
+#include <cstddef>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/matching/localizer.h"
+#include "core/types.h"
+
+namespace partslam {
+
+struct TrackerConfig {
+  int hypotheses = 8;            ///< the global search's distinct poses taken per search, in [1, 100]
+  int max_hypotheses = 16;       ///< hypotheses kept at most, in [1, 1000]
+  double track_window = 0.5;     ///< a carried hypothesis is refined within +- this [m] ...
+  double track_angle = 0.1;      ///< ... and +- this [rad]
+  double merge_distance = 0.5;   ///< hypotheses this close [m] ...
+  double merge_angle = 10.0 * std::numbers::pi / 180;  ///< ... and turned by no more than this are one [rad]
+  double floor_probability = 0.01;  ///< a step weighs a hypothesis by its probability, at least this
+  double other_probability = 0.05;  ///< the "none of these" weight's factor per step
+  double declare_share = 0.95;      ///< share of the weight that declares a hypothesis ...
+  int declare_steps = 2;            ///< ... on this many consecutive steps
+  double lost_probability = 0.02;   ///< the declared hypothesis's probability below this ...
+  int lost_steps = 2;               ///< ... on this many consecutive steps: lost
+  double drop_share = 1e-3;         ///< hypotheses below this share of the heaviest are dropped
+  double min_seen = 0.3;            ///< a step is evidence when some hypothesis sees this share of the local map
+};
+
+/// Throws InputError naming the field.
+void validate(const TrackerConfig& config);
+
+enum class TrackStatus { kSearching, kLocalised, kLost };
+/// "searching", "localised", "lost".
+const char* to_string(TrackStatus status);
+
+struct TrackHypothesis {
+  Pose2 T_map_query;        ///< the local map's pose in the building map
+  double probability = 0;   ///< this step's same-place probability there
+  double share = 0;         ///< its share of the weight (the none weight included), in [0, 1]
+  int age = 0;              ///< steps it has been carried
+};
+
+struct TrackStep {
+  TrackStatus status = TrackStatus::kSearching;
+  /// localised: the declared hypothesis (T_map_query, its share is the declared probability); otherwise the
+  /// heaviest one, when there is any
+  bool has_pose = false;
+  TrackHypothesis best;
+  std::vector<TrackHypothesis> hypotheses;  ///< heaviest first
+  double none_share = 1;    ///< the "none of these" weight's share
+  bool searched = false;    ///< the global search ran this step
+  bool evidence = true;     ///< the local map was weighed (see min_seen)
+  double time_ms = 0;       ///< this step [ms]
+};
+
+class Tracker {
+ public:
+  /// Keeps a reference to the localizer (it must outlive the tracker). Throws InputError for a bad config.
+  Tracker(const Localizer& localizer, const TrackerConfig& config = {});
+
+  /// One local map: its points and laser origins in its own frame (canonical when the localizer's dMM is) and
+  /// its frame in the odometry frame. Throws InputError for an empty local map or non-finite values.
+  TrackStep step(const Points2& points, const Points2& origins, const Pose2& T_odom_map);
+
+  /// Forget everything (a new run).
+  void reset();
+
+ private:
+  struct Hypothesis {
+    int id = 0;  ///< stays with the hypothesis through merges and sorting
+    Pose2 T_map_query;
+    double log_weight = 0;
+    double probability = 0;
+    int age = 0;
+  };
+  void normalise();
+  void merge_and_drop();
+  bool update_status(bool evidence);
+  const Hypothesis* find(int id) const;
+  TrackStep report(bool searched, bool evidence, double time_ms) const;
+
+  const Localizer& localizer_;
+  TrackerConfig config_;
+  std::vector<Hypothesis> hypotheses_;
+  double none_log_weight_ = 0;
+  bool has_last_ = false;
+  Pose2 T_odom_last_;
+  TrackStatus status_ = TrackStatus::kSearching;
+  int next_id_ = 0;
+  int declared_ = -1;         ///< id of the declared hypothesis (localised)
+  int dominant_ = -1;         ///< id of the heaviest one while it holds declare_share ...
+  int dominant_steps_ = 0;    ///< ... on this many consecutive steps
+  int weak_steps_ = 0;        ///< consecutive steps the declared one fell below lost_probability
+};
+
+}  // namespace partslam

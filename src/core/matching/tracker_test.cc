@@ -1,0 +1,110 @@
+#include "core/matching/tracker.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/maps/grid_map.h"
+#include "core/maps/submap.h"
+#include "core/sim/simulator.h"
+
+namespace partslam {
+namespace {
+
+const Scans& tracked_scans() {
+  static const Scans scans = simulate(SimulatorConfig{}).scans;
+  return scans;
+}
+
+const Localizer& tracked_localizer() {
+  static const Localizer localizer(build_grid_map(tracked_scans()));
+  return localizer;
+}
+
+// The local map of [s, s + 2 m) of travel and its frame in the simulated odometry's frame (which drifts).
+struct TrackedStep {
+  Submap map;
+  Pose2 T_odom_map;
+};
+TrackedStep step_at(const Scans& scans, double s) {
+  TrackedStep out{build_local_map(scans, s, s + 2.0), {}};
+  const Scan& anchor = scans[static_cast<std::size_t>(out.map.anchor_scan)];
+  out.T_odom_map = anchor.T_world_odom * anchor.T_world_laser.inverse() * out.map.T_world_map;
+  return out;
+}
+
+bool right(const TrackStep& t, const Submap& m) {
+  return PoseTolerance{0.3, 3 * kDegree}.accepts(t.best.T_map_query, m.T_world_map);
+}
+
+TEST(Tracker, LocalisesAlongTheLogWithItsDriftingOdometryAndNeverDeclaresAWrongPose) {
+  const Scans& scans = tracked_scans();
+  const double length = travel_distances(scans).back();
+  Tracker tracker(tracked_localizer());
+  int localised = 0, steps = 0, first = -1;
+  for (double s = 10.0; s + 2.0 < std::min(length, 70.0); s += 2.0, ++steps) {
+    const TrackedStep in = step_at(scans, s);
+    const TrackStep t = tracker.step(in.map.points, in.map.origins, in.T_odom_map);
+    EXPECT_NE(t.status, TrackStatus::kLost) << "at " << s << " m";
+    if (t.status != TrackStatus::kLocalised) continue;
+    ++localised;
+    if (first < 0) first = steps;
+    EXPECT_TRUE(t.has_pose);
+    EXPECT_TRUE(right(t, in.map)) << "declared wrong at " << s << " m";
+    EXPECT_GE(t.best.share, 0.5);
+    if (steps > first) EXPECT_FALSE(t.searched);  // tracked, not searched, once localised
+  }
+  ASSERT_GE(first, 0) << "never localised";
+  EXPECT_LE(first, 5);  // within 10 m of travel
+  EXPECT_EQ(localised, steps - first);
+}
+
+TEST(Tracker, NoticesAKidnappingAndLocalisesAgain) {
+  const Scans& scans = tracked_scans();
+  const double length = travel_distances(scans).back();
+  ASSERT_GT(length, 120.0);
+  Tracker tracker(tracked_localizer());
+  // 30 m from 10 m on, then the robot is carried to 0.6 of the log: its odometry goes on as if nothing had
+  // happened (the next local map's odometry pose is the last one's).
+  Pose2 T_odom_last;
+  bool localised_before = false;
+  for (double s = 10.0; s < 40.0; s += 2.0) {
+    const TrackedStep in = step_at(scans, s);
+    const TrackStep t = tracker.step(in.map.points, in.map.origins, in.T_odom_map);
+    localised_before = t.status == TrackStatus::kLocalised;
+    T_odom_last = in.T_odom_map;
+  }
+  ASSERT_TRUE(localised_before);
+  const double jump = 0.6 * length;
+  const TrackedStep first = step_at(scans, jump);
+  const Pose2 T_rebase = T_odom_last * first.T_odom_map.inverse();  // odometry continues from where it was
+  int lost_at = -1, again_at = -1, k = 0;
+  for (double s = jump; s + 2.0 < std::min(length, jump + 40.0); s += 2.0, ++k) {
+    const TrackedStep in = step_at(scans, s);
+    const TrackStep t = tracker.step(in.map.points, in.map.origins, T_rebase * in.T_odom_map);
+    if (t.status == TrackStatus::kLost && lost_at < 0) lost_at = k;
+    if (lost_at >= 0 && t.status == TrackStatus::kLocalised && again_at < 0) {
+      again_at = k;
+      EXPECT_TRUE(right(t, in.map)) << "localised again at a wrong pose at " << s << " m";
+    }
+  }
+  ASSERT_GE(lost_at, 0) << "the kidnapping went unnoticed";
+  EXPECT_LE(lost_at, 3);
+  ASSERT_GE(again_at, 0) << "never localised again";
+  EXPECT_LE(again_at - lost_at, 10);
+}
+
+TEST(Tracker, RejectsBadConfigsAndEmptyLocalMaps) {
+  TrackerConfig bad;
+  bad.declare_share = 0.2;
+  EXPECT_THROW(Tracker(tracked_localizer(), bad), InputError);
+  bad = {};
+  bad.floor_probability = std::nan("");
+  EXPECT_THROW(validate(bad), InputError);
+  Tracker tracker(tracked_localizer());
+  EXPECT_THROW(tracker.step({}, {}, Pose2{}), InputError);
+  EXPECT_THROW(tracker.step({Vec2(1, 1)}, {}, Pose2{std::nan(""), 0, 0}), InputError);
+  EXPECT_STREQ(to_string(TrackStatus::kLost), "lost");
+}
+
+}  // namespace
+}  // namespace partslam
