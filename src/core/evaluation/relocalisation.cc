@@ -7,15 +7,11 @@
 #include "core/maps/occupancy_grid.h"
 
 namespace partslam {
-namespace {
-
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(std::floor(q * static_cast<double>(v.size() - 1) + 0.5))];
 }
-
-}  // namespace
 
 std::size_t first_revisit(const Scans& scans, double revisit_radius, double revisit_gap) {
   const std::vector<double> travel = travel_distances(scans);

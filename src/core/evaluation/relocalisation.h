@@ -27,6 +27,9 @@ struct RelocalisationConfig {
   LocalizerConfig localizer;
 };
 
+/// The q-quantile of v, q in [0, 1] (the nearest rank); 0 for no value.
+double percentile(std::vector<double> v, double q);
+
 /// Index of the first scan within revisit_radius of a scan at least revisit_gap of travel earlier; scans.size()
 /// when the log never comes back.
 std::size_t first_revisit(const Scans& scans, double revisit_radius, double revisit_gap);

@@ -48,6 +48,7 @@ void Tracker::reset() {
   status_ = TrackStatus::kSearching;
   declared_ = dominant_ = -1;
   dominant_steps_ = weak_steps_ = 0;
+  blind_ = false;
 }
 
 const Tracker::Hypothesis* Tracker::find(int id) const {
@@ -99,32 +100,56 @@ void Tracker::merge_and_drop() {
 
 // Returns true when the robot was lost this step (every hypothesis dropped).
 bool Tracker::update_status(bool evidence) {
-  const Hypothesis* heaviest = hypotheses_.empty() ? nullptr : &hypotheses_.front();
-  if (status_ == TrackStatus::kLocalised) {
-    const Hypothesis* declared = find(declared_);
-    if (evidence && declared != nullptr)
+  const Hypothesis* declared = find(declared_);
+  if (status_ == TrackStatus::kLocalised || blind_) {
+    if (declared == nullptr) {
+      blind_ = false, declared_ = -1;
+      if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
+    } else if (declared->seen < config_.min_seen) {
+      // The declared place is not in the map (or the pose drifted off it): no claim until it is seen again.
+      if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
+      blind_ = true;
+    } else {
       weak_steps_ = declared->probability < config_.lost_probability ? weak_steps_ + 1 : 0;
-    if (declared == nullptr || weak_steps_ >= config_.lost_steps) {
-      status_ = TrackStatus::kLost;
-      hypotheses_.clear();
-      none_log_weight_ = 0;
-      declared_ = dominant_ = -1;
-      dominant_steps_ = weak_steps_ = 0;
-      return true;
+      if (weak_steps_ >= config_.lost_steps) {
+        status_ = TrackStatus::kLost;
+        hypotheses_.clear();
+        none_log_weight_ = 0;
+        declared_ = dominant_ = -1;
+        dominant_steps_ = weak_steps_ = 0;
+        blind_ = false;
+        return true;
+      }
+      if (weak_steps_ > 0) {
+        // Fits badly here: no claim this step (a kidnapping's first step), lost if it goes on.
+        if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
+        blind_ = true;
+      } else if (blind_) {
+        if (std::exp(declared->log_weight) >= config_.declare_share) status_ = TrackStatus::kLocalised;
+        else declared_ = -1;
+        blind_ = false;
+      }
     }
   }
   // The heaviest hypothesis holding declare_share on consecutive steps with evidence is declared (again, or
   // instead of the one declared before).
-  if (heaviest != nullptr && evidence && std::exp(heaviest->log_weight) >= config_.declare_share) {
+  const Hypothesis* heaviest = hypotheses_.empty() ? nullptr : &hypotheses_.front();
+  const auto fits = [&](const Hypothesis& h) {  // seen here and not fitting badly
+    return h.seen >= config_.min_seen && h.probability >= config_.lost_probability;
+  };
+  if (heaviest != nullptr && evidence && fits(*heaviest) && std::exp(heaviest->log_weight) >= config_.declare_share) {
     dominant_steps_ = heaviest->id == dominant_ ? dominant_steps_ + 1 : 1;
     dominant_ = heaviest->id;
   } else if (evidence) {
     dominant_steps_ = 0, dominant_ = -1;
   }
-  if (dominant_ >= 0 && dominant_steps_ >= config_.declare_steps && dominant_ != declared_) {
+  const bool dominates = heaviest != nullptr && heaviest->id == dominant_ && fits(*heaviest);
+  if (dominates && dominant_steps_ >= config_.declare_steps &&
+      (dominant_ != declared_ || status_ != TrackStatus::kLocalised)) {
     status_ = TrackStatus::kLocalised;
     declared_ = dominant_;
     weak_steps_ = 0;
+    blind_ = false;
   }
   return false;
 }
@@ -146,14 +171,18 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     verify.refine_window = config_.track_window;
     verify.refine_angle = config_.track_angle;
     const std::vector<Verified> seen = localizer_.verify_all(points, origins, carried, verify);
-    for (const Verified& v : seen) evidence = evidence || v.terms.query.seen >= config_.min_seen;
     for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
       Hypothesis& h = hypotheses_[i];
       h.T_map_query = seen[i].T_map_query;
       h.probability = seen[i].probability;
-      if (evidence) h.log_weight += std::log(std::max(h.probability, config_.floor_probability));
+      h.seen = seen[i].terms.query.seen;
+      // Where the building map never saw the local map's place, the local map says nothing of the
+      // hypothesis: it is weighed as the none weight is.
+      const bool weighs = h.seen >= config_.min_seen;
+      evidence = evidence || weighs;
+      h.log_weight += std::log(weighs ? std::max(h.probability, config_.floor_probability) : config_.other_probability);
     }
-    if (evidence) none_log_weight_ += std::log(config_.other_probability), weighed = true;
+    none_log_weight_ += std::log(config_.other_probability), weighed = true;
     normalise();
   }
 
@@ -174,6 +203,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
       h.id = next_id_++;
       h.T_map_query = v.T_map_query;
       h.probability = v.probability;
+      h.seen = v.terms.query.seen;
       h.log_weight = from + std::log(std::max(v.probability, config_.floor_probability));
       hypotheses_.push_back(h);
     }

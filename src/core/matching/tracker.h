@@ -20,8 +20,11 @@
 //      (they may still win back); when its probability stays below lost_probability for lost_steps steps in a
 //      row the robot was carried elsewhere (kidnapped) or the map no longer holds the place: "lost", every
 //      hypothesis is dropped and the search starts again.
-// Steps whose local map lands mostly on cells the building map never saw (query seen share below
-// min_seen at every hypothesis) carry the hypotheses without weighing them: there is no evidence either way.
+// A hypothesis at which the local map lands mostly on cells the building map never saw (query seen share below
+// min_seen) is weighed as the none weight is: the local map says nothing of it. While the declared one is there
+// (the robot drives through a room the map does not hold, or its pose drifted off), nothing is claimed: the
+// status is "searching" until it is seen again, and it is declared again at once if it still holds
+// declare_share.
 #pragma once
 
 #include <cstddef>
@@ -96,6 +99,7 @@ class Tracker {
     Pose2 T_map_query;
     double log_weight = 0;
     double probability = 0;
+    double seen = 0;  ///< this step's query seen share there (core/matching/verification.h)
     int age = 0;
   };
   void normalise();
@@ -116,6 +120,7 @@ class Tracker {
   int dominant_ = -1;         ///< id of the heaviest one while it holds declare_share ...
   int dominant_steps_ = 0;    ///< ... on this many consecutive steps
   int weak_steps_ = 0;        ///< consecutive steps the declared one fell below lost_probability
+  bool blind_ = false;        ///< the declared one left the map's seen cells: searching until it is seen again
 };
 
 }  // namespace partslam

@@ -51,7 +51,9 @@ TEST(Tracker, LocalisesAlongTheLogWithItsDriftingOdometryAndNeverDeclaresAWrongP
     EXPECT_TRUE(t.has_pose);
     EXPECT_TRUE(right(t, in.map)) << "declared wrong at " << s << " m";
     EXPECT_GE(t.best.share, 0.5);
-    if (steps > first) EXPECT_FALSE(t.searched);  // tracked, not searched, once localised
+    if (steps > first) {
+      EXPECT_FALSE(t.searched);  // tracked, not searched, once localised
+    }
   }
   ASSERT_GE(first, 0) << "never localised";
   EXPECT_LE(first, 5);  // within 10 m of travel
