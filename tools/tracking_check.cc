@@ -39,10 +39,15 @@ int main(int argc, char** argv) {
       else if (name == "declare_share") config.tracker.declare_share = value;
       else if (name == "declare_steps") config.tracker.declare_steps = static_cast<int>(value);
       else if (name == "other_probability") config.tracker.other_probability = value;
+      else if (name == "floor_probability") config.tracker.floor_probability = value;
+      else if (name == "merge_distance") config.tracker.merge_distance = value;
       else if (name == "lost_probability") config.tracker.lost_probability = value;
       else if (name == "lost_steps") config.tracker.lost_steps = static_cast<int>(value);
       else if (name == "track_window") config.tracker.track_window = value;
       else if (name == "min_seen") config.tracker.min_seen = value;
+      else if (name == "min_none") config.tracker.min_none_share = value;
+      else if (name == "claim_m") config.tracker.claim_shift.translation = value;
+      else if (name == "claim_deg") config.tracker.claim_shift.rotation = value * std::numbers::pi / 180;
       else throw std::runtime_error("unknown setting '" + arg + "'");
     }
     const RelocalisationConfig reloc;
@@ -91,8 +96,9 @@ int main(int argc, char** argv) {
                   run.declared_wrong, run.declared_wrong_in_map);
       if (std::getenv("TRACK_STEPS") == nullptr) continue;  // the steps too, for a closer look
       for (const TrackedStep& t : run.steps)
-        std::printf("    %5.1f m%s  overlap %.2f  %-9s  %s  share %.3f  p %.3f  none %.3f  hyps %zu%s%s\n", t.travel,
-                    t.after_jump ? " (jumped)" : "", t.overlap, to_string(t.step.status), t.right ? "right" : "off  ",
+        std::printf("    %5.1f m%s  overlap %.2f  %-9s  %s %5.2f m %5.1f deg  share %.3f  p %.3f  none %.3f  hyps %zu%s%s\n", t.travel,
+                    t.after_jump ? " (jumped)" : "", t.overlap, to_string(t.step.status), t.right ? "right" : "off  ", t.translation_error,
+                    t.rotation_error * 180 / std::numbers::pi,
                     t.step.best.share, t.step.best.probability, t.step.none_share, t.step.hypotheses.size(),
                     t.step.evidence ? "" : "  no evidence", t.step.searched ? "  searched" : "");
     }

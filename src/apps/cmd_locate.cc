@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/maps/grid_map.h"
 #include "core/matching/localizer.h"
+#include "core/matching/tracker.h"
 #include "core/timing.h"
 #include "io/files/atomic_file.h"
 #include "io/formats/config_file.h"
@@ -39,6 +40,8 @@ struct LocateOptions {
   std::string config_file;  ///< --config
   QueryOptions query;
   std::optional<double> every;  ///< --every M: given (even as 0 or less) or not
+  bool track = false;           ///< --track: the tracker over the log's local maps (core/matching/tracker.h)
+  TrackerConfig tracker;
   SubmapConfig submap;
   LocalizerConfig localizer;
   std::string json;
@@ -168,18 +171,22 @@ void check_options(const LocateOptions& o) {
   if (!o.query.given()) throw InputError("locate: give --query-log LOG or --query-points FILE");
   if (o.every && (!(*o.every > 0) || !std::isfinite(*o.every)))
     throw InputError("--every must be a positive number of metres, got " + std::to_string(*o.every));
-  check_query_options(o.query, /*with_every=*/o.every.has_value());
+  check_query_options(o.query, /*with_every=*/o.every.has_value() || o.track);
   if (o.every && (o.query.log.empty() || o.query.stretch.given()))
     throw InputError("--every goes with --query-log alone (it sweeps the whole log)");
+  if (o.track && (o.query.log.empty() || o.query.stretch.given()))
+    throw InputError("--track goes with --query-log alone (it follows the whole log)");
+  validate(o.tracker);
   validate(o.submap);
   validate(o.localizer);
   io::check_outputs({{"--json", o.json}, {"--plot", o.plot}, {"--mcap", o.mcap}},
                     {{"--map", o.map}, {"--query-log", o.query.log}, {"--query-points", o.query.points}});
 }
 
-// --every M: a local map every M of travel along the whole log, located one after the other.
-std::vector<Located> locate_every(const LocateOptions& o, const Localizer& localizer, const Scans& scans) {
-  const double every = *o.every;
+// A local map every M of travel along the whole log (--every), handed to `use` in travel order with its label;
+// a progress bar named `what`.
+template <typename Use>
+void for_each_local_map(const LocateOptions& o, const Scans& scans, double every, const char* what, Use&& use) {
   const std::vector<double> s = travel_distances(scans);
   if (!s.empty() && s.back() / every > 100000) {
     char why[200];
@@ -190,9 +197,8 @@ std::vector<Located> locate_every(const LocateOptions& o, const Localizer& local
   ProgressBar bar(!o.quiet);
   const auto total = static_cast<std::size_t>(s.empty() ? 0.0 : std::floor(s.back() / every)) + 1;
   std::size_t skipped = 0, done = 0;
-  std::vector<Located> located;
   for (double from = 0; !s.empty() && from + o.submap.window_length <= s.back(); from += every) {
-    bar("locate", done++, total);
+    bar(what, done++, total);
     Submap query;
     try {
       query = build_local_map(scans, from, from + o.submap.window_length, o.submap);
@@ -203,10 +209,137 @@ std::vector<Located> locate_every(const LocateOptions& o, const Localizer& local
     char label[160];
     std::snprintf(label, sizeof label, "%.1f .. %.1f m of travel, log time %.3f .. %.3f s", from,
                   from + o.submap.window_length, query.scan_timestamps.front(), query.scan_timestamps.back());
-    located.push_back(locate_one(localizer, query, scans, label, !o.plot.empty()));
+    use(query, std::string(label));
   }
   if (skipped) std::printf("%zu stretches had too few points for a local map\n", skipped);
+}
+
+// --every M: a local map every M of travel along the whole log, located one after the other.
+std::vector<Located> locate_every(const LocateOptions& o, const Localizer& localizer, const Scans& scans) {
+  std::vector<Located> located;
+  for_each_local_map(o, scans, *o.every, "locate", [&](const Submap& query, std::string label) {
+    located.push_back(locate_one(localizer, query, scans, std::move(label), !o.plot.empty()));
+  });
   return located;
+}
+
+// --track: one tracker step per local map (--every M, 2 m by default), its motion from the log's own poses.
+struct Tracked {
+  std::string label;
+  double from_time = 0, to_time = 0;  // the local map's log time span [s]
+  TrackStep step;
+  std::optional<Pose2> T_map_source, robot;  // when the step has a pose (the declared or the heaviest)
+  std::vector<Pose2> hypothesis_robots;      // every hypothesis's robot pose, heaviest first
+  double stamp = 0;                          // the anchor scan's log time [s]
+};
+
+std::vector<Tracked> track_log(const LocateOptions& o, const Localizer& localizer, const Scans& scans) {
+  Tracker tracker(localizer, o.tracker);
+  std::vector<Tracked> out;
+  for_each_local_map(o, scans, o.every.value_or(2.0), "track", [&](const Submap& query, std::string label) {
+    Tracked t;
+    t.label = std::move(label);
+    t.from_time = query.scan_timestamps.front(), t.to_time = query.scan_timestamps.back();
+    t.step = tracker.step(query.points, query.origins, query.T_world_map);
+    const Scan& anchor = scans[static_cast<std::size_t>(query.anchor_scan)];
+    t.stamp = anchor.timestamp;
+    const auto robot_of = [&](const Pose2& T_map_query) { return T_map_query * query.T_world_map.inverse() * anchor.T_world_laser; };
+    if (t.step.has_pose) {
+      t.T_map_source = t.step.best.T_map_query * query.T_world_map.inverse();
+      t.robot = robot_of(t.step.best.T_map_query);
+    }
+    for (const TrackHypothesis& h : t.step.hypotheses) t.hypothesis_robots.push_back(robot_of(h.T_map_query));
+    out.push_back(std::move(t));
+  });
+  return out;
+}
+
+void print_tracked(const std::vector<Tracked>& tracked) {
+  std::vector<double> times;
+  std::size_t localised = 0, lost = 0;
+  std::optional<std::size_t> first;
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    const Tracked& t = tracked[i];
+    const TrackStep& s = t.step;
+    times.push_back(s.time_ms);
+    const bool is_localised = s.status == TrackStatus::kLocalised;
+    localised += is_localised;
+    lost += s.status == TrackStatus::kLost && (i == 0 || tracked[i - 1].step.status != TrackStatus::kLost);
+    if (is_localised && !first) first = i;
+    std::printf("%s\n  %s", t.label.c_str(), to_string(s.status));
+    if (t.robot)
+      std::printf("; %s robot x %.2f m, y %.2f m, theta %.1f deg, probability %.3f", is_localised ? "" : "likeliest:",
+                  t.robot->x, t.robot->y, t.robot->theta * 180 / std::numbers::pi, s.best.share);
+    std::printf("; %zu hypotheses%s%s; %.1f ms\n", s.hypotheses.size(), s.searched ? ", searched" : "",
+                s.evidence ? "" : ", no evidence (the map never saw this place)", s.time_ms);
+  }
+  if (tracked.empty()) return;
+  std::sort(times.begin(), times.end());
+  std::printf("%zu steps, %zu localised (first at step %s), lost %zu times; time per step: median %.1f ms, "
+              "max %.1f ms\n",
+              tracked.size(), localised, first ? std::to_string(*first + 1).c_str() : "none", lost,
+              times[times.size() / 2], times.back());
+}
+
+nlohmann::json tracked_json(const Tracked& t) {
+  const TrackStep& s = t.step;
+  nlohmann::json j = {{"query", t.label},
+                      {"log_time", {{"from", t.from_time}, {"to", t.to_time}}},
+                      {"status", to_string(s.status)},
+                      {"searched", s.searched},
+                      {"evidence", s.evidence},
+                      {"none_share", s.none_share},
+                      {"time_ms", s.time_ms}};
+  if (s.has_pose) {
+    j["T_map_query"] = pose_json(s.best.T_map_query);
+    j["T_map_source"] = pose_json(*t.T_map_source);
+    j["robot_pose"] = pose_json(*t.robot);
+    j["probability"] = s.best.share;  // the declared (or heaviest) hypothesis's share of the weight
+    j["same_place_probability"] = s.best.probability;
+  }
+  j["hypotheses"] = nlohmann::json::array();
+  for (std::size_t k = 0; k < s.hypotheses.size(); ++k) {
+    const TrackHypothesis& h = s.hypotheses[k];
+    j["hypotheses"].push_back({{"T_map_query", pose_json(h.T_map_query)},
+                               {"robot_pose", pose_json(t.hypothesis_robots[k])},
+                               {"share", h.share},
+                               {"same_place_probability", h.probability},
+                               {"age", h.age}});
+  }
+  return j;
+}
+
+// --track --plot: the robot's path coloured by status (green localised, orange searching, red lost), joined where
+// consecutive steps both have a pose; every step's hypotheses as faint dots.
+void write_track_plot(const LocateOptions& o, const GridMap& map, const std::vector<Tracked>& tracked) {
+  plot::Panel panel;
+  panel.map = &map;
+  plot::PointLayer hypotheses{{}, {0.55, 0.55, 0.85}, 1.0};
+  std::size_t localised = 0;
+  bool joined = false;
+  for (const Tracked& t : tracked) {
+    for (const Pose2& h : t.hypothesis_robots) hypotheses.points.push_back(h.translation());
+    if (!t.robot) {
+      joined = false;
+      continue;
+    }
+    panel.path.push_back(t.robot->translation());
+    const TrackStatus status = t.step.status;
+    localised += status == TrackStatus::kLocalised;
+    panel.path_colours.push_back(status == TrackStatus::kLocalised ? plot::kGood
+                                 : status == TrackStatus::kLost   ? plot::Rgb{0.85, 0.1, 0.1}
+                                                                  : plot::kDoubtful);
+    panel.path_joined.push_back(joined);
+    joined = true;
+  }
+  if (!hypotheses.points.empty()) panel.layers.push_back(hypotheses);
+  char title[200];
+  std::snprintf(title, sizeof title, "tracked: %zu steps every %.1f m, %zu localised", tracked.size(), o.every.value_or(2.0),
+                localised);
+  panel.title = title;
+  panel.legend = "green: localised; orange: searching (the likeliest); red: lost; faint: hypotheses";
+  plot::write_panels_png(o.plot, {panel});
+  std::printf("wrote %s\n", o.plot.c_str());
 }
 
 // Every localisation, and for several the confident count and the time per local map.
@@ -242,6 +375,26 @@ void run_locate(const LocateOptions& o) {
     std::printf("\n");
   }
   const QueryLog log = o.query.log.empty() ? QueryLog{} : load_query_log(o.query, {}, o.submap.window_length);
+  if (o.track) {
+    const std::vector<Tracked> tracked = track_log(o, localizer, log.scans);
+    print_tracked(tracked);
+    if (!o.plot.empty() && !tracked.empty()) write_track_plot(o, map, tracked);
+    if (!o.mcap.empty() && !tracked.empty()) {
+      std::vector<io::LocatedPose> poses;
+      for (const Tracked& t : tracked)
+        if (t.robot) poses.push_back({t.stamp, *t.robot, t.step.status == TrackStatus::kLocalised});
+      io::write_located_mcap(o.mcap, map, poses);
+      std::printf("wrote %s\n", o.mcap.c_str());
+    }
+    if (!o.json.empty()) {
+      nlohmann::json out = {{"map", o.map}, {"prepare_ms", localizer.prepare_ms()}, {"every", o.every.value_or(2.0)},
+                            {"warnings", log.warnings}};
+      out["tracked"] = nlohmann::json::array();
+      for (const Tracked& t : tracked) out["tracked"].push_back(tracked_json(t));
+      io::write_atomically(o.json, [&](std::ostream& f) { f << json_text(out); });
+    }
+    return;
+  }
   std::vector<Located> located;
   if (o.every) {
     located = locate_every(o, localizer, log.scans);
@@ -278,6 +431,11 @@ void register_locate(CLI::App& app) {
   o->query.offers_every = true;
   add_query_options(*cmd, o->query);
   cmd->add_option("--every", o->every, "--query-log: locate a local map every this much travel along the log [m]");
+  cmd->add_flag("--track", o->track,
+                "--query-log: track the robot along the log (several hypotheses carried by its motion until one "
+                "dominates; status searching / localised / lost per local map, every --every M, 2 m by default)");
+  cmd->add_option("--hypotheses", o->tracker.hypotheses, "--track: distinct poses a global search adds")
+      ->capture_default_str();
   cmd->add_option("--window", o->submap.window_length, "travel a local map covers [m]")->capture_default_str();
   cmd->add_option("--max-range", o->submap.max_range, "beams longer than this are not used [m]")->capture_default_str();
   cmd->add_option("--candidates", o->localizer.candidates, "distinct poses examined per local map")

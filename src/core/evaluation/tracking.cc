@@ -100,6 +100,8 @@ TrackingReport evaluate_tracking(const GridMap& map, const Scans& scans, std::si
         ts.step = tracker.step(m.map.points, m.map.origins, T_odom_map);
         times.push_back(ts.step.time_ms);
         ts.right = ts.step.has_pose && config.correct.accepts(ts.step.best.T_map_query, m.map.T_world_map);
+        const Pose2 error = m.map.T_world_map.inverse() * ts.step.best.T_map_query;
+        ts.translation_error = std::hypot(error.x, error.y), ts.rotation_error = std::abs(error.theta);
         if (run.steps.empty()) {
           for (const TrackHypothesis& h : ts.step.hypotheses)
             run.truth_among_first = run.truth_among_first || config.correct.accepts(h.T_map_query, m.map.T_world_map);

@@ -41,6 +41,7 @@ struct TrackedStep {
   double overlap = 0;     ///< true overlap with the building map
   TrackStep step;
   bool right = false;     ///< step.best within `correct` of the truth (has_pose)
+  double translation_error = 0, rotation_error = 0;  ///< step.best's from the truth [m], [rad]
 };
 
 struct TrackingRun {

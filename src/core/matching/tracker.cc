@@ -26,6 +26,8 @@ void validate(const TrackerConfig& c) {
   if (c.lost_steps < 1 || c.lost_steps > 1000) throw InputError("tracker: lost_steps must be in [1, 1000]");
   if (!in(c.drop_share, 0, 1)) throw InputError("tracker: drop_share must be in [0, 1]");
   if (!in(c.min_seen, 0, 1)) throw InputError("tracker: min_seen must be in [0, 1]");
+  if (!in(c.min_none_share, 0, 0.5)) throw InputError("tracker: min_none_share must be in [0, 0.5]");
+  if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
 }
 
 const char* to_string(TrackStatus status) {
@@ -66,6 +68,14 @@ void Tracker::normalise() {
   const double shift = top + std::log(sum);
   none_log_weight_ -= shift;
   for (Hypothesis& h : hypotheses_) h.log_weight -= shift;
+  // The none weight never falls below min_none_share: evidence from long ago does not make a hypothesis immune
+  // to what the last few local maps say (a kidnapping).
+  const double none = std::exp(none_log_weight_);
+  if (none < config_.min_none_share && !hypotheses_.empty()) {
+    const double scale = std::log((1 - config_.min_none_share) / (1 - none));
+    for (Hypothesis& h : hypotheses_) h.log_weight += scale;
+    none_log_weight_ = std::log(config_.min_none_share);
+  }
 }
 
 // Heaviest first; a hypothesis within the merge tolerance of a heavier one adds its weight to it (the declared
@@ -120,8 +130,9 @@ bool Tracker::update_status(bool evidence) {
         blind_ = false;
         return true;
       }
-      if (weak_steps_ > 0) {
-        // Fits badly here: no claim this step (a kidnapping's first step), lost if it goes on.
+      if (weak_steps_ > 0 || declared->moved) {
+        // Fits badly here (a kidnapping's first step; lost if it goes on), or the match moved it further from
+        // where the odometry carried it than the odometry errs in a step: no claim this step.
         if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
         blind_ = true;
       } else if (blind_) {
@@ -134,8 +145,8 @@ bool Tracker::update_status(bool evidence) {
   // The heaviest hypothesis holding declare_share on consecutive steps with evidence is declared (again, or
   // instead of the one declared before).
   const Hypothesis* heaviest = hypotheses_.empty() ? nullptr : &hypotheses_.front();
-  const auto fits = [&](const Hypothesis& h) {  // seen here and not fitting badly
-    return h.seen >= config_.min_seen && h.probability >= config_.lost_probability;
+  const auto fits = [&](const Hypothesis& h) {  // seen here, not fitting badly, where the odometry carried it
+    return h.seen >= config_.min_seen && h.probability >= config_.lost_probability && !h.moved;
   };
   if (heaviest != nullptr && evidence && fits(*heaviest) && std::exp(heaviest->log_weight) >= config_.declare_share) {
     dominant_steps_ = heaviest->id == dominant_ ? dominant_steps_ + 1 : 1;
@@ -173,6 +184,9 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     const std::vector<Verified> seen = localizer_.verify_all(points, origins, carried, verify);
     for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
       Hypothesis& h = hypotheses_[i];
+      const Pose2 moved = carried[i].inverse() * seen[i].T_map_query;
+      h.moved = std::hypot(moved.x, moved.y) > config_.claim_shift.translation ||
+                std::abs(moved.theta) > config_.claim_shift.rotation;
       h.T_map_query = seen[i].T_map_query;
       h.probability = seen[i].probability;
       h.seen = seen[i].terms.query.seen;

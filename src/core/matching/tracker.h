@@ -44,14 +44,18 @@ struct TrackerConfig {
   double track_angle = 0.1;      ///< ... and +- this [rad]
   double merge_distance = 0.5;   ///< hypotheses this close [m] ...
   double merge_angle = 10.0 * std::numbers::pi / 180;  ///< ... and turned by no more than this are one [rad]
-  double floor_probability = 0.01;  ///< a step weighs a hypothesis by its probability, at least this
-  double other_probability = 0.05;  ///< the "none of these" weight's factor per step
+  double floor_probability = 0.001;  ///< a step weighs a hypothesis by its probability, at least this
+  double other_probability = 0.01;   ///< the "none of these" weight's factor per step
   double declare_share = 0.95;      ///< share of the weight that declares a hypothesis ...
   int declare_steps = 2;            ///< ... on this many consecutive steps
-  double lost_probability = 0.02;   ///< the declared hypothesis's probability below this ...
+  double lost_probability = 0.005;  ///< the declared hypothesis's probability below this ...
   int lost_steps = 2;               ///< ... on this many consecutive steps: lost
   double drop_share = 1e-3;         ///< hypotheses below this share of the heaviest are dropped
   double min_seen = 0.3;            ///< a step is evidence when some hypothesis sees this share of the local map
+  double min_none_share = 0.01;     ///< the none weight's share never falls below this (odds of 99 at most)
+  /// no claim on a step whose match moved the declared hypothesis further than this from where the odometry
+  /// carried it (a local map that fits the map a few degrees off)
+  PoseTolerance claim_shift{0.25, 2.5 * std::numbers::pi / 180};
 };
 
 /// Throws InputError naming the field.
@@ -100,6 +104,7 @@ class Tracker {
     double log_weight = 0;
     double probability = 0;
     double seen = 0;  ///< this step's query seen share there (core/matching/verification.h)
+    bool moved = false;  ///< this step's match moved it by more than claim_shift
     int age = 0;
   };
   void normalise();
