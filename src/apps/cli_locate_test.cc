@@ -163,6 +163,45 @@ TEST_F(CliLocateTest, ExportMapThenLocateAStretchOfTheLog) {
   EXPECT_LT(fs::file_size(dir_ / "first.pgm"), fs::file_size(dir_ / "building.pgm"));
 }
 
+// --track follows the log through the map exported from it: localised within a few steps, every localised
+// robot pose where the log says the robot was, the hypotheses in the JSON, the picture written; and it goes
+// with --query-log alone.
+TEST_F(CliLocateTest, TrackFollowsTheLogThroughItsMap) {
+  const fs::path yaml = dir_ / "building.yaml", json = dir_ / "tracked.json", png = dir_ / "tracked.png";
+  ASSERT_EQ(run_partslam("export-map sim:1 --out " + quoted(yaml)).exit_code, 0);
+  CliRun run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --track --every 4 --quiet --json " +
+                            quoted(json) + " --plot " + quoted(png));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("localised; "));
+  EXPECT_TRUE(fs::exists(png));
+  const Scans scans = io::load_scan_source("sim:1").scans;
+  const std::vector<double> s = travel_distances(scans);
+  const nlohmann::json j = read_json(json);  // kept: loops read its members
+  ASSERT_GT(j["tracked"].size(), 10u);
+  std::size_t localised = 0, first = 0, k = 0;
+  for (const nlohmann::json& t : j["tracked"]) {
+    ++k;
+    ASSERT_TRUE(t.contains("status") && t.contains("hypotheses") && t.contains("log_time")) << t.dump();
+    if (t["status"] != "localised") continue;
+    if (localised++ == 0) first = k;
+    // The robot pose at the local map's first scan (its log time), from the log's own poses.
+    const double from = t["log_time"]["from"].get<double>();
+    std::size_t i = 0;
+    while (i + 1 < scans.size() && scans[i].timestamp < from - 1e-6) ++i;
+    const Pose2& truth = scans[i].T_world_laser;
+    EXPECT_NEAR(t["robot_pose"]["x"].get<double>(), truth.x, 0.3) << t["query"];
+    EXPECT_NEAR(t["robot_pose"]["y"].get<double>(), truth.y, 0.3) << t["query"];
+    EXPECT_NEAR(wrap_angle(t["robot_pose"]["theta"].get<double>() - truth.theta), 0.0, 3 * kDegree) << t["query"];
+    EXPECT_GE(t["probability"].get<double>(), 0.5);
+    EXPECT_GE(t["hypotheses"].size(), 1u);
+  }
+  EXPECT_GE(localised, j["tracked"].size() * 3 / 4);
+  EXPECT_LE(first, 5u);
+  run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --track --from 1 --to 3");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_THAT(run.output, HasSubstr("--track goes with --query-log alone"));
+}
+
 // A stored map exported as a point file (world frame) and queried with --query-points: match ranks that map
 // first, locate puts the file's frame on the map frame and, the file carrying the map's laser origins,
 // verifies its free space too (a calibrated probability).

@@ -231,6 +231,7 @@ struct Tracked {
   std::optional<Pose2> T_map_source, robot;  // when the step has a pose (the declared or the heaviest)
   std::vector<Pose2> hypothesis_robots;      // every hypothesis's robot pose, heaviest first
   double stamp = 0;                          // the anchor scan's log time [s]
+  Pose2 robot_in_log;                        // the anchor scan's pose in the log's own frame
 };
 
 std::vector<Tracked> track_log(const LocateOptions& o, const Localizer& localizer, const Scans& scans) {
@@ -243,6 +244,7 @@ std::vector<Tracked> track_log(const LocateOptions& o, const Localizer& localize
     t.step = tracker.step(query.points, query.origins, query.T_world_map);
     const Scan& anchor = scans[static_cast<std::size_t>(query.anchor_scan)];
     t.stamp = anchor.timestamp;
+    t.robot_in_log = anchor.T_world_laser;
     const auto robot_of = [&](const Pose2& T_map_query) { return T_map_query * query.T_world_map.inverse() * anchor.T_world_laser; };
     if (t.step.has_pose) {
       t.T_map_source = t.step.best.T_map_query * query.T_world_map.inverse();
@@ -316,13 +318,16 @@ void write_track_plot(const LocateOptions& o, const GridMap& map, const std::vec
   panel.map = &map;
   plot::PointLayer hypotheses{{}, {0.55, 0.55, 0.85}, 1.0};
   std::size_t localised = 0;
-  bool joined = false;
+  const Tracked* before = nullptr;  // the last step with a pose
   for (const Tracked& t : tracked) {
     for (const Pose2& h : t.hypothesis_robots) hypotheses.points.push_back(h.translation());
     if (!t.robot) {
-      joined = false;
+      before = nullptr;
       continue;
     }
+    // A line only where two consecutive poses moved as the log did.
+    const bool joined = before != nullptr && answers_agree(*before->robot, *t.robot, before->robot_in_log, t.robot_in_log);
+    before = &t;
     panel.path.push_back(t.robot->translation());
     const TrackStatus status = t.step.status;
     localised += status == TrackStatus::kLocalised;
@@ -330,14 +335,13 @@ void write_track_plot(const LocateOptions& o, const GridMap& map, const std::vec
                                  : status == TrackStatus::kLost   ? plot::Rgb{0.85, 0.1, 0.1}
                                                                   : plot::kDoubtful);
     panel.path_joined.push_back(joined);
-    joined = true;
   }
   if (!hypotheses.points.empty()) panel.layers.push_back(hypotheses);
   char title[200];
   std::snprintf(title, sizeof title, "tracked: %zu steps every %.1f m, %zu localised", tracked.size(), o.every.value_or(2.0),
                 localised);
   panel.title = title;
-  panel.legend = "green: localised; orange: searching (the likeliest); red: lost; faint: hypotheses";
+  panel.legend = "green: localised; orange: searching (the likeliest); red: lost; faint: hypotheses; a line: moved as the log did";
   plot::write_panels_png(o.plot, {panel});
   std::printf("wrote %s\n", o.plot.c_str());
 }
