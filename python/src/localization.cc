@@ -12,6 +12,7 @@
 #include "core/maps/grid_map.h"
 #include "core/maps/submap.h"
 #include "core/matching/localizer.h"
+#include "core/matching/tracker.h"
 #include "core/slam/log_stretch.h"
 #include "io/formats/map_server.h"
 #include "io/formats/point_export.h"
@@ -174,6 +175,11 @@ void define_localization(py::module_& m) {
         return "<partslam.Localization x=" + std::to_string(l.T_map_query.x) + " y=" + std::to_string(l.T_map_query.y) +
                " confidence=" + std::to_string(l.confidence) + ">";
       });
+  py::class_<Verified>(m, "Verified", "A pose verified against the map (core/matching/verification.h)")
+      .def_readonly("T_map_query", &Verified::T_map_query, "the refined pose")
+      .def_readonly("probability", &Verified::probability, "the same-place probability there")
+      .def_property_readonly("query_seen", [](const Verified& v) { return v.terms.query.seen; },
+                             "share of the local map's points on cells the map saw");
   py::class_<Localizer>(m, "Localizer", "A building map prepared once for global localisation")
       .def(py::init<const GridMap&, const LocalizerConfig&>(), "map"_a, "config"_a = LocalizerConfig{}, release_gil())
       .def(py::init<const Points2&, const LocalizerConfig&>(), "points"_a, "config"_a = LocalizerConfig{},
@@ -181,10 +187,50 @@ void define_localization(py::module_& m) {
       .def("locate", &Localizer::locate, "query_points"_a, "query_origins"_a = Points2{}, release_gil(),
            "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives; "
            "query_origins: its laser positions, Submap.origins, for a calibrated probability).")
+      .def("hypotheses", &Localizer::hypotheses, "query_points"_a, "query_origins"_a = Points2{}, "count"_a = 8,
+           release_gil(),
+           "The global search's distinct verified poses (Verified), most probable first: what a tracker starts "
+           "from.")
       .def_property_readonly("prepare_ms", &Localizer::prepare_ms)
       .def_property_readonly("alignment_angle", &Localizer::alignment_angle)
       .def_property_readonly("wing_directions", &Localizer::wing_directions,
                              "wall directions searched beside the axes, in the canonical frame [rad]");
+
+  py::class_<TrackerConfig> tracker_config(m, "TrackerConfig",
+                                           "How the Tracker keeps and declares hypotheses (core/matching/tracker.h)");
+  def_config_fields(tracker_config);
+  tracker_config.def("validate", py::overload_cast<const TrackerConfig&>(&validate),
+                     "Raises InputError naming the field that is out of range.");
+  def_keyword_init(tracker_config);
+  py::class_<TrackHypothesis>(m, "TrackHypothesis", "One place the robot may be")
+      .def_readonly("T_map_query", &TrackHypothesis::T_map_query)
+      .def_readonly("probability", &TrackHypothesis::probability, "this step's same-place probability there")
+      .def_readonly("share", &TrackHypothesis::share, "its share of the weight (the none weight included)")
+      .def_readonly("age", &TrackHypothesis::age, "steps it has been carried");
+  py::class_<TrackStep>(m, "TrackStep", "What one local map told the tracker")
+      .def_property_readonly("status", [](const TrackStep& s) { return std::string(to_string(s.status)); },
+                             "'searching', 'localised' or 'lost'")
+      .def_property_readonly(
+          "pose", [](const TrackStep& s) { return s.has_pose ? py::cast(s.best) : py::none(); },
+          "the declared hypothesis (localised) or the heaviest (TrackHypothesis), None when there is none")
+      .def_readonly("hypotheses", &TrackStep::hypotheses, "heaviest first")
+      .def_readonly("none_share", &TrackStep::none_share)
+      .def_readonly("searched", &TrackStep::searched)
+      .def_readonly("evidence", &TrackStep::evidence)
+      .def_readonly("time_ms", &TrackStep::time_ms)
+      .def("__repr__", [](const TrackStep& s) {
+        return std::string("<partslam.TrackStep ") + to_string(s.status) + " hypotheses=" +
+               std::to_string(s.hypotheses.size()) + ">";
+      });
+  py::class_<Tracker>(m, "Tracker",
+                      "Global localisation over travel: hypotheses carried by the robot's motion until one "
+                      "dominates (core/matching/tracker.h)")
+      .def(py::init<const Localizer&, const TrackerConfig&>(), "localizer"_a, "config"_a = TrackerConfig{},
+           py::keep_alive<1, 2>())
+      .def("step", &Tracker::step, "points"_a, "origins"_a, "T_odom_map"_a, release_gil(),
+           "One local map (its points and laser origins in its own frame, Submap.points / .origins) and its frame "
+           "in the odometry's frame (Submap.T_world_map of a map built from the log's poses).")
+      .def("reset", &Tracker::reset);
 }
 
 }  // namespace partslam::python

@@ -109,3 +109,28 @@ def test_a_wing_built_at_another_angle_is_searched_too():
     config = partslam.LocalizerConfig()
     config.wall_direction_share = 0
     assert partslam.Localizer(points, config).wing_directions == []
+
+
+def test_the_tracker_follows_the_log_through_its_map(sim_scans):
+    localizer = partslam.Localizer(partslam.build_grid_map(sim_scans))
+    starts = localizer.hypotheses(*_local(sim_scans, 30.0), count=4)
+    assert 1 <= len(starts) <= 4
+    assert starts[0].probability >= starts[-1].probability
+    tracker = partslam.Tracker(localizer, partslam.TrackerConfig(hypotheses=8))
+    statuses = []
+    for s in range(10, 60, 2):
+        local = partslam.build_local_map(sim_scans, float(s), s + 2.0)
+        step = tracker.step(local.points, local.origins, local.T_world_map)
+        statuses.append(step.status)
+        if step.status == "localised":
+            truth = local.T_world_map
+            assert math.hypot(step.pose.T_map_query[0] - truth[0], step.pose.T_map_query[1] - truth[1]) < 0.3
+            assert step.pose.share >= 0.5 and step.hypotheses
+    assert "localised" in statuses[:5] and "lost" not in statuses
+    with pytest.raises(partslam.InputError, match="declare_share"):
+        partslam.TrackerConfig(declare_share=0.1).validate()
+
+
+def _local(scans, at):
+    local = partslam.build_local_map(scans, at, at + 2.0)
+    return local.points, local.origins

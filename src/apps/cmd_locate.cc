@@ -460,8 +460,10 @@ void register_locate(CLI::App& app) {
       if (given(*cmd, "--window")) f.submaps.window_length = o->submap.window_length;
       if (given(*cmd, "--max-range")) f.submaps.max_range = o->submap.max_range;
       if (given(*cmd, "--candidates")) f.localizer.candidates = o->localizer.candidates;
+      if (given(*cmd, "--hypotheses")) f.tracker.hypotheses = o->tracker.hypotheses;
       o->submap = f.submaps;
       o->localizer = f.localizer;
+      o->tracker = f.tracker;
     }
     run_locate(*o);
   });

@@ -14,6 +14,7 @@
 #include "core/matching/dmm.h"
 #include "core/matching/localizer.h"
 #include "core/matching/scan_matcher.h"
+#include "core/matching/tracker.h"
 #include "core/matching/verification.h"
 #include "core/slam/back_end.h"
 #include "core/slam/front_end_config.h"
@@ -33,10 +34,12 @@ struct LoopsConfig {
   LoopTruthConfig truth;
 };
 
-/// What `partslam locate` is set by: how the local map is built and how it is located.
+/// What `partslam locate` is set by: how the local map is built, how it is located, and how --track follows
+/// the robot.
 struct LocateConfig {
   SubmapConfig submaps;
   LocalizerConfig localizer;
+  TrackerConfig tracker;
 };
 
 template <class V>
@@ -230,10 +233,34 @@ void config_fields(V& v, std::type_identity<LocalizerConfig>) {
 }
 
 template <class V>
+void config_fields(V& v, std::type_identity<TrackerConfig>) {
+  using C = TrackerConfig;
+  v.field("hypotheses", &C::hypotheses, "the global search's distinct poses taken per search");
+  v.field("max_hypotheses", &C::max_hypotheses, "hypotheses kept at most");
+  v.field("track_window", &C::track_window, "a carried hypothesis is refined within +- this [m] ...");
+  v.field("track_angle", &C::track_angle, "... and +- this [rad]");
+  v.field("merge_distance", &C::merge_distance, "hypotheses this close [m] ...");
+  v.field("merge_angle", &C::merge_angle, "... and turned by no more than this are one [rad]");
+  v.field("floor_probability", &C::floor_probability, "a step weighs a hypothesis by its probability, at least this");
+  v.field("other_probability", &C::other_probability, "the none-of-these weight's factor per step");
+  v.field("declare_share", &C::declare_share, "share of the weight that declares a hypothesis ...");
+  v.field("declare_steps", &C::declare_steps, "... on this many consecutive steps");
+  v.field("lost_probability", &C::lost_probability, "the declared one's probability below this ...");
+  v.field("lost_steps", &C::lost_steps, "... on this many consecutive steps: lost");
+  v.field("drop_share", &C::drop_share, "hypotheses below this share of the heaviest are dropped");
+  v.field("min_seen", &C::min_seen, "a hypothesis is weighed when the map saw this share of the local map there");
+  v.field("min_none_share", &C::min_none_share, "the none weight's share never falls below this");
+  v.field("claim_shift_distance", &C::claim_shift, &PoseTolerance::translation,
+          "no claim on a step whose match moved the declared pose further than this from the odometry's [m] ...");
+  v.field("claim_shift_angle", &C::claim_shift, &PoseTolerance::rotation, "... or turned it more than this [rad]");
+}
+
+template <class V>
 void config_fields(V& v, std::type_identity<LocateConfig>) {
   using C = LocateConfig;
   v.section("submaps", &C::submaps, "");
   v.section("localizer", &C::localizer, "");
+  v.section("tracker", &C::tracker, "locate --track");
 }
 
 }  // namespace partslam::io

@@ -193,6 +193,7 @@ void validate(const LocateConfig& c) {
   validate_nested("locate config", "submaps", [&] { validate(c.submaps); });
   validate_nested("locate config", "localizer.dmm", [&] { validate(c.localizer.dmm); });
   validate_nested("locate config", "localizer", [&] { validate(c.localizer); });
+  validate_nested("locate config", "tracker", [&] { validate(c.tracker); });
 }
 
 void read_config_file(const std::filesystem::path& file, SlamConfig& config) { read_file(file, config); }
