@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
       else if (name == "track_window") config.tracker.track_window = value;
       else if (name == "min_seen") config.tracker.min_seen = value;
       else if (name == "min_none") config.tracker.min_none_share = value;
+      else if (name == "move_gain") config.tracker.move_gain = value;
+      else if (name == "declare_probability") config.tracker.declare_probability = value;
+      else if (name == "search_every") config.tracker.search_every = static_cast<int>(value);
+      else if (name == "verified") config.localizer.verified = static_cast<int>(value);
       else if (name == "claim_m") config.tracker.claim_shift.translation = value;
       else if (name == "claim_deg") config.tracker.claim_shift.rotation = value * std::numbers::pi / 180;
       else throw std::runtime_error("unknown setting '" + arg + "'");
@@ -57,10 +61,15 @@ int main(int argc, char** argv) {
     const GridMap map = io::read_map_yaml(yaml);
     const TrackingReport r = evaluate_tracking(map, scans, split, config);
     std::size_t eligible = 0, converged = 0, single = 0, truth_first = 0, wrong = 0, wrong_in_map = 0, steps = 0;
-    std::size_t kidnaps = 0, noticed = 0, recovered = 0;
+    std::size_t kidnaps = 0, noticed = 0, recovered = 0, in_map = 0, in_map_localised = 0;
     std::vector<double> to_converge;
     for (const TrackingRun& run : r.runs) {
       steps += run.steps.size();
+      for (const TrackedStep& t : run.steps) {
+        const bool in = t.overlap >= config.min_overlap;
+        in_map += in;
+        in_map_localised += in && t.step.status == TrackStatus::kLocalised && t.right;
+      }
       wrong += static_cast<std::size_t>(run.declared_wrong);
       wrong_in_map += static_cast<std::size_t>(run.declared_wrong_in_map);
       if (run.eligible) {
@@ -82,11 +91,11 @@ int main(int argc, char** argv) {
     std::printf("summary: noise %s | runs %zu | eligible %zu | localised within %.0f m %zu (%.1f %%) | single-shot %zu (%.1f %%) "
                 "| truth among first hypotheses %zu (%.1f %%) | travel to converge median %.0f m p90 %.0f m "
                 "| declared wrong %zu of %zu steps (in the map %zu) | kidnappings %zu noticed %zu recovered %zu (%.1f %%) "
-                "| step median %.1f ms p95 %.1f ms\n",
+                "| in-map steps localised %zu of %zu (%.1f %%) | step median %.1f ms p95 %.1f ms\n",
                 config.noise.c_str(), r.runs.size(), eligible, config.converge_within, converged, pct(converged, eligible),
                 single, pct(single, eligible), truth_first, pct(truth_first, eligible), percentile(to_converge, 0.5),
                 percentile(to_converge, 0.9), wrong, steps, wrong_in_map, kidnaps, noticed, recovered,
-                pct(recovered, kidnaps), r.median_ms, r.p95_ms);
+                pct(recovered, kidnaps), in_map_localised, in_map, pct(in_map_localised, in_map), r.median_ms, r.p95_ms);
     for (const TrackingRun& run : r.runs) {
       std::printf("  start %7.1f m  jump to %7.1f m  %s  converged %5.0f m%s  single %d  first %d  at jump %d  "
                   "jump in map %d  noticed %4.0f m  recovered %4.0f m  wrong %d (in map %d)\n",

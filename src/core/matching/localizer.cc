@@ -123,12 +123,18 @@ Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query) c
   return verify(query, T_map_query, config_.verify);
 }
 
-Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config) const {
+Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config,
+                           Verified* at_pose) const {
   Vec2 a = T_map_query * query.lo, b = a;
   for (const Vec2& c : {query.lo, Vec2(query.hi.x(), query.lo.y()), query.hi, Vec2(query.lo.x(), query.hi.y())})
     a = a.cwiseMin(T_map_query * c), b = b.cwiseMax(T_map_query * c);
   const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
-  return verify_match(query.map, around, T_map_query, config);
+  if (at_pose == nullptr) return verify_match(query.map, around, T_map_query, config);
+  // verify_match's steps, keeping the unrefined verification too.
+  const PairFields fields(query.map, around);
+  *at_pose = verify_at(query.map, around, fields, T_map_query);
+  const Verified r = verify_at(query.map, around, fields, refine_match(query.map, fields, T_map_query, config));
+  return r.probability >= at_pose->probability ? r : *at_pose;
 }
 
 Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {
@@ -136,12 +142,15 @@ Verified Localizer::verify(const Points2& query_points, const Points2& query_ori
 }
 
 std::vector<Verified> Localizer::verify_all(const Points2& query_points, const Points2& query_origins,
-                                       std::span<const Pose2> poses, const VerifyConfig& config) const {
+                                       std::span<const Pose2> poses, const VerifyConfig& config,
+                                       std::vector<Verified>* at_poses) const {
   validate(config);
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
   const VerifyQuery query = verify_query(query_points, query_origins);
   std::vector<Verified> out;
-  for (const Pose2& pose : poses) out.push_back(verify(query, pose, config));
+  if (at_poses != nullptr) at_poses->assign(poses.size(), {});
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    out.push_back(verify(query, poses[i], config, at_poses != nullptr ? &(*at_poses)[i] : nullptr));
   return out;
 }
 

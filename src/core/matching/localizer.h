@@ -142,8 +142,10 @@ class Localizer {
   std::vector<Verified> hypotheses(const Points2& query_points, const Points2& query_origins, int count) const;
   /// Each of `poses` verified as verify() does, refined within `config`'s window instead of the localizer's
   /// (a pose carried by odometry is further off than a lattice pose); the local map's beams cast once.
+  /// at_poses (when given): each pose's terms and probability where it is, before refining.
   std::vector<Verified> verify_all(const Points2& query_points, const Points2& query_origins,
-                                   std::span<const Pose2> poses, const VerifyConfig& config) const;
+                                   std::span<const Pose2> poses, const VerifyConfig& config,
+                                   std::vector<Verified>* at_poses = nullptr) const;
 
   const LocalizerConfig& config() const { return config_; }
   /// The rotation that took the building map into its canonical frame [rad].
@@ -164,7 +166,8 @@ class Localizer {
   };
   VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;
   Verified verify(const VerifyQuery& query, const Pose2& T_map_query) const;
-  Verified verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config) const;
+  Verified verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config,
+                  Verified* at_pose = nullptr) const;
   /// One of locate()'s candidate poses: dMM's match, rescored with the map's free space.
   struct Candidate {
     DmmResult dmm;

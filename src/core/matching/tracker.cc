@@ -26,6 +26,9 @@ void validate(const TrackerConfig& c) {
   if (c.lost_steps < 1 || c.lost_steps > 1000) throw InputError("tracker: lost_steps must be in [1, 1000]");
   if (!in(c.drop_share, 0, 1)) throw InputError("tracker: drop_share must be in [0, 1]");
   if (!in(c.min_seen, 0, 1)) throw InputError("tracker: min_seen must be in [0, 1]");
+  if (!in(c.move_gain, 1, 1000)) throw InputError("tracker: move_gain must be in [1, 1000]");
+  if (!in(c.declare_probability, 0, 1)) throw InputError("tracker: declare_probability must be in [0, 1]");
+  if (c.search_every < 1 || c.search_every > 1000) throw InputError("tracker: search_every must be in [1, 1000]");
   if (!in(c.min_none_share, 0, 0.5)) throw InputError("tracker: min_none_share must be in [0, 0.5]");
   if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
 }
@@ -51,6 +54,7 @@ void Tracker::reset() {
   declared_ = dominant_ = -1;
   dominant_steps_ = weak_steps_ = 0;
   blind_ = false;
+  steps_since_search_ = 0;
 }
 
 const Tracker::Hypothesis* Tracker::find(int id) const {
@@ -148,7 +152,8 @@ bool Tracker::update_status(bool evidence) {
   const auto fits = [&](const Hypothesis& h) {  // seen here, not fitting badly, where the odometry carried it
     return h.seen >= config_.min_seen && h.probability >= config_.lost_probability && !h.moved;
   };
-  if (heaviest != nullptr && evidence && fits(*heaviest) && std::exp(heaviest->log_weight) >= config_.declare_share) {
+  if (heaviest != nullptr && evidence && fits(*heaviest) && std::exp(heaviest->log_weight) >= config_.declare_share &&
+      heaviest->probability >= config_.declare_probability) {
     dominant_steps_ = heaviest->id == dominant_ ? dominant_steps_ + 1 : 1;
     dominant_ = heaviest->id;
   } else if (evidence) {
@@ -181,12 +186,18 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     VerifyConfig verify = localizer_.config().verify;
     verify.refine_window = config_.track_window;
     verify.refine_angle = config_.track_angle;
-    const std::vector<Verified> seen = localizer_.verify_all(points, origins, carried, verify);
+    std::vector<Verified> at_carried;
+    std::vector<Verified> seen = localizer_.verify_all(points, origins, carried, verify, &at_carried);
     for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
       Hypothesis& h = hypotheses_[i];
       const Pose2 moved = carried[i].inverse() * seen[i].T_map_query;
       h.moved = std::hypot(moved.x, moved.y) > config_.claim_shift.translation ||
                 std::abs(moved.theta) > config_.claim_shift.rotation;
+      // A match that moves the pose further than the odometry errs in a step must fit much better there: along
+      // a corridor (or where the local map is half outside the map) it fits about as well anywhere, and the
+      // odometry's pose is the better guess.
+      if (h.moved && seen[i].probability < config_.move_gain * at_carried[i].probability)
+        seen[i] = at_carried[i], h.moved = false;
       h.T_map_query = seen[i].T_map_query;
       h.probability = seen[i].probability;
       h.seen = seen[i].terms.query.seen;
@@ -205,6 +216,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   bool searched = false;
   const auto search = [&] {
     searched = true;
+    steps_since_search_ = 0;
     const std::vector<Verified> found = localizer_.hypotheses(points, origins, config_.hypotheses);
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
@@ -226,7 +238,11 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     merge_and_drop();
     normalise();
   };
-  if (status_ != TrackStatus::kLocalised) search();
+  // While not localised: a search when there is no hypothesis, else every search_every steps (a global search
+  // costs ten to a hundred times a carried step; in between, the carried hypotheses gather evidence).
+  ++steps_since_search_;
+  if (status_ != TrackStatus::kLocalised && (hypotheses_.empty() || steps_since_search_ >= config_.search_every))
+    search();
   else merge_and_drop(), normalise();
   // 4. The status; lost this step: the search starts again at once.
   if (update_status(evidence) && !searched) weighed = false, search();

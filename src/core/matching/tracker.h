@@ -12,7 +12,7 @@
 //      badly, a person in the way, does not end the true hypothesis); a "none of these" weight, multiplied by
 //      other_probability each step, stands for "the robot is somewhere no hypothesis is" and keeps the shares
 //      honest when every hypothesis fits badly;
-//   3. while not localised, the global search's best distinct poses (Localizer::hypotheses) join as new
+//   3. while not localised (every search_every steps), the global search's best distinct poses (Localizer::hypotheses) join as new
 //      hypotheses, each with the none weight's share times its probability; hypotheses that meet merge into
 //      the heavier, those below drop_share of the heaviest drop, at most max_hypotheses stay;
 //   4. a hypothesis is declared when its share of the weight (the none weight included) reaches
@@ -52,10 +52,17 @@ struct TrackerConfig {
   int lost_steps = 2;               ///< ... on this many consecutive steps: lost
   double drop_share = 1e-3;         ///< hypotheses below this share of the heaviest are dropped
   double min_seen = 0.3;            ///< a step is evidence when some hypothesis sees this share of the local map
+  /// while not localised, the global search runs every this many steps (and whenever there is no hypothesis)
+  int search_every = 3;
   double min_none_share = 0.01;     ///< the none weight's share never falls below this (odds of 99 at most)
   /// no claim on a step whose match moved the declared hypothesis further than this from where the odometry
   /// carried it (a local map that fits the map a few degrees off)
   PoseTolerance claim_shift{0.25, 2.5 * std::numbers::pi / 180};
+  /// a match that moves a hypothesis beyond claim_shift is taken only when it is this many times as probable
+  /// as the odometry's pose; else the odometry's pose stays (a corridor's length)
+  double move_gain = 2.0;
+  /// a hypothesis counts towards being declared only on steps where its probability reaches this
+  double declare_probability = 0.05;
 };
 
 /// Throws InputError naming the field.
@@ -125,7 +132,8 @@ class Tracker {
   int dominant_ = -1;         ///< id of the heaviest one while it holds declare_share ...
   int dominant_steps_ = 0;    ///< ... on this many consecutive steps
   int weak_steps_ = 0;        ///< consecutive steps the declared one fell below lost_probability
-  bool blind_ = false;        ///< the declared one left the map's seen cells: searching until it is seen again
+  bool blind_ = false;
+  int steps_since_search_ = 0;        ///< the declared one left the map's seen cells: searching until it is seen again
 };
 
 }  // namespace partslam

@@ -249,6 +249,11 @@ void config_fields(V& v, std::type_identity<TrackerConfig>) {
   v.field("lost_steps", &C::lost_steps, "... on this many consecutive steps: lost");
   v.field("drop_share", &C::drop_share, "hypotheses below this share of the heaviest are dropped");
   v.field("min_seen", &C::min_seen, "a hypothesis is weighed when the map saw this share of the local map there");
+  v.field("move_gain", &C::move_gain,
+          "a match moving a hypothesis beyond claim_shift is taken only when this many times as probable");
+  v.field("declare_probability", &C::declare_probability,
+          "a hypothesis counts towards being declared only on steps with this probability");
+  v.field("search_every", &C::search_every, "while not localised, the global search runs every this many steps");
   v.field("min_none_share", &C::min_none_share, "the none weight's share never falls below this");
   v.field("claim_shift_distance", &C::claim_shift, &PoseTolerance::translation,
           "no claim on a step whose match moved the declared pose further than this from the odometry's [m] ...");
