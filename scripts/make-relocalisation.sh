@@ -5,7 +5,11 @@
 # fr079 and intel are the floor's sets (the defaults were chosen on them); the buildings of corrected/ validate.
 # Then the tables (scripts/relocalisation_tables.py): per log, which it also writes into docs/USAGE.md between its
 # relocalisation markers, and the in-map queries by true overlap.
-# Usage: scripts/make-relocalisation.sh. Needs ../shared/data and build/relocalisation_check (about 6 min).
+# Then the tracking bench (build/tracking_check, core/evaluation/tracking.h): the same first-visit map, runs of the
+# tracker from every 10 m after it with a drifted twin's odometry (mild and harsh) and one kidnapping each ->
+# docs/results/tracking_LOG_NOISE.txt, and its table (scripts/tracking_table.py) into docs/USAGE.md.
+# Usage: scripts/make-relocalisation.sh. Needs ../shared/data, build/relocalisation_check and build/tracking_check
+# (about 6 min for relocalisation, 20 min for tracking).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 DATA=../shared/data
@@ -25,3 +29,12 @@ for log in "${logs[@]}"; do
   reports+=("$OUT/relocalisation_$name.txt")
 done
 /usr/bin/python3 scripts/relocalisation_tables.py --readme docs/USAGE.md "${reports[@]}"
+tracking=()
+for log in "${logs[@]}"; do
+  name=$(basename "$log" -corrected.log.gz)
+  for noise in mild harsh; do
+    build/tracking_check "$log" "$TMP" noise=$noise | sed "s|$DATA/||" > "$OUT/tracking_${name}_$noise.txt"
+    tracking+=("$OUT/tracking_${name}_$noise.txt")
+  done
+done
+/usr/bin/python3 scripts/tracking_table.py --readme docs/USAGE.md "${tracking[@]}"

@@ -12,6 +12,7 @@
 
 #include "core/evaluation/tracking.h"
 #include "io/formats/map_server.h"
+#include "io/logs/carmen_log.h"
 #include "io/logs/scan_source.h"
 
 using namespace partslam;
@@ -19,7 +20,7 @@ using namespace partslam;
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
-                 "usage: tracking_check CORRECTED_LOG OUT_DIR [noise=mild|harsh seed=N max_starts=K hypotheses=K "
+                 "usage: tracking_check CORRECTED_LOG OUT_DIR [noise=mild|harsh seed=N twin_out=FILE max_starts=K hypotheses=K "
                  "declare_share=S declare_steps=K other_probability=P lost_probability=P lost_steps=K "
                  "track_window=M min_seen=S]\n");
     return 2;
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
   try {
     const Scans scans = io::load_scan_source(argv[1]).scans;
     TrackingBenchConfig config;
+    std::string twin_out;  // twin_out=FILE: the drifted twin as a CARMEN log, for a peer on the same odometry
     for (int a = 3; a < argc; ++a) {
       const std::string arg = argv[a];
       const std::size_t eq = arg.find('=');
@@ -46,6 +48,7 @@ int main(int argc, char** argv) {
       else if (name == "track_window") config.tracker.track_window = value;
       else if (name == "min_seen") config.tracker.min_seen = value;
       else if (name == "min_none") config.tracker.min_none_share = value;
+      else if (name == "twin_out") twin_out = text;
       else if (name == "move_gain") config.tracker.move_gain = value;
       else if (name == "declare_probability") config.tracker.declare_probability = value;
       else if (name == "search_every") config.tracker.search_every = static_cast<int>(value);
@@ -59,6 +62,11 @@ int main(int argc, char** argv) {
     const std::filesystem::path yaml = std::filesystem::path(argv[2]) / "first_visit.yaml";
     io::write_map_yaml(yaml, build_grid_map(Scans(scans.begin(), scans.begin() + static_cast<std::ptrdiff_t>(split))));
     const GridMap map = io::read_map_yaml(yaml);
+    if (!twin_out.empty()) {
+      io::write_carmen_log(twin_out, drifted_twin(scans, odometry_noise(config.noise), config.seed),
+                           "drifted twin (" + config.noise + ", seed " + std::to_string(config.seed) + ") of " + argv[1]);
+      std::printf("wrote %s (the drifted twin; the first visit ends at scan %zu)\n", twin_out.c_str(), split);
+    }
     const TrackingReport r = evaluate_tracking(map, scans, split, config);
     std::size_t eligible = 0, converged = 0, single = 0, truth_first = 0, wrong = 0, wrong_in_map = 0, steps = 0;
     std::size_t kidnaps = 0, noticed = 0, recovered = 0, in_map = 0, in_map_localised = 0;
