@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
       else if (name == "declare_probability") config.tracker.declare_probability = value;
       else if (name == "search_every") config.tracker.search_every = static_cast<int>(value);
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);
+      else if (name == "search_verified") config.tracker.search_verified = static_cast<int>(value);
       else if (name == "claim_m") config.tracker.claim_shift.translation = value;
       else if (name == "claim_deg") config.tracker.claim_shift.rotation = value * std::numbers::pi / 180;
       else throw std::runtime_error("unknown setting '" + arg + "'");

@@ -188,7 +188,7 @@ void define_localization(py::module_& m) {
            "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives; "
            "query_origins: its laser positions, Submap.origins, for a calibrated probability).")
       .def("hypotheses", &Localizer::hypotheses, "query_points"_a, "query_origins"_a = Points2{}, "count"_a = 8,
-           release_gil(),
+           "verified"_a = 0, release_gil(),
            "The global search's distinct verified poses (Verified), most probable first: what a tracker starts "
            "from.")
       .def_property_readonly("prepare_ms", &Localizer::prepare_ms)

@@ -155,14 +155,15 @@ std::vector<Verified> Localizer::verify_all(const Points2& query_points, const P
 }
 
 std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const Points2& query_origins,
-                                            int count) const {
+                                            int count, int verified) const {
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
   const PreparedQuery query = prepare_query(query_points, config_.dmm);
   const std::vector<Candidate> found = search_candidates(query_points, query, centroid(query_points));
   const VerifyQuery verify_local = verify_query(query_points, query_origins);
-  const std::size_t verified = std::min<std::size_t>(found.size(), static_cast<std::size_t>(config_.verified));
+  const std::size_t chosen =
+      std::min<std::size_t>(found.size(), static_cast<std::size_t>(verified >= 1 ? verified : config_.verified));
   std::vector<Verified> all;
-  for (std::size_t i = 0; i < verified; ++i) all.push_back(verify(verify_local, found[i].T_map_query));
+  for (std::size_t i = 0; i < chosen; ++i) all.push_back(verify(verify_local, found[i].T_map_query));
   std::stable_sort(all.begin(), all.end(),
                    [](const Verified& a, const Verified& b) { return a.probability > b.probability; });
   std::vector<Verified> out;

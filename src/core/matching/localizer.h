@@ -136,10 +136,11 @@ class Localizer {
   Verified verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const;
 
   /// The global search's distinct answers, most probable first (a tracker's hypotheses): locate()'s best
-  /// `verified` candidates refined and scored as its answer is; an answer that refines within
-  /// candidate_distance and elsewhere.angle of a more probable one is the same pose and dropped; at most
-  /// `count`. Throws InputError as locate() does.
-  std::vector<Verified> hypotheses(const Points2& query_points, const Points2& query_origins, int count) const;
+  /// `verified` candidates (config().verified when < 1) refined and scored as its answer is; an answer that
+  /// refines within candidate_distance and elsewhere.angle of a more probable one is the same pose and dropped;
+  /// at most `count`. Throws InputError as locate() does.
+  std::vector<Verified> hypotheses(const Points2& query_points, const Points2& query_origins, int count,
+                                   int verified = 0) const;
   /// Each of `poses` verified as verify() does, refined within `config`'s window instead of the localizer's
   /// (a pose carried by odometry is further off than a lattice pose); the local map's beams cast once.
   /// at_poses (when given): each pose's terms and probability where it is, before refining.

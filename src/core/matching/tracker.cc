@@ -12,6 +12,8 @@ namespace partslam {
 void validate(const TrackerConfig& c) {
   const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };  // false for NaN
   if (c.hypotheses < 1 || c.hypotheses > 100) throw InputError("tracker: hypotheses must be in [1, 100]");
+  if (c.search_verified < 1 || c.search_verified > 100)
+    throw InputError("tracker: search_verified must be in [1, 100]");
   if (c.max_hypotheses < 1 || c.max_hypotheses > 1000)
     throw InputError("tracker: max_hypotheses must be in [1, 1000]");
   if (!in(c.track_window, 0, 5)) throw InputError("tracker: track_window must be in [0, 5] m");
@@ -217,7 +219,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   const auto search = [&] {
     searched = true;
     steps_since_search_ = 0;
-    const std::vector<Verified> found = localizer_.hypotheses(points, origins, config_.hypotheses);
+    const std::vector<Verified> found = localizer_.hypotheses(points, origins, config_.hypotheses, config_.search_verified);
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
     for (const Verified& v : found) {

@@ -236,6 +236,7 @@ template <class V>
 void config_fields(V& v, std::type_identity<TrackerConfig>) {
   using C = TrackerConfig;
   v.field("hypotheses", &C::hypotheses, "the global search's distinct poses taken per search");
+  v.field("search_verified", &C::search_verified, "the global search's best candidates verified to find them");
   v.field("max_hypotheses", &C::max_hypotheses, "hypotheses kept at most");
   v.field("track_window", &C::track_window, "a carried hypothesis is refined within +- this [m] ...");
   v.field("track_angle", &C::track_angle, "... and +- this [rad]");
