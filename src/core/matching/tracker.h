@@ -12,19 +12,23 @@
 //      badly, a person in the way, does not end the true hypothesis); a "none of these" weight, multiplied by
 //      other_probability each step, stands for "the robot is somewhere no hypothesis is" and keeps the shares
 //      honest when every hypothesis fits badly;
-//   3. while not localised (every search_every steps), the global search's best distinct poses (Localizer::hypotheses) join as new
-//      hypotheses, each with the none weight's share times its probability; hypotheses that meet merge into
-//      the heavier, those below drop_share of the heaviest drop, at most max_hypotheses stay;
-//   4. a hypothesis is declared when its share of the weight (the none weight included) reaches
-//      declare_share on declare_steps consecutive steps; the declared one is then tracked alone with the others
-//      (they may still win back); when its probability stays below lost_probability for lost_steps steps in a
-//      row the robot was carried elsewhere (kidnapped) or the map no longer holds the place: "lost", every
-//      hypothesis is dropped and the search starts again.
-// A hypothesis at which the local map lands mostly on cells the building map never saw (query seen share below
-// min_seen) is weighed as the none weight is: the local map says nothing of it. While the declared one is there
-// (the robot drives through a room the map does not hold, or its pose drifted off), nothing is claimed: the
-// status is "searching" until it is seen again, and it is declared again at once if it still holds
-// declare_share.
+//   3. while not localised (the first step, and every search_every steps), the global search's best distinct
+//      poses (Localizer::hypotheses) join as new hypotheses, each with the none weight's share times its
+//      probability; hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop,
+//      at most max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at
+//      most: a kidnapped pose is not immune by what it once fitted);
+//   4. a hypothesis is declared when its share of the weight (the none weight included) reaches declare_share
+//      on declare_steps consecutive steps on which it fits (probability at least declare_probability); the
+//      others are still carried (they may win back); when the declared one's probability stays below
+//      lost_probability for lost_steps steps in a row the robot was carried elsewhere (kidnapped) or the map no
+//      longer holds the place: "lost", every hypothesis is dropped and the search starts again at once.
+// Nothing is claimed (the status reads "searching", the declared hypothesis is kept and declared again at once
+// when it fits again with declare_share) on a step where the declared pose fits below lost_probability, lies
+// where the building map saw little of the local map (query seen share below min_seen: a room the map does not
+// hold, or a pose drifted off; such a hypothesis is weighed as the none weight is, the local map says nothing of
+// it), or was moved by the match more than claim_shift from where the odometry carried it. Such a move is taken
+// only when the match is move_gain times as probable as the odometry's pose (along a corridor it fits about as
+// well anywhere).
 #pragma once
 
 #include <cstddef>
