@@ -73,8 +73,8 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
 // Consistency among the hypotheses: a pose graph of the stored frames (consecutive submaps joined by their
 // stored relative pose) and every hypothesis of positive confidence (Cauchy loss) is optimised; hypotheses
 // whose pose the optimised frames disagree with by more than 0.5 m or 0.1 rad lose 1 of confidence (they stay
-// listed, below every consistent one).
-void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
+// listed, below every consistent one); with graph_pose a consistent one takes the optimised relative pose.
+void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures, bool graph_pose) {
   if (maps.size() < 2) return;
   std::vector<LoopClosure> positive;
   for (const LoopClosure& l : closures)
@@ -84,6 +84,7 @@ void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures) {
     const Pose2 T = solved[l.match].inverse() * solved[l.query];
     const bool consistent = kConsistent.accepts(T, l.T_match_query);
     if (!consistent) l.confidence -= 1.0;
+    else if (graph_pose) l.T_match_query = T;
   }
 }
 
@@ -162,7 +163,7 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
   std::vector<LoopClosure> out;
   for (auto& h : per_query) out.insert(out.end(), h.begin(), h.end());
   if (split.size() > 1) out = gather_hypotheses(out, split);
-  if (config.graph_check) check_in_graph(maps, out);
+  if (config.graph_check) check_in_graph(maps, out, config.graph_pose);
   return out;
 }
 

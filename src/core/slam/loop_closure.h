@@ -43,6 +43,11 @@ struct LoopClosureConfig {
   /// Consistency among hypotheses: those that disagree with a robust pose graph of all of them lose 1 of
   /// confidence (see loop_closure.cc).
   bool graph_check = true;
+  /// A hypothesis the graph check finds consistent reports the optimised graph's relative pose of its two
+  /// submaps (the front end's chain and every other closure agree on it) instead of its own match's: a match
+  /// that slid along a corridor is pulled back by its neighbours (docs/NOTES.md, "Loop closures"). What
+  /// `partslam loops` reports; `slam` keeps each match's own pose, as its back end solves the graph itself.
+  bool graph_pose = false;
   /// dMM's candidates are verified (RankingConfig::verify_dmm: Eq. 1's best poses re-scored by the same-place
   /// probability, the most probable one refined) before the context stage; false: Eq. 1's optimum.
   bool verify_dmm = false;

@@ -179,3 +179,38 @@ TEST(LoopClosure, DriftGateDropsMatchesFarFromTheStoredRelativePose) {
 
 }  // namespace
 }  // namespace partslam
+
+namespace partslam {
+namespace {
+
+// graph_pose: the same hypotheses with the same confidences; a consistent one's pose is the optimised graph's
+// (within the consistency tolerance of its own match), and no fewer hypotheses are right against the truth.
+TEST(LoopClosure, GraphPosesKeepTheHypothesesAndPullTheirPosesOntoTheGraph) {
+  const Submaps& maps = two_laps();
+  LoopClosureConfig measured;
+  measured.num_threads = 2;
+  LoopClosureConfig graph = measured;
+  graph.graph_pose = true;
+  const std::vector<LoopClosure> a = find_loop_closures(maps, measured), b = find_loop_closures(maps, graph);
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].query, b[i].query);
+    EXPECT_EQ(a[i].match, b[i].match);
+    EXPECT_EQ(a[i].confidence, b[i].confidence);
+    const bool consistent = a[i].confidence > a[i].context_score - 1.0;  // the graph check took none off
+    if (!consistent) {
+      EXPECT_EQ(a[i].T_match_query.x, b[i].T_match_query.x);
+      continue;
+    }
+    EXPECT_TRUE((PoseTolerance{0.5, 0.1}.accepts(a[i].T_match_query, b[i].T_match_query)));
+    moved += a[i].T_match_query.x != b[i].T_match_query.x;
+  }
+  EXPECT_GT(moved, 0u);
+  const LoopEvaluation ea = evaluate_loop_closures(a, maps, exact_frames(maps));
+  const LoopEvaluation eb = evaluate_loop_closures(b, maps, exact_frames(maps));
+  EXPECT_GE(eb.correct, ea.correct);
+}
+
+}  // namespace
+}  // namespace partslam

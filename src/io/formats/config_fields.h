@@ -28,8 +28,14 @@ namespace partslam::io {
 
 /// What `partslam loops` is set by: the loop closures, which are accepted, and how they are judged (the
 /// truth's min_travel_gap is the loops' and has no key of its own).
+/// `loops` reports the graph's poses of the consistent hypotheses (LoopClosureConfig::graph_pose).
+inline LoopClosureConfig loops_command_defaults() {
+  LoopClosureConfig c;
+  c.graph_pose = true;
+  return c;
+}
 struct LoopsConfig {
-  LoopClosureConfig loops;
+  LoopClosureConfig loops = loops_command_defaults();
   double min_confidence = 0.2;  ///< closures at least this confident are accepted
   LoopTruthConfig truth;
 };
@@ -95,6 +101,8 @@ void config_fields(V& v, std::type_identity<LoopClosureConfig>) {
   v.field("drift_turn", &C::drift_turn, "");
   v.field("drift_turn_rate", &C::drift_turn_rate, "");
   v.field("graph_check", &C::graph_check, "");
+  v.field("graph_pose", &C::graph_pose,
+          "a consistent hypothesis reports the optimised graph's relative pose instead of its match's");
   v.field("verify_dmm", &C::verify_dmm, "");
   v.field("num_threads", &C::num_threads, "");
 }
