@@ -129,12 +129,7 @@ Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query, c
   for (const Vec2& c : {query.lo, Vec2(query.hi.x(), query.lo.y()), query.hi, Vec2(query.lo.x(), query.hi.y())})
     a = a.cwiseMin(T_map_query * c), b = b.cwiseMax(T_map_query * c);
   const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
-  if (at_pose == nullptr) return verify_match(query.map, around, T_map_query, config);
-  // verify_match's steps, keeping the unrefined verification too.
-  const PairFields fields(query.map, around);
-  *at_pose = verify_at(query.map, around, fields, T_map_query);
-  const Verified r = verify_at(query.map, around, fields, refine_match(query.map, fields, T_map_query, config));
-  return r.probability >= at_pose->probability ? r : *at_pose;
+  return verify_match(query.map, around, T_map_query, config, at_pose);
 }
 
 Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {

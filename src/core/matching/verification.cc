@@ -294,9 +294,11 @@ Pose2 refine_match(const VerifyMap& query, const PairFields& fields, const Pose2
 }
 
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
-                      const VerifyConfig& config) {
+                      const VerifyConfig& config, Verified* at_pose) {
   const PairFields fields(query, map);
-  return refined(query, map, fields, verify_at(query, map, fields, T_map_query), config);
+  const Verified at = verify_at(query, map, fields, T_map_query);
+  if (at_pose != nullptr) *at_pose = at;
+  return refined(query, map, fields, at, config);
 }
 
 std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,

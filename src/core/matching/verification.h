@@ -169,9 +169,9 @@ Verified verify_at(const VerifyMap& query, const VerifyMap& map, const PairField
                    const Pose2& T_map_query);
 
 /// refine_match, then the terms and probability at the refined pose (or at the input pose when refining
-/// lowers the probability).
+/// lowers the probability). at_pose (when given): the terms and probability at T_map_query itself.
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
-                      const VerifyConfig& config = {});
+                      const VerifyConfig& config = {}, Verified* at_pose = nullptr);
 
 /// The poses verify_dmm verifies: Eq. 1's exact optimum first, then up to config.alternatives next-best
 /// distinct poses scoring at least alternative_bar of it (one DmmSearch).
