@@ -56,7 +56,7 @@ TrackingReport evaluate_tracking(const GridMap& map, const Scans& scans, std::si
   // The starts whose first converge_within of local maps are all in the map: a kidnapping jumps to one.
   std::vector<bool> in_map(starts.size(), true);
   for (std::size_t k = 0; k < starts.size(); ++k)
-    for (double s = starts[k]; s < starts[k] + config.converge_within && in_map[k]; s += config.step) {
+    for (double s = starts[k]; s - starts[k] < config.converge_within && in_map[k]; s += config.step) {
       const LocalMap m = local_map(s);
       in_map[k] = m.ok && m.overlap >= config.min_overlap;
     }
@@ -77,15 +77,13 @@ TrackingReport evaluate_tracking(const GridMap& map, const Scans& scans, std::si
     }
     tracker.reset();
     Pose2 T_rebase, T_odom_last;
-    bool eligible = true, lost = false;
+    bool lost = false;
     for (int half = 0; half < 2; ++half) {
       const double from = half == 0 ? run.start : run.jump_to;
       bool first_of_half = true;
       for (double s = from; s < from + config.run_length; s += config.step) {
         const LocalMap m = local_map(s);
         const double t = (half == 0 ? 0.0 : config.run_length) + (s - from);
-        if (half == 0 && s - from < config.converge_within && (!m.ok || m.overlap < config.min_overlap))
-          eligible = false;
         if (half == 1 && s - from < config.recover_within && m.ok && m.overlap >= config.min_overlap)
           run.jump_in_map = true;
         if (!m.ok) continue;
@@ -122,7 +120,7 @@ TrackingReport evaluate_tracking(const GridMap& map, const Scans& scans, std::si
       if (half == 0)
         run.localised_at_jump = !run.steps.empty() && run.steps.back().step.status == TrackStatus::kLocalised;
     }
-    run.eligible = eligible;
+    run.eligible = in_map[k];  // its first converge_within, as the run saw it
     report.runs.push_back(std::move(run));
   }
   report.median_ms = percentile(times, 0.5);
