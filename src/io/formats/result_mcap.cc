@@ -172,7 +172,6 @@ std::vector<std::uint8_t> occupancy_grid(const GridMap& m, double stamp) {
   return c.bytes();
 }
 
-
 std::vector<std::uint8_t> transform(const Scan& s) {
   Cdr c;
   // A Transform (Vector3 translation, Quaternion rotation) is laid out as a Pose (Point, Quaternion).
