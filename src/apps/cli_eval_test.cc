@@ -203,7 +203,7 @@ TEST_F(CliEvalTest, EvaluatesARawLogAgainstItsTwin) {
                                   "--scan-match --truth sim:1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("ground truth: corrected twin sim:1"));
-  EXPECT_THAT(run.output, HasSubstr("0 submaps without a reference scan left out"));
+  EXPECT_THAT(run.output, HasSubstr("0 submaps without a reference frame left out"));
   const CliRun foreign = run_partslam(kEval + "--methods dmm --truth sim:3");
   EXPECT_EQ(foreign.exit_code, 1);
   EXPECT_THAT(foreign.output, HasSubstr("not its ground truth"));
@@ -242,7 +242,7 @@ TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
   EXPECT_THAT(no_truth.output, HasSubstr("--truth"));
   const CliRun twin = run_partslam("loops " + quoted(raw) + " --truth sim:1 --quiet");
   EXPECT_EQ(twin.exit_code, 0) << twin.output;
-  EXPECT_THAT(twin.output, HasSubstr("submaps have a reference scan"));
+  EXPECT_THAT(twin.output, HasSubstr("submaps have a reference frame"));
   EXPECT_NE(run_partslam("loops " + quoted(raw) + " --method succinct").exit_code, 0);
 }
 

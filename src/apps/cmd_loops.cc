@@ -97,7 +97,7 @@ std::vector<std::optional<Pose2>> true_frames(const io::DatasetInfo& d, const Su
   std::size_t known = 0;
   for (const auto& f : frames) known += f.has_value();
   note = "ground truth: " + truth.description + " (" + std::to_string(known) + " of " + std::to_string(maps.size()) +
-         " submaps have a reference scan)";
+         " submaps have a reference frame)";
   return frames;
 }
 

@@ -85,7 +85,7 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
     const std::size_t built = maps.size();
     maps = with_reference_frames(maps, reference_frames(maps, scans, truth.reference, truth.index));
     truth_note = " (ground truth: " + truth.description + "; " + std::to_string(built - maps.size()) +
-                 " submaps without a reference scan left out)";
+                 " submaps without a reference frame left out: no scan with a reference, or its scans disagree)";
     if (maps.empty()) throw InputError(o.truth + ": no submap of " + o.input + " has a reference scan");
   }
   const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);

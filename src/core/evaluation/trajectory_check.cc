@@ -54,7 +54,8 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
 }
 
 std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
-                                                   const std::vector<std::optional<std::size_t>>& reference_index) {
+                                                   const std::vector<std::optional<std::size_t>>& reference_index,
+                                                   const PoseTolerance& agree) {
   if (reference_index.size() != estimate.size())
     throw InputError("reference frames: one reference index per estimated scan is needed");
   std::vector<std::optional<Pose2>> frames(maps.size());
@@ -62,11 +63,20 @@ std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Sc
     const Submap& m = maps[i];
     const auto first = static_cast<std::size_t>(std::max<std::int64_t>(m.anchor_scan, 0));
     const std::size_t end = std::min(estimate.size(), first + std::max<std::size_t>(m.scan_timestamps.size(), 1));
-    for (std::size_t j = first; j < end; ++j) {
-      if (!reference_index[j]) continue;
-      frames[i] = reference.at(*reference_index[j]).T_world_laser * (estimate[j].T_world_laser.inverse() * m.T_world_map);
-      break;
+    // The frame each referenced scan of the submap implies, in scan order.
+    std::vector<Pose2> implied;
+    for (std::size_t j = first; j < end; ++j)
+      if (reference_index[j])
+        implied.push_back(reference.at(*reference_index[j]).T_world_laser *
+                          (estimate[j].T_world_laser.inverse() * m.T_world_map));
+    // The frame most of them agree with (the earliest among equals); none when no frame has more than half.
+    std::size_t best = 0, best_votes = 0;
+    for (std::size_t a = 0; a < implied.size(); ++a) {
+      std::size_t votes = 0;
+      for (const Pose2& b : implied) votes += agree.accepts(implied[a], b);
+      if (votes > best_votes) best = a, best_votes = votes;
     }
+    if (2 * best_votes > implied.size()) frames[i] = implied[best];
   }
   return frames;
 }

@@ -36,12 +36,17 @@ Consistency local_consistency(const Scans& estimate, const Scans& reference,
                               const ConsistencyConfig& config = {});
 
 /// Ground truth for submaps built on an estimated trajectory (a raw log's): each submap's frame
-/// in the reference's world frame, T_ref(j) * T_est(j)^-1 * T_world_map, through the scan j of the submap
-/// (scans anchor_scan .. anchor_scan + scan_timestamps.size() - 1 of `estimate`) nearest its anchor that has a
-/// reference; nullopt for a submap without one. The relative pose of two submaps is then the reference's, up
-/// to the estimate's error within each submap (local_consistency).
+/// in the reference's world frame, T_ref(j) * T_est(j)^-1 * T_world_map, through a scan j of the submap
+/// (scans anchor_scan .. anchor_scan + scan_timestamps.size() - 1 of `estimate`) that has a reference. Every such
+/// scan implies a frame; the one that more than half of them agree with (within `agree`; the earliest among
+/// equals) is the truth: a single scan whose estimated pose is off from the rest of its submap (a front end that
+/// lost a scan's heading in a fast turn and found it again) does not stand for the submap (docs/NOTES.md, "Loop
+/// closures"). nullopt for a submap without a referenced scan or without such a majority (its scans disagree: it
+/// has no one true frame). The relative pose of two submaps is then the reference's, up to the estimate's error
+/// within each submap (local_consistency).
 std::vector<std::optional<Pose2>> reference_frames(const Submaps& maps, const Scans& estimate, const Scans& reference,
-                                                   const std::vector<std::optional<std::size_t>>& reference_index);
+                                                   const std::vector<std::optional<std::size_t>>& reference_index,
+                                                   const PoseTolerance& agree = {0.25, 0.1});
 
 /// A reference trajectory from a Freiburg .relations file (for a raw log without a corrected twin): the scans of `estimate` that a relation names (the scan of nearest timestamp, within 1 ms) become the nodes of a pose graph
 /// whose edges are the relations (sigma 1 cm, 0.01 rad) and, joining consecutive nodes so that every component

@@ -80,6 +80,36 @@ TEST(ReferenceFrames, CarryEachSubmapIntoTheReferenceFrame) {
   EXPECT_THROW(with_reference_frames({m}, {}), InputError);
 }
 
+// A scan whose estimated pose is off from the rest of its submap (a front end that lost one scan's heading in a
+// fast turn, as intel's raw log does at scan 5392) does not stand for the submap: the frame most of its
+// referenced scans agree with does. Two that disagree leave the submap without a true frame.
+TEST(ReferenceFrames, FollowTheFrameMostOfTheSubmapsScansAgreeOn) {
+  const Scans ref = straight(30);
+  Scans est = ref;
+  const Pose2 spike{0.0, 0.0, 0.3};
+  est[10].T_world_laser = est[10].T_world_laser * spike;  // the submap's first scan, off by 0.3 rad
+  Submap m;
+  m.anchor_scan = 10;
+  m.scan_timestamps.assign(5, 0.0);  // scans 10..14
+  m.T_world_map = est[12].T_world_laser * Pose2{0.5, 0.2, 0.1};
+  const auto index = testing::identity_index(est.size());
+  const auto frames = reference_frames({m}, est, ref, index);
+  ASSERT_TRUE(frames[0].has_value());
+  const Pose2 expected = ref[12].T_world_laser * (est[12].T_world_laser.inverse() * m.T_world_map);
+  EXPECT_NEAR(frames[0]->x, expected.x, 1e-9);
+  EXPECT_NEAR(frames[0]->y, expected.y, 1e-9);
+  EXPECT_NEAR(frames[0]->theta, expected.theta, 1e-9);
+  // The first scan alone (what the frame was before) is 0.3 rad off.
+  const Pose2 first = ref[10].T_world_laser * (est[10].T_world_laser.inverse() * m.T_world_map);
+  EXPECT_GT(std::abs(wrap_angle(first.theta - expected.theta)), 0.29);
+  // Only scans 10 and 12 have a reference: one against one, no true frame.
+  auto two = index;
+  for (const std::size_t j : {11, 13, 14}) two[j].reset();
+  EXPECT_FALSE(reference_frames({m}, est, ref, two)[0].has_value());
+  // Within the agreement tolerance they are one frame again.
+  EXPECT_TRUE(reference_frames({m}, est, ref, two, {0.25, 0.35})[0].has_value());
+}
+
 }  // namespace
 }  // namespace partslam
 
