@@ -51,6 +51,13 @@ void validate(const SlamConfig& c) {
     throw InputError("slam config: min_confidence must be finite, got " + std::to_string(c.min_confidence));
   validate_nested("slam config", "back_end", [&] { validate(c.back_end); });
   validate_nested("slam config", "map_check", [&] { validate(c.map_check); });
+  if (!(c.max_degenerate_share >= 0 && c.max_degenerate_share <= 1))
+    throw InputError("slam config: max_degenerate_share must be in [0, 1], got " +
+                     std::to_string(c.max_degenerate_share));
+}
+
+double degenerate_share(const FrontEndStats& s) {
+  return s.scans > 1 ? static_cast<double>(s.degenerate) / static_cast<double>(s.scans - 1) : 0.0;
 }
 
 SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
@@ -97,6 +104,14 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
   }
+  if (degenerate_share(r.front_end) > config.max_degenerate_share && r.back_end.trusted()) {
+    std::ostringstream why;
+    why << std::fixed << std::setprecision(0) << 100 * degenerate_share(r.front_end)
+        << " % of the scans fix no position along a bare corridor (limit " << 100 * config.max_degenerate_share
+        << " %): the map's lengths there are the odometry's";
+    r.back_end.verdict = "doubtful";
+    r.back_end.reason = why.str();
+  }
   return r;
 }
 
@@ -111,7 +126,8 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
       << std::setprecision(1) << 100 * r.map_check.crossing_share
       << " % of the beams that revisit a place cross a wall another visit saw (limit " << std::setprecision(0)
       << 100 * c.map_check.max_crossing_share << " %" << (r.map_check.judged ? "" : ", too few beams to judge")
-      << ")";
+      << "); " << 100 * degenerate_share(r.front_end) << " % of the scans fix no position along a bare corridor (limit "
+      << 100 * c.max_degenerate_share << " %)";
   return out.str();
 }
 

@@ -24,6 +24,11 @@ struct SlamConfig {
   double min_confidence = 0.2;  ///< closures at least this confident are offered to the back end
   BackEndConfig back_end;       ///< the graph's weights, which closures it keeps, the verdict (back_end.h)
   MapCheckConfig map_check;     ///< the finished map against itself (map_check.h): a failed check is "doubtful"
+  /// A map whose front end kept the odometry's position along a bare corridor (FrontEndStats::degenerate: the
+  /// scans fix no position along it) on more than this share of its matched scans is "doubtful": its lengths
+  /// there are the odometry's, which nothing in the laser data checks (a ring of bare corridors with harsh
+  /// odometry came out 0.157 m off, "closed"; docs/NOTES.md, "SLAM on real raw logs"). 1 turns it off.
+  double max_degenerate_share = 0.4;
 };
 
 /// Every part's validate, the failing field named by its path ("slam config: back_end.max_rounds must be ...").
@@ -55,6 +60,10 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config = {}, const Progr
 /// interpolated along the travel between their anchors; scans before the first anchor and after the last take
 /// the nearest one's. `old_maps` and `new_maps` are the same submaps before and after optimisation.
 Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps& new_maps);
+
+/// The share of the scans after the first on which the front end kept the prediction's position along a bare
+/// corridor (FrontEndStats::degenerate / (scans - 1)); 0 for fewer than two scans.
+double degenerate_share(const FrontEndStats& stats);
 
 /// What the verdict checked, in one sentence: how many closures agreed, how far the closures bent the front end's
 /// trajectory against its limit, and how many revisiting beams cross a wall another visit saw against its limit.

@@ -162,6 +162,7 @@ void config_fields(V& v, std::type_identity<SlamConfig>) {
   v.field("min_confidence", &C::min_confidence, "");
   v.section("back_end", &C::back_end, "");
   v.section("map_check", &C::map_check, "");
+  v.field("max_degenerate_share", &C::max_degenerate_share, "");
 }
 
 template <class V>
