@@ -86,7 +86,7 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
     maps = with_reference_frames(maps, reference_frames(maps, scans, truth.reference, truth.index));
     truth_note = " (ground truth: " + truth.description + "; " + std::to_string(built - maps.size()) +
                  " submaps without a reference frame left out: no scan with a reference, or its scans disagree)";
-    if (maps.empty()) throw InputError(o.truth + ": no submap of " + o.input + " has a reference scan");
+    if (maps.empty()) throw InputError(o.truth + ": no submap of " + o.input + " has a reference frame");
   }
   const Dictionary dictionary = build_dictionary(dict.name, dict.scans, dictionary_config);
   if (!o.quiet && is_reporting_process()) {
