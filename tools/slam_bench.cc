@@ -254,7 +254,12 @@ int main(int argc, char** argv) {
         const Pose2 prior = r.stored_frames[l.match].inverse() * r.stored_frames[l.query];
         details.push_back({std::abs(r.submaps[l.query].travel - r.submaps[l.match].travel),
                            (prior.translation() - l.T_match_query.translation()).norm(),
-                           std::abs(wrap_angle(prior.theta - l.T_match_query.theta)), l.confidence, bad ? 1 : 0});
+                           std::abs(wrap_angle(prior.theta - l.T_match_query.theta)), l.confidence, bad ? 1 : 0,
+                           (T.translation() - l.T_match_query.translation()).norm(),
+                           std::abs(wrap_angle(T.theta - l.T_match_query.theta)),
+                           ((r.submaps[l.match].T_world_map.inverse() * r.submaps[l.query].T_world_map).translation() -
+                            T.translation()).norm(),
+                           used ? 1 : 0});
       }
       if (bad)
         wrong_list.push_back({{"query", l.query}, {"match", l.match}, {"used", used}, {"confidence", l.confidence},

@@ -111,7 +111,12 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
           {"trusted", b.trusted()},
           {"reason", b.reason},
           {"verdict_checks", verdict_checks(r, o.config)},
-          {"seconds", {{"front_end", r.front_end_s}, {"loops", r.loops_s}, {"graph", r.graph_s}, {"check", r.check_s}}}};
+          {"seconds",
+           {{"front_end", r.front_end_s},
+            {"loops", r.loops_s},
+            {"refine", r.refine_s},
+            {"graph", r.graph_s},
+            {"check", r.check_s}}}};
 }
 
 // The laser's positions along a log: the path drawn over its map.
@@ -182,7 +187,9 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n"
             << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
             << " loop-closure hypotheses, " << r.accepted << " offered (confidence >= " << std::setprecision(2)
-            << o.config.min_confidence << std::setprecision(1) << "), " << r.loops_s << " s\n"
+            << o.config.min_confidence << std::setprecision(1) << "), " << r.loops_s << " s; "
+            << (o.config.refinement.enabled ? "refined on the scans in " : "not refined on the scans (refinement off), ")
+            << r.refine_s << " s\n"
             << "pose graph: " << b.used_count << " closures used, " << b.rejected
             << " set aside (they disagree with the solution), cost " << std::setprecision(3) << b.graph.initial_cost
             << " -> " << b.graph.final_cost << " in " << b.rounds << " solves, " << std::setprecision(1) << r.graph_s
@@ -311,7 +318,9 @@ void register_slam(CLI::App& app) {
       if (given(*cmd, "--min-confidence")) file.min_confidence = o->config.min_confidence;
       o->config = file;
     }
-    if (given(*cmd, "--threads")) o->config.loops.num_threads = o->config.front_end.matcher.num_threads = o->threads;
+    if (given(*cmd, "--threads"))
+      o->config.loops.num_threads = o->config.front_end.matcher.num_threads = o->config.refinement.num_threads =
+          o->threads;
     run_slam_command(*o);
   });
 }

@@ -49,6 +49,7 @@ void validate(const SlamConfig& c) {
   validate_nested("slam config", "loops", [&] { validate(c.loops); });
   if (!std::isfinite(c.min_confidence))
     throw InputError("slam config: min_confidence must be finite, got " + std::to_string(c.min_confidence));
+  validate_nested("slam config", "refinement", [&] { validate(c.refinement); });
   validate_nested("slam config", "back_end", [&] { validate(c.back_end); });
   validate_nested("slam config", "map_check", [&] { validate(c.map_check); });
   if (!(c.max_degenerate_share >= 0 && c.max_degenerate_share <= 1))
@@ -75,9 +76,12 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   std::vector<LoopClosure> accepted;
   for (const LoopClosure& l : r.closures)
     if (l.confidence >= config.min_confidence) accepted.push_back(l);
+  r.loops_s = ms_since(t0) / 1e3;
+  t0 = Clock::now();
+  accepted = refine_closures(fe.scans, maps, config.submaps.window_length, std::move(accepted), config.refinement);
+  r.refine_s = ms_since(t0) / 1e3;
   if (hook) hook(maps, accepted);
   r.accepted = accepted.size();
-  r.loops_s = ms_since(t0) / 1e3;
 
   t0 = Clock::now();
   r.back_end = solve_back_end(maps, accepted, config.back_end);

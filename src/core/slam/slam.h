@@ -1,8 +1,8 @@
 // The whole chain for a raw log: front end (front_end.h) -> submaps on the scan-matched trajectory -> loop
-// closures among them (loop_closure.h) -> a pose graph over the submap frames (consecutive submaps joined by the
-// front end's relative poses, accepted closures with a robust loss, those that disagree with the solution set
-// aside, and a verdict: back_end.h) -> every scan's pose corrected by its submaps' corrections, interpolated
-// along the travel between the two anchors around it.
+// closures among them (loop_closure.h), the confident ones refined on the scans (closure_refinement.h) -> a pose
+// graph over the submap frames (consecutive submaps joined by the front end's relative poses, accepted closures
+// with a robust loss, those that disagree with the solution set aside, and a verdict: back_end.h) -> every scan's
+// pose corrected by its submaps' corrections, interpolated along the travel between the two anchors around it.
 #pragma once
 
 #include <functional>
@@ -10,6 +10,7 @@
 
 #include "core/maps/submap.h"
 #include "core/slam/back_end.h"
+#include "core/slam/closure_refinement.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
 #include "core/slam/map_check.h"
@@ -22,6 +23,7 @@ struct SlamConfig {
   SubmapConfig submaps;
   LoopClosureConfig loops;
   double min_confidence = 0.2;  ///< closures at least this confident are offered to the back end
+  ClosureRefinementConfig refinement;  ///< those closures' poses refined on the scans (closure_refinement.h)
   BackEndConfig back_end;       ///< the graph's weights, which closures it keeps, the verdict (back_end.h)
   MapCheckConfig map_check;     ///< the finished map against itself (map_check.h): a failed check is "doubtful"
   /// A map whose front end kept the odometry's position along a bare corridor (FrontEndStats::degenerate: the
@@ -46,7 +48,7 @@ struct SlamResult {
   BackEndResult back_end;             ///< which closures were used, the graph's summary, the verdict
   MapCheck map_check;                 ///< of the corrected scans (map_check.h)
   MapCheck front_end_map_check;       ///< of the front end's scans, for comparison
-  double front_end_s = 0, loops_s = 0, graph_s = 0, check_s = 0;
+  double front_end_s = 0, loops_s = 0, refine_s = 0, graph_s = 0, check_s = 0;
 };
 
 /// Called on the accepted closures before they join the graph (a bench injects wrong ones here).

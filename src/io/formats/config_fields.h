@@ -154,12 +154,27 @@ void config_fields(V& v, std::type_identity<MapCheckConfig>) {
 }
 
 template <class V>
+void config_fields(V& v, std::type_identity<ClosureRefinementConfig>) {
+  using C = ClosureRefinementConfig;
+  v.field("enabled", &C::enabled, "");
+  v.field("context", &C::context, "");
+  v.field("resolution", &C::resolution, "");
+  v.field("sigma", &C::sigma, "");
+  v.field("max_range", &C::max_range, "");
+  v.field("linear_window", &C::linear_window, "");
+  v.field("angular_window", &C::angular_window, "");
+  v.field("max_points", &C::max_points, "");
+  v.field("num_threads", &C::num_threads, "");
+}
+
+template <class V>
 void config_fields(V& v, std::type_identity<SlamConfig>) {
   using C = SlamConfig;
   v.section("front_end", &C::front_end, "");
   v.section("submaps", &C::submaps, "");
   v.section("loops", &C::loops, "");
   v.field("min_confidence", &C::min_confidence, "");
+  v.section("refinement", &C::refinement, "");
   v.section("back_end", &C::back_end, "");
   v.section("map_check", &C::map_check, "");
   v.field("max_degenerate_share", &C::max_degenerate_share, "");
