@@ -45,7 +45,8 @@ def table(folder):
     folder = pathlib.Path(folder)
     rows = ["| raw log | relation error, translation [m] | rotation [deg] | Cartographer (Hess et al. 2016) | "
             "Graph Mapping (Kümmerle et al. 2009, as quoted by Hess et al.) | odometry, translation [m] | "
-            "places closed by `loops` at 100 % precision | verdict | slam's front end + loops + graph [s] |",
+            "places closed by `loops` at 100 % precision | verdict | "
+            "slam's stages (front end, loops, refinement, graph, check) [s] |",
             "|---|---|---|---|---|---|---|---|---|"]
     for log in LOGS:
         slam = Json(folder / f"slam_{log}.json")

@@ -1,7 +1,8 @@
 // slam_bench: one run of the SLAM generalisation bench (scripts/slam-bench.sh, `make slam-bench`; docs/NOTES.md
-// "SLAM bench"). Prints one JSON object: the relation errors of `slam` (core/slam/slam.h, its defaults), of the
-// log's odometry and of the front end alone, the closures offered to the back end, how many are wrong against
-// the truth and how many of those it used, the verdict and the time.
+// "SLAM bench"). Prints one JSON object: the relation errors of `slam` (core/slam/slam.h, its defaults; also
+// split into relations within one visit, scans at most 10 s apart, and between visits), of the log's odometry and
+// of the front end alone, the closures offered to the back end, how many are wrong against the truth and how many
+// of those it used, the verdict and the time.
 //
 //   slam_bench twin CORRECTED_LOG LEVEL SEED [INJECT]
 //       the drifted twin (core/evaluation/drifted_twin.h) of a corrected log at LEVEL (mild, harsh) and SEED;
@@ -294,6 +295,12 @@ int main(int argc, char** argv) {
     out["submaps"] = r.submaps.size();
     out["slam"] = io::relations_error_json(relations_error(r.scans, b.relations));
     out["odometry"] = io::relations_error_json(relations_error(odometry, b.relations));
+    {  // slam's error on relations within one visit (scans at most 10 s apart) and between visits (the rest)
+      Relations within, between;
+      for (const Relation& rel : b.relations) (std::abs(rel.t2 - rel.t1) <= 10.0 ? within : between).push_back(rel);
+      out["slam_within_visit"] = io::relations_error_json(relations_error(r.scans, within));
+      out["slam_between_visits"] = io::relations_error_json(relations_error(r.scans, between));
+    }
     out["front_end"] = io::relations_error_json(relations_error(front_end_estimate, b.relations));
     out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", real}, {"injected", injected},
                        {"judged", judged}, {"wrong", wrong}, {"used", r.back_end.used_count},
