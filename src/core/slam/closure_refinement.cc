@@ -53,9 +53,11 @@ void validate(const ClosureRefinementConfig& c) {
   require_in(c.linear_window, 0, 1, false, "linear_window [m]");
   require_in(c.angular_window, 0, 0.5, false, "angular_window [rad]");
   if (c.max_points < 10 || c.max_points > 1000000)
-    throw InputError("closure refinement config: max_points must be in [10, 1000000], got " + std::to_string(c.max_points));
+    throw InputError("closure refinement config: max_points must be in [10, 1000000], got " +
+                     std::to_string(c.max_points));
   if (c.num_threads < 1 || c.num_threads > 1024)
-    throw InputError("closure refinement config: num_threads must be in [1, 1024], got " + std::to_string(c.num_threads));
+    throw InputError("closure refinement config: num_threads must be in [1, 1024], got " +
+                     std::to_string(c.num_threads));
   if (c.linear_window / c.resolution > 200)
     throw InputError("closure refinement config: linear_window spans more than 200 cells of resolution");
 }
