@@ -43,7 +43,14 @@ TMP=$(mktemp)
 trap 'rm -f "$TMP" "$TMP.peers"' EXIT
 run() {
   echo "== slam_bench $*" >&2
-  "$BIN" "$@" >> "$TMP"
+  local status=0
+  "$BIN" "$@" >> "$TMP" || status=$?
+  if [ "$status" -ne 0 ]; then  # keep what the runs before it measured, and say which run failed and how
+    cp "$TMP" "$OUT/slam_bench.partial.jsonl"
+    echo "slam-bench: slam_bench $* failed with exit status $status (a signal when above 128); the runs before" \
+      "it are in $OUT/slam_bench.partial.jsonl" >&2
+    exit "$status"
+  fi
 }
 for log in $RAW; do
   dir=$DATA/$log twin=$(corrected "$log")
