@@ -73,6 +73,16 @@ inline Points2 transform(const Pose2& T, const Points2& points) {
 }
 
 /// Mean of a point set; (0, 0) for an empty set.
+/// Every k-th point, k the smallest stride that leaves at most max_points (all of them when they are fewer), in
+/// order. max_points must be positive.
+inline Points2 thinned(const Points2& points, std::size_t max_points) {
+  if (points.size() <= max_points) return points;
+  Points2 out;
+  const std::size_t stride = (points.size() + max_points - 1) / max_points;
+  for (std::size_t i = 0; i < points.size(); i += stride) out.push_back(points[i]);
+  return out;
+}
+
 inline Vec2 centroid(const Points2& points) {
   Vec2 c = Vec2::Zero();
   for (const Vec2& p : points) c += p;

@@ -37,5 +37,19 @@ TEST(Box2, AreaAndContainment) {
   EXPECT_DOUBLE_EQ((Box2{1, 0, 0, 1}).area(), 0.0);
 }
 
+TEST(Thinned, KeepsEveryKthPointSoThatAtMostTheLimitRemain) {
+  Points2 points;
+  for (int i = 0; i < 10; ++i) points.emplace_back(i, 0.0);
+  EXPECT_EQ(thinned(points, 10), points);
+  EXPECT_EQ(thinned(points, 20), points);
+  const Points2 half = thinned(points, 5);  // stride 2
+  ASSERT_EQ(half.size(), 5u);
+  for (std::size_t k = 0; k < half.size(); ++k) EXPECT_EQ(half[k].x(), 2.0 * static_cast<double>(k));
+  EXPECT_EQ(thinned(points, 4).size(), 4u);  // stride 3: points 0, 3, 6, 9
+  EXPECT_EQ(thinned(points, 4).back().x(), 9.0);
+  EXPECT_EQ(thinned(points, 3).size(), 3u);  // stride 4: points 0, 4, 8
+  EXPECT_TRUE(thinned(Points2{}, 3).empty());
+}
+
 }  // namespace
 }  // namespace partslam

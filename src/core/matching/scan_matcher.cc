@@ -77,9 +77,7 @@ Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pos
 // Scored on at most kSearchPoints of the scan's points (every k-th), since step 2 uses them all.
 Pose2 correlative_search(const LikelihoodField& field, const Points2& all_points, const Pose2& prediction,
                          const ScanMatcherConfig& c) {
-  Points2 points;
-  const std::size_t stride = (all_points.size() + kSearchPoints - 1) / kSearchPoints;
-  for (std::size_t i = 0; i < all_points.size(); i += stride) points.push_back(all_points[i]);
+  const Points2 points = thinned(all_points, kSearchPoints);
   double max_range = 0.0;
   for (const Vec2& p : points) max_range = std::max(max_range, p.norm());
   const double res = field.resolution();

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
 
 #include "core/error.h"
@@ -35,14 +34,6 @@ Points2 fine_points(const Scans& scans, const std::vector<double>& s, const Subm
   return voxel_downsample(out, c.resolution);
 }
 
-Points2 thinned(const Points2& points, std::size_t max_points) {
-  if (points.size() <= max_points) return points;
-  Points2 out;
-  const std::size_t stride = (points.size() + max_points - 1) / max_points;
-  for (std::size_t i = 0; i < points.size(); i += stride) out.push_back(points[i]);
-  return out;
-}
-
 }  // namespace
 
 void validate(const ClosureRefinementConfig& c) {
@@ -71,31 +62,32 @@ std::vector<LoopClosure> refine_closures(const Scans& scans, const Submaps& maps
       throw InputError("closure refinement: a closure names submap " + std::to_string(std::max(l.query, l.match)) +
                        " of " + std::to_string(maps.size()));
   const std::vector<double> s = travel_distances(scans);
-  // The closures of each match (one likelihood field each), and the query sides' thinned points.
-  std::map<std::size_t, std::vector<std::size_t>> by_match;
-  std::map<std::size_t, Points2> query_points;
+  // The closures of each match (one likelihood field each), and each query side's thinned points.
+  std::vector<std::vector<std::size_t>> by_match(maps.size());
+  std::vector<std::size_t> matches, queries;
   for (std::size_t k = 0; k < closures.size(); ++k) {
+    if (by_match[closures[k].match].empty()) matches.push_back(closures[k].match);
     by_match[closures[k].match].push_back(k);
-    query_points[closures[k].query];
+    queries.push_back(closures[k].query);
   }
-  std::vector<std::map<std::size_t, Points2>::iterator> queries;
-  for (auto it = query_points.begin(); it != query_points.end(); ++it) queries.push_back(it);
+  std::sort(queries.begin(), queries.end());
+  queries.erase(std::unique(queries.begin(), queries.end()), queries.end());
+  std::vector<Points2> query_points(maps.size());
   parallel_for(queries.size(), c.num_threads, [&](std::size_t i) {
-    queries[i]->second = thinned(fine_points(scans, s, maps[queries[i]->first], window_length, c),
-                                  static_cast<std::size_t>(c.max_points));
+    const std::size_t q = queries[i];
+    query_points[q] = thinned(fine_points(scans, s, maps[q], window_length, c), static_cast<std::size_t>(c.max_points));
   });
-  std::vector<const std::pair<const std::size_t, std::vector<std::size_t>>*> groups;
-  for (const auto& g : by_match) groups.push_back(&g);
   ScanMatcherConfig matcher;
   matcher.resolution = c.resolution;
   matcher.sigma = c.sigma;
   matcher.linear_window = c.linear_window;
   matcher.angular_window = c.angular_window;
-  parallel_for(groups.size(), c.num_threads, [&](std::size_t g) {
-    const LikelihoodField field(fine_points(scans, s, maps[groups[g]->first], window_length, c), c.resolution, c.sigma);
-    for (std::size_t k : groups[g]->second) {
+  parallel_for(matches.size(), c.num_threads, [&](std::size_t g) {
+    const std::size_t match = matches[g];
+    const LikelihoodField field(fine_points(scans, s, maps[match], window_length, c), c.resolution, c.sigma);
+    for (std::size_t k : by_match[match]) {
       LoopClosure& l = closures[k];
-      const ScanMatch m = match_scan(field, query_points.at(l.query), l.T_match_query, matcher);
+      const ScanMatch m = match_scan(field, query_points[l.query], l.T_match_query, matcher);
       const Pose2 d = l.T_match_query.inverse() * m.pose;
       if (m.score > 0 && d.translation().norm() <= 2 * c.linear_window + 1e-9 &&
           std::abs(d.theta) <= 2 * c.angular_window + 1e-9)

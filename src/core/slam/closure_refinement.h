@@ -20,7 +20,7 @@ struct ClosureRefinementConfig {
   double max_range = 8.0;        ///< beam endpoints farther from the laser are not used [m]
   double linear_window = 0.05;   ///< correlative search around the closure's pose [m]
   double angular_window = 0.02;  ///< [rad]
-  int max_points = 1000;          ///< the query side's points are thinned to at most this many
+  int max_points = 1000;         ///< the query side's points are thinned to at most this many
   int num_threads = 1;           ///< results do not depend on it
 };
 
