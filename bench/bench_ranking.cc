@@ -2,12 +2,15 @@
 // other submaps of fr101 (229 maps, ../shared/data) or, without the data, of the simulator. Counters:
 // us_per_pair = the ranker's matching time per stored map, ms_query_prep = the query's own preparation,
 // bits_per_map = what the method stores. dMM is the baseline of the same run. BM_Query: one query against N = 100
-// stored maps with their laser origins, as `eval` and `match` rank them (dMM verified with free space: issue 57's
-// figure), in ms per query.
+// stored maps with their laser origins, as `eval` and `match` rank them (dMM verified with free space), in ms per
+// query, on fr101's submaps (data set #1's input, ~190 points) and fr079's (#5's, ~500 points); x_eq1 is the
+// ratio to Eq. 1's branch-and-bound alone (`dmm:eq1`, run first on the same queries in the same run).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
+#include <string>
 
 #include "core/ranking/ranking.h"
 #include "core/sim/simulator.h"
@@ -17,13 +20,14 @@
 namespace partslam {
 namespace {
 
-const Submaps& maps() {
-  static const Submaps m = [] {
-    const std::filesystem::path log = std::filesystem::path(PARTSLAM_SHARED_DATA) / "fr101/fr101-corrected.log.gz";
-    return std::filesystem::exists(log) ? build_submaps(io::read_carmen_log(log).scans)
-                                        : build_submaps(simulate().scans);
-  }();
-  return m;
+// A building's submaps from ../shared/data, or the simulator's without the data.
+const Submaps& maps(const std::string& building = "fr101") {
+  static std::map<std::string, Submaps> cache;
+  if (auto it = cache.find(building); it != cache.end()) return it->second;
+  const std::filesystem::path log =
+      std::filesystem::path(PARTSLAM_SHARED_DATA) / building / (building + "-corrected.log.gz");
+  return cache[building] = std::filesystem::exists(log) ? build_submaps(io::read_carmen_log(log).scans)
+                                                        : build_submaps(simulate().scans);
 }
 
 void BM_Rank(benchmark::State& state, const char* spec) {
@@ -48,8 +52,9 @@ void BM_Rank(benchmark::State& state, const char* spec) {
 }
 
 // One query against the next 100 stored maps (laser origins given), cycling through the queries.
-void BM_Query(benchmark::State& state, const char* spec) {
-  const Submaps& m = maps();
+void BM_Query(benchmark::State& state, const char* spec, const char* building) {
+  static std::map<std::string, double> eq1_ms;  // per building, from the dmm:eq1 run
+  const Submaps& m = maps(building);
   std::vector<MapView> views;
   for (const Submap& s : m) views.push_back({&s.points, nullptr, &s.origins});
   const std::unique_ptr<Ranker> ranker = make_ranker(parse_method_spec(spec), {});
@@ -65,12 +70,19 @@ void BM_Query(benchmark::State& state, const char* spec) {
     benchmark::DoNotOptimize(r.scores.data());
     ms += r.match_ms + r.prep_ms, ++queries;
   }
-  state.counters["ms_per_query"] = ms / static_cast<double>(queries);
+  const double per_query = ms / static_cast<double>(queries);
+  state.counters["ms_per_query"] = per_query;
   state.counters["maps"] = static_cast<double>(n);
+  if (std::string(spec) == "dmm:eq1") eq1_ms[building] = per_query;
+  if (auto it = eq1_ms.find(building); it != eq1_ms.end() && it->second > 0) state.counters["x_eq1"] = per_query / it->second;
+  state.SetLabel(building);
 }
-BENCHMARK_CAPTURE(BM_Query, dmm, "dmm")->Iterations(20)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Query, rerank20, "rerank:20")->Iterations(20)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Query, dmm_eq1, "dmm:eq1")->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, dmm_eq1_fr101, "dmm:eq1", "fr101")->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, dmm_fr101, "dmm", "fr101")->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, rerank20_fr101, "rerank:20", "fr101")->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, dmm_eq1_fr079, "dmm:eq1", "fr079")->Iterations(10)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, dmm_fr079, "dmm", "fr079")->Iterations(10)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, rerank20_fr079, "rerank:20", "fr079")->Iterations(10)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_CAPTURE(BM_Rank, dmm, "dmm")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rank, succinct, "succinct")->Unit(benchmark::kMillisecond);
