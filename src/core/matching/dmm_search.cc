@@ -17,9 +17,10 @@ namespace partslam {
 // pose costs only the nodes no earlier call bounded. Nodes above kSubtreeDepth are expanded into the queue,
 // their query cells and looked-up values kept for their children (a node's cells are its parent's that can
 // score in it: filter_cells, as in the depth-first search). A node at or below it (at most 16 x 16
-// translations) is searched depth-first for its best leaf not yet excluded that reaches the best leaf pushed
-// so far in this call; the leaf goes on the queue and so does the node again, bounded by that leaf, to yield
-// its next best once the leaf is taken (none found: the node again, bounded by the bar). A leaf popped
+// translations) is searched depth-first for its best leaf not yet excluded (lazy: one that reaches the best
+// leaf pushed so far in this call); the leaf goes on the queue and so does the node again, bounded by that
+// leaf, to yield its next best once the leaf is taken (lazy, none found: the node again, bounded by the bar).
+// A leaf popped
 // within the exclusion of a pose returned before is dropped, and so is a node wholly inside one (the disc is
 // convex: its four corners).
 struct DmmSearch::State {
@@ -88,8 +89,9 @@ struct DmmSearch::State {
     std::unique_ptr<std::uint16_t[]> values;
   };
 
-  State(const PreparedQuery& q, const PreparedMap& m, double min_distance, double min_angle)
-      : query(q),
+  State(const PreparedQuery& q, const PreparedMap& m, double min_distance, double min_angle, bool lazy_search)
+      : lazy(lazy_search),
+        query(q),
         map(m),
         ranges(dmm_internal::search_ranges(q, m)),
         n(static_cast<std::size_t>(q.num_points)),
@@ -101,6 +103,7 @@ struct DmmSearch::State {
     }
   }
 
+  const bool lazy;
   const PreparedQuery& query;
   const PreparedMap& map;
   const std::vector<dmm_internal::Range> ranges;
@@ -204,12 +207,12 @@ struct DmmSearch::State {
   void pop_into(const Node& c) {
     const List& parent = lists[static_cast<std::size_t>(c.list)];
     if (c.depth <= kSubtreeDepth) {
-      // This call's answer scores at least the best leaf pushed during it, so a leaf below that is not needed
-      // yet: the subtree is searched for one that reaches it, and when none does, the node goes back on the
-      // queue bounded by the bar (every leaf in it scores no more), to be searched again if a later call gets
-      // down to it. Without the bar a node popped early spent a whole search on a leaf far below the answer:
-      // 50 000 bounds for fr079's first pose against 4 400 with it (bench_dmm's BM_DmmNextBest).
-      const int bar = std::max(floor, best_pushed - 1);
+      // Lazy: this call's answer scores at least the best leaf pushed during it, so a leaf below that is not
+      // needed yet: the subtree is searched for one that reaches it, and when none does, the node goes back on
+      // the queue bounded by the bar (every leaf in it scores no more), to be searched again if a later call
+      // gets down to it. Without the bar a node popped early spends a whole search on a leaf far below the
+      // answer: 50 000 bounds for fr079's first pose against 4 400 with it (BM_DmmNextBest).
+      const int bar = lazy ? std::max(floor, best_pushed - 1) : floor;
       Node best{bar, -1, 0, 0, 0, 0, 0};
       best_leaf(c, node_cells(c, parent, scratch[static_cast<std::size_t>(c.depth)]), best);
       if (best.depth < 0) {
@@ -265,9 +268,10 @@ struct DmmSearch::State {
   }
 };
 
-DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map, double min_distance, double min_angle) {
+DmmSearch::DmmSearch(const PreparedQuery& query, const PreparedMap& map, double min_distance, double min_angle,
+                     bool lazy) {
   dmm_internal::check_compatible(query, map);
-  state_ = std::make_unique<State>(query, map, min_distance, min_angle);
+  state_ = std::make_unique<State>(query, map, min_distance, min_angle, lazy);
 }
 
 DmmSearch::~DmmSearch() = default;

@@ -25,7 +25,7 @@ DmmConfig small_search_config() {
 
 // A DmmSearch's poses in turn: the first scores match_dmm's optimum, each next one the brute-force maximum over
 // the candidates outside the exclusion of every pose returned before (so never more than the one before), with
-// and without a bar; at the last, nothing is left.
+// and without a bar, lazy or not; at the last, nothing is left.
 TEST(DmmSearch, EachNextPoseIsTheBestElsewhereThanThoseBefore) {
   std::mt19937_64 rng(23);
   std::uniform_real_distribution<double> offset(-1.5, 1.5);
@@ -39,7 +39,7 @@ TEST(DmmSearch, EachNextPoseIsTheBestElsewhereThanThoseBefore) {
     const PreparedQuery q = prepare_query(pair.query, config);
     const PreparedMap m = prepare_map(pair.map, config);
     const double min_distance = 0.5, min_angle = 1.5 * kDegree, r = config.resolution;
-    DmmSearch search(q, m, min_distance, min_angle);
+    DmmSearch search(q, m, min_distance, min_angle, /*lazy=*/p >= 2);  // both kinds of search, both depths
     std::vector<Pose2> returned;
     const auto outside = [&](double angle, int i, int j) {
       return std::all_of(returned.begin(), returned.end(), [&](const Pose2& pose) {

@@ -411,7 +411,7 @@ class SimulatedPairs : public ::testing::Test {
 Submaps* SimulatedPairs::maps_ = nullptr;
 std::vector<RelevantPair>* SimulatedPairs::pairs_ = nullptr;
 
-// DmmSearch's first pose (the verified ranking's first step) costs about what the depth-first search costs: a
+// A lazy DmmSearch's first pose (the verified ranking's first step) costs about what the depth-first search costs: a
 // subtree popped before the answer is known is searched only for a leaf that reaches the best one found so far
 // in that call. Without that bar a subtree popped early spent a whole search on a leaf far below the answer.
 // Counted in bounds evaluated over relevant and random pairs, so the test does not depend on the machine.
@@ -424,7 +424,7 @@ TEST_F(SimulatedPairs, SearchFirstPoseBoundsAboutAsManyNodesAsTheDepthFirstSearc
     const PreparedQuery q = prepare_query((*maps_)[p.query].points);
     const PreparedMap m = prepare_map((*maps_)[p.global].points);
     const DmmResult reference = match_dmm(q, m);
-    DmmSearch search(q, m, 1.0, 0.3);
+    DmmSearch search(q, m, 1.0, 0.3, /*lazy=*/true);
     const DmmResult first = search.next();
     ASSERT_EQ(first.inliers, reference.inliers) << "pair " << t;
     best_first += first.candidates_scored, depth_first += reference.candidates_scored;

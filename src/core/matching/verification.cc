@@ -303,7 +303,7 @@ Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2&
 
 std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,
                                  const VerifyConfig& config) {
-  DmmSearch search(query, map, config.alternative_distance, config.alternative_angle);
+  DmmSearch search(query, map, config.alternative_distance, config.alternative_angle, /*lazy=*/true);
   std::vector<DmmResult> poses{search.next()};
   const int bar = static_cast<int>(config.alternative_bar * poses[0].inliers);
   for (int k = 0; k < config.alternatives && poses[0].inliers > 0; ++k) {
