@@ -74,7 +74,8 @@ void BM_Query(benchmark::State& state, const char* spec, const char* building) {
   state.counters["ms_per_query"] = per_query;
   state.counters["maps"] = static_cast<double>(n);
   if (std::string(spec) == "dmm:eq1") eq1_ms[building] = per_query;
-  if (auto it = eq1_ms.find(building); it != eq1_ms.end() && it->second > 0) state.counters["x_eq1"] = per_query / it->second;
+  if (auto it = eq1_ms.find(building); it != eq1_ms.end() && it->second > 0)
+    state.counters["x_eq1"] = per_query / it->second;
   state.SetLabel(building);
 }
 BENCHMARK_CAPTURE(BM_Query, dmm_eq1_fr101, "dmm:eq1", "fr101")->Iterations(20)->Unit(benchmark::kMillisecond);

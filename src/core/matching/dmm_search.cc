@@ -20,9 +20,8 @@ namespace partslam {
 // translations) is searched depth-first for its best leaf not yet excluded (lazy: one that reaches the best
 // leaf pushed so far in this call); the leaf goes on the queue and so does the node again, bounded by that
 // leaf, to yield its next best once the leaf is taken (lazy, none found: the node again, bounded by the bar).
-// A leaf popped
-// within the exclusion of a pose returned before is dropped, and so is a node wholly inside one (the disc is
-// convex: its four corners).
+// A leaf popped within the exclusion of a pose returned before is dropped, and so is a node wholly inside one
+// (the disc is convex: its four corners).
 struct DmmSearch::State {
   static constexpr int kSubtreeDepth = 2;
   struct Node {
@@ -115,7 +114,7 @@ struct DmmSearch::State {
   dmm_internal::Exclusion returned;  // about every pose returned so far
   bool started = false;
   int floor = -1;  // the highest bar so far: nodes bounded at or below it are never pushed
-  int best_pushed = -1;  // the best leaf pushed during this call to next()
+  int best_pushed = -1;  // lazy: the best leaf pushed during this call to next()
   std::int64_t scored = 0;
 
   // The most query cells of any rotation: no bound exceeds it.
