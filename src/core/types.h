@@ -72,7 +72,6 @@ inline Points2 transform(const Pose2& T, const Points2& points) {
   return out;
 }
 
-/// Mean of a point set; (0, 0) for an empty set.
 /// Every k-th point, k the smallest stride that leaves at most max_points (all of them when they are fewer), in
 /// order. max_points must be positive.
 inline Points2 thinned(const Points2& points, std::size_t max_points) {
@@ -83,6 +82,7 @@ inline Points2 thinned(const Points2& points, std::size_t max_points) {
   return out;
 }
 
+/// Mean of a point set; (0, 0) for an empty set.
 inline Vec2 centroid(const Points2& points) {
   Vec2 c = Vec2::Zero();
   for (const Vec2& p : points) c += p;

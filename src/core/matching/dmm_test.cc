@@ -411,9 +411,9 @@ class SimulatedPairs : public ::testing::Test {
 Submaps* SimulatedPairs::maps_ = nullptr;
 std::vector<RelevantPair>* SimulatedPairs::pairs_ = nullptr;
 
-// A lazy DmmSearch's first pose (the verified ranking's first step) costs about what the depth-first search costs: a
-// subtree popped before the answer is known is searched only for a leaf that reaches the best one found so far
-// in that call. Without that bar a subtree popped early spent a whole search on a leaf far below the answer.
+// A lazy DmmSearch's first pose (the verified ranking's first step) costs about what the depth-first search
+// costs: a subtree popped before the answer is known is searched only for a leaf that reaches the best one found
+// so far in that call. Without that bar a subtree popped early spent a whole search on a leaf far below the answer.
 // Counted in bounds evaluated over relevant and random pairs, so the test does not depend on the machine.
 TEST_F(SimulatedPairs, SearchFirstPoseBoundsAboutAsManyNodesAsTheDepthFirstSearch) {
   std::mt19937_64 rng(4);
