@@ -37,6 +37,15 @@ bool within_drift(const Submaps& maps, std::size_t q, std::size_t m, const Pose2
          std::abs(wrap_angle(prior.theta - T_match_query.theta)) <= c.drift_turn + c.drift_turn_rate * gap;
 }
 
+// False when no pose dMM can return (translations within its window) passes the drift gate.
+bool may_pass_drift(const Submaps& maps, std::size_t q, std::size_t m, const DmmConfig& dmm,
+                    const LoopClosureConfig& c) {
+  if (c.drift_offset == 0 && c.drift_rate == 0) return true;
+  const double gap = std::abs(maps[q].travel - maps[m].travel);
+  const Pose2 prior = maps[m].T_world_map.inverse() * maps[q].T_world_map;
+  return prior.translation().norm() <= c.drift_offset + c.drift_rate * gap + std::sqrt(2.0) * dmm.linear_window;
+}
+
 // The hypotheses of one query from its ranking: every candidate dMM verified within the drift gate, then in
 // context.
 std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const std::vector<std::size_t>& candidates,
@@ -70,21 +79,33 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
   return out;
 }
 
-// Consistency among the hypotheses: a pose graph of the stored frames (consecutive submaps joined by their
-// stored relative pose) and every hypothesis of positive confidence (Cauchy loss) is optimised; hypotheses
-// whose pose the optimised frames disagree with by more than 0.5 m or 0.1 rad lose 1 of confidence (they stay
-// listed, below every consistent one); with graph_pose a consistent one takes the optimised relative pose.
-void check_in_graph(const Submaps& maps, std::vector<LoopClosure>& closures, bool graph_pose) {
-  if (maps.size() < 2) return;
-  std::vector<LoopClosure> positive;
+// Two checks, each taking 1 of confidence from the hypotheses that fail it (one that fails both ranks below one
+// that fails either). First, a hypothesis of positive confidence must belong to the largest pairwise-consistent
+// group (closure_consistency.h). Then a pose graph of the stored frames (consecutive submaps joined by their stored
+// relative pose) and every hypothesis of positive confidence left (Cauchy loss) is optimised: a hypothesis whose
+// pose the optimised frames disagree with by more than 0.5 m or 0.1 rad fails; with graph_pose one that passed
+// both takes the optimised relative pose.
+void judge_agreement(const Submaps& maps, std::vector<LoopClosure>& closures, const LoopClosureConfig& c) {
+  std::vector<bool> grouped(closures.size(), true);
+  if (c.consistency.enabled) {
+    std::vector<std::size_t> positive;
+    std::vector<LoopClosure> group;
+    for (std::size_t k = 0; k < closures.size(); ++k)
+      if (closures[k].confidence > 0) positive.push_back(k), group.push_back(closures[k]);
+    const std::vector<bool> kept = consistent_closures(maps, group, c.consistency);
+    for (std::size_t k = 0; k < positive.size(); ++k)
+      if (!kept[k]) grouped[positive[k]] = false, closures[positive[k]].confidence -= 1.0;
+  }
+  if (!c.graph_check || maps.size() < 2) return;
+  std::vector<LoopClosure> graph;
   for (const LoopClosure& l : closures)
-    if (l.confidence > 0) positive.push_back(l);
-  const std::vector<Pose2> solved = optimize_submap_graph(maps, positive);
-  for (LoopClosure& l : closures) {
+    if (l.confidence > 0) graph.push_back(l);
+  const std::vector<Pose2> solved = optimize_submap_graph(maps, graph);
+  for (std::size_t k = 0; k < closures.size(); ++k) {
+    LoopClosure& l = closures[k];
     const Pose2 T = solved[l.match].inverse() * solved[l.query];
-    const bool consistent = kConsistent.accepts(T, l.T_match_query);
-    if (!consistent) l.confidence -= 1.0;
-    else if (graph_pose) l.T_match_query = T;
+    if (!kConsistent.accepts(T, l.T_match_query)) l.confidence -= 1.0;
+    else if (grouped[k] && c.graph_pose) l.T_match_query = T;
   }
 }
 
@@ -105,6 +126,7 @@ void validate(const LoopClosureConfig& c) {
   for (const double v : {c.drift_offset, c.drift_rate, c.drift_turn, c.drift_turn_rate})
     if (!(v >= 0.0) || !std::isfinite(v))
       throw InputError("loop closure config: drift_offset, drift_rate, drift_turn, drift_turn_rate must be finite and >= 0");
+  validate_nested("loop closure config", "consistency", [&] { validate(c.consistency); });
   // The method is checked here, not when the closures are sought: `slam` would find a bad one only after its
   // front end, and a settings file's reader names its file for what validate throws.
   const MethodSpec method = parse_method_spec(c.method);
@@ -152,7 +174,9 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
         const std::size_t q = mine[i];
         std::vector<std::size_t> candidates;
         for (std::size_t g = 0; g < q; ++g)
-          if (maps[g].travel <= maps[q].travel - config.min_travel_gap) candidates.push_back(g);
+          if (maps[g].travel <= maps[q].travel - config.min_travel_gap &&
+              (!config.gate_candidates || may_pass_drift(maps, q, g, ranking.dmm, config)))
+            candidates.push_back(g);
         if (candidates.empty()) return;
         // A rerank's hypotheses are its top R: its first stage ranks only those (through the grid index when
         // the log has index_min_maps submaps or more); dMM alone matches every candidate.
@@ -163,7 +187,7 @@ std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosu
   std::vector<LoopClosure> out;
   for (auto& h : per_query) out.insert(out.end(), h.begin(), h.end());
   if (split.size() > 1) out = gather_hypotheses(out, split);
-  if (config.graph_check) check_in_graph(maps, out, config.graph_pose);
+  judge_agreement(maps, out, config);
   return out;
 }
 

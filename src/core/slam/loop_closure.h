@@ -17,6 +17,7 @@
 #include "core/work_split.h"
 #include "core/maps/submap.h"
 #include "core/parallel.h"
+#include "core/slam/closure_consistency.h"
 #include "core/slam/submap_graph.h"
 #include "core/types.h"
 
@@ -40,8 +41,15 @@ struct LoopClosureConfig {
   double drift_rate = 0.05;
   double drift_turn = 0.3;
   double drift_turn_rate = 0.01;
-  /// Consistency among hypotheses: those that disagree with a robust pose graph of all of them lose 1 of
-  /// confidence (see loop_closure.cc).
+  /// Only the earlier submaps that can pass the drift gate are ranked (their stored offset within the gate plus
+  /// dMM's translation window): a shortlist of the places the robot can be, not of the whole log.
+  bool gate_candidates = true;
+  /// Closures accepted as a consistent group: a hypothesis of positive confidence outside the largest set that
+  /// agrees pairwise through the front end's chain (closure_consistency.h) loses 1 of confidence; `slam` offers
+  /// its back end only what keeps enough, so `loops` and `slam` accept by one rule.
+  ClosureConsistencyConfig consistency;
+  /// Then a robust pose graph of the stored frames and the group: a hypothesis whose pose disagrees with it loses
+  /// 1 of confidence too (see loop_closure.cc).
   bool graph_check = true;
   /// A hypothesis the graph check finds consistent reports the optimised graph's relative pose of its two
   /// submaps (the front end's chain and every other closure agree on it) instead of its own match's: a match

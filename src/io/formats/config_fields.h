@@ -89,6 +89,17 @@ void config_fields(V& v, std::type_identity<SubmapConfig>) {
 }
 
 template <class V>
+void config_fields(V& v, std::type_identity<ClosureConsistencyConfig>) {
+  using C = ClosureConsistencyConfig;
+  v.field("enabled", &C::enabled, "");
+  v.field("offset", &C::offset, "");
+  v.field("rate", &C::rate, "");
+  v.field("turn", &C::turn, "");
+  v.field("turn_rate", &C::turn_rate, "");
+  v.field("max_chain", &C::max_chain, "");
+}
+
+template <class V>
 void config_fields(V& v, std::type_identity<LoopClosureConfig>) {
   using C = LoopClosureConfig;
   v.field("method", &C::method, "");
@@ -100,6 +111,8 @@ void config_fields(V& v, std::type_identity<LoopClosureConfig>) {
   v.field("drift_rate", &C::drift_rate, "");
   v.field("drift_turn", &C::drift_turn, "");
   v.field("drift_turn_rate", &C::drift_turn_rate, "");
+  v.field("gate_candidates", &C::gate_candidates, "");
+  v.section("consistency", &C::consistency, "");
   v.field("graph_check", &C::graph_check, "");
   v.field("graph_pose", &C::graph_pose,
           "a consistent hypothesis reports the optimised graph's relative pose instead of its match's");

@@ -1,0 +1,105 @@
+#include "core/slam/closure_consistency.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace partslam {
+namespace {
+
+// Twice round a 20 m x 10 m rectangle, a submap every 0.5 m of travel: the true frames, and stored frames whose
+// heading drifts 0.002 rad per submap (a front end's chain).
+struct Laps {
+  std::vector<Pose2> truth;
+  Submaps maps;
+  std::size_t lap = 0;  // submaps per lap
+};
+
+Laps laps() {
+  Laps l;
+  Pose2 pose;
+  for (int lap = 0; lap < 2; ++lap)
+    for (const double side : {20.0, 10.0, 20.0, 10.0}) {
+      for (int k = 0; k < static_cast<int>(side / 0.5); ++k) {
+        l.truth.push_back(pose);
+        pose = pose * Pose2{0.5, 0, 0};
+      }
+      pose = pose * Pose2{0, 0, std::acos(-1.0) / 2};
+    }
+  l.lap = l.truth.size() / 2;
+  Pose2 stored = l.truth[0];
+  for (std::size_t i = 0; i < l.truth.size(); ++i) {
+    if (i > 0) stored = stored * ((l.truth[i - 1].inverse() * l.truth[i]) * Pose2{0, 0, 0.002});
+    Submap m;
+    m.travel = 0.5 * static_cast<double>(i);
+    m.T_world_map = stored;
+    l.maps.push_back(m);
+  }
+  return l;
+}
+
+// Submap q of the second lap closed on submap m with the true relative pose, moved by `error`.
+LoopClosure closure(const Laps& l, std::size_t q, std::size_t m, const Pose2& error = {}, double confidence = 0.5) {
+  return {q, m, l.truth[m].inverse() * l.truth[q] * error, 0.5, confidence, confidence};
+}
+
+TEST(ClosureConsistency, RightClosuresAgreeAndAnAliasAlongTheCorridorDoesNot) {
+  const Laps l = laps();
+  const LoopClosure a = closure(l, l.lap + 10, 10), b = closure(l, l.lap + 14, 14);
+  const LoopClosure far = closure(l, l.lap + 50, 50);  // 40 submaps on: 20 m of chain each side
+  EXPECT_TRUE(closures_agree(l.maps, a, b));
+  EXPECT_TRUE(closures_agree(l.maps, a, far));
+  const LoopClosure slid = closure(l, l.lap + 12, 12, {2.0, 0, 0});  // a match slid 2 m along the corridor
+  EXPECT_FALSE(closures_agree(l.maps, a, slid));
+  EXPECT_FALSE(closures_agree(l.maps, slid, b));
+  const LoopClosure turned = closure(l, l.lap + 12, 12, {0, 0, 0.3});
+  EXPECT_FALSE(closures_agree(l.maps, turned, b));
+}
+
+// The fr079 case (docs/NOTES.md, "Closures accepted as consistent groups"): a group of wrong closures that agree
+// with one another (two passes put on top of each other, all 2.5 m off) among more right ones at the same
+// places. The right ones are kept, the group is dropped, whatever the wrong ones' confidence.
+TEST(ClosureConsistency, KeepsTheLargestGroupAndDropsASmallerConsistentWrongOne) {
+  const Laps l = laps();
+  std::vector<LoopClosure> closures;
+  for (std::size_t i = 0; i < 60; i += 3) closures.push_back(closure(l, l.lap + i, i));
+  const std::size_t right = closures.size();
+  for (std::size_t i = 20; i < 32; i += 2) closures.push_back(closure(l, l.lap + i, i, {2.5, 0, 0}, 0.9));
+  const std::vector<bool> kept = consistent_closures(l.maps, closures);
+  ASSERT_EQ(kept.size(), closures.size());
+  for (std::size_t k = 0; k < closures.size(); ++k) EXPECT_EQ(kept[k], k < right) << "closure " << k;
+}
+
+TEST(ClosureConsistency, ClosuresFartherApartThanTheLongestChainAreNotTested) {
+  const Laps l = laps();
+  ClosureConsistencyConfig c;
+  c.max_chain = 10.0;
+  const std::vector<LoopClosure> closures = {closure(l, l.lap + 2, 2), closure(l, l.lap + 70, 70, {3.0, 0, 0})};
+  EXPECT_FALSE(closures_agree(l.maps, closures[0], closures[1], c));  // 68 submaps = 34 m of chain each side
+  EXPECT_EQ(consistent_closures(l.maps, closures, c), (std::vector<bool>{true, true}));
+  c.max_chain = 100.0;
+  const std::vector<bool> kept = consistent_closures(l.maps, closures, c);
+  EXPECT_NE(kept[0], kept[1]);  // one of the two goes: the less confident, or the later of equals
+  EXPECT_TRUE(consistent_closures(l.maps, {}, c).empty());
+}
+
+TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
+  const Laps l = laps();
+  for (auto field : {&ClosureConsistencyConfig::offset, &ClosureConsistencyConfig::rate,
+                     &ClosureConsistencyConfig::turn, &ClosureConsistencyConfig::turn_rate,
+                     &ClosureConsistencyConfig::max_chain}) {
+    ClosureConsistencyConfig c;
+    c.*field = -1.0;
+    EXPECT_THROW(validate(c), InputError);
+    c.*field = std::nan("");
+    EXPECT_THROW(consistent_closures(l.maps, {}, c), InputError);
+  }
+  LoopClosure beyond = closure(l, 1, 0);
+  beyond.query = l.maps.size();
+  EXPECT_THROW(consistent_closures(l.maps, {closure(l, 1, 0), beyond}), InputError);
+}
+
+}  // namespace
+}  // namespace partslam
