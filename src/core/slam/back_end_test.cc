@@ -6,39 +6,13 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "core/testing/rectangle_laps.h"
 
 namespace partslam {
 namespace {
 
-// Twice round a 20 m x 10 m rectangle, a submap every 0.5 m: the true frames, and the stored ones of a front
-// end whose heading drifts 0.002 rad per submap.
-struct RectangleLaps {
-  std::vector<Pose2> truth;
-  Submaps maps;
-  std::size_t lap = 0;  // submaps per lap
-};
-
-RectangleLaps rectangle_laps() {
-  RectangleLaps l;
-  Pose2 pose;
-  for (int lap = 0; lap < 2; ++lap)
-    for (const double side : {20.0, 10.0, 20.0, 10.0}) {
-      for (int k = 0; k < static_cast<int>(side / 0.5); ++k) {
-        l.truth.push_back(pose);
-        pose = pose * Pose2{0.5, 0, 0};
-      }
-      pose = pose * Pose2{0, 0, std::acos(-1.0) / 2};
-    }
-  l.lap = l.truth.size() / 2;
-  Pose2 stored = l.truth[0];
-  for (std::size_t i = 0; i < l.truth.size(); ++i) {
-    if (i > 0) stored = stored * ((l.truth[i - 1].inverse() * l.truth[i]) * Pose2{0, 0, 0.002});
-    Submap m;
-    m.T_world_map = stored;
-    l.maps.push_back(m);
-  }
-  return l;
-}
+using testing::RectangleLaps;
+using testing::rectangle_laps;
 
 // The second lap's submaps closed on the first's, every 5th, with the true relative pose.
 std::vector<LoopClosure> true_closures(const RectangleLaps& l) {

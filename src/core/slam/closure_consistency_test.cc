@@ -5,40 +5,13 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/testing/rectangle_laps.h"
 
 namespace partslam {
 namespace {
 
-// Twice round a 20 m x 10 m rectangle, a submap every 0.5 m of travel: the true frames, and stored frames whose
-// heading drifts 0.002 rad per submap (a front end's chain).
-struct Laps {
-  std::vector<Pose2> truth;
-  Submaps maps;
-  std::size_t lap = 0;  // submaps per lap
-};
-
-Laps laps() {
-  Laps l;
-  Pose2 pose;
-  for (int lap = 0; lap < 2; ++lap)
-    for (const double side : {20.0, 10.0, 20.0, 10.0}) {
-      for (int k = 0; k < static_cast<int>(side / 0.5); ++k) {
-        l.truth.push_back(pose);
-        pose = pose * Pose2{0.5, 0, 0};
-      }
-      pose = pose * Pose2{0, 0, std::acos(-1.0) / 2};
-    }
-  l.lap = l.truth.size() / 2;
-  Pose2 stored = l.truth[0];
-  for (std::size_t i = 0; i < l.truth.size(); ++i) {
-    if (i > 0) stored = stored * ((l.truth[i - 1].inverse() * l.truth[i]) * Pose2{0, 0, 0.002});
-    Submap m;
-    m.travel = 0.5 * static_cast<double>(i);
-    m.T_world_map = stored;
-    l.maps.push_back(m);
-  }
-  return l;
-}
+using Laps = testing::RectangleLaps;
+const auto laps = testing::rectangle_laps;
 
 // Submap q of the second lap closed on submap m with the true relative pose, moved by `error`.
 LoopClosure closure(const Laps& l, std::size_t q, std::size_t m, const Pose2& error = {}, double confidence = 0.5) {

@@ -199,7 +199,7 @@ TEST(LoopClosure, GraphPosesKeepTheHypothesesAndPullTheirPosesOntoTheGraph) {
     EXPECT_EQ(a[i].query, b[i].query);
     EXPECT_EQ(a[i].match, b[i].match);
     EXPECT_EQ(a[i].confidence, b[i].confidence);
-    const bool consistent = a[i].confidence > a[i].context_score - 1.0;  // the graph check took none off
+    const bool consistent = a[i].confidence > a[i].context_score - 1.0;  // neither check took any off
     if (!consistent) {
       EXPECT_EQ(a[i].T_match_query.x, b[i].T_match_query.x);
       continue;
