@@ -234,6 +234,18 @@ TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
   EXPECT_EQ(first, "VERTEX_SE2");
   EXPECT_GT(fs::file_size(png), 1000u);
 
+  // Without the consistency checks: the same hypotheses, none of them less confident.
+  const fs::path unchecked = dir_ / "unchecked.json";
+  const CliRun off = run_partslam("loops " + quoted(db) + " --threads 2 --quiet --no-consistency-check --no-graph-check"
+                                  " --json " + quoted(unchecked));
+  ASSERT_EQ(off.exit_code, 0) << off.output;
+  const nlohmann::json u = read_json(unchecked);
+  ASSERT_EQ(u["closures"].size(), j["closures"].size());
+  for (std::size_t i = 0; i < u["closures"].size(); ++i) {
+    EXPECT_EQ(u["closures"][i]["match"], j["closures"][i]["match"]);
+    EXPECT_GE(u["closures"][i]["confidence"].get<double>(), j["closures"][i]["confidence"].get<double>());
+  }
+
   // A scan-matched dataset has no ground truth of its own: a curve needs --truth.
   const fs::path raw = dir_ / "raw.db";
   ASSERT_EQ(run_partslam("submaps sim:1 --spacing 1 --scan-match --db " + quoted(raw)).exit_code, 0);

@@ -112,6 +112,7 @@ void apply_config_file(const CLI::App& cmd, LoopsOptions& o) {
   if (given(cmd, "--drift")) f.loops.drift_rate = o.config.drift_rate;
   if (given(cmd, "--threads")) f.loops.num_threads = o.config.num_threads;
   if (given(cmd, "--no-graph-check")) f.loops.graph_check = false;
+  if (given(cmd, "--no-consistency-check")) f.loops.consistency.enabled = false;
   if (given(cmd, "--measured-poses")) f.loops.graph_pose = false;
   if (given(cmd, "--min-confidence")) f.min_confidence = o.min_confidence;
   if (given(cmd, "--radius")) f.truth.radius = o.truth_config.radius;
@@ -211,6 +212,9 @@ void register_loops(CLI::App& app) {
   cmd->add_option("--plot", o->plot, "write the precision-recall curve as PNG (needs ground truth)");
   cmd->add_flag("--no-graph-check", [o](std::int64_t) { o->config.graph_check = false; },
                 "keep hypotheses that disagree with a robust pose graph of all of them at full confidence");
+  cmd->add_flag("--no-consistency-check", [o](std::int64_t) { o->config.consistency.enabled = false; },
+                "keep hypotheses outside the largest group that agrees pairwise through the front end's chain at "
+                "full confidence");
   cmd->add_flag("--measured-poses", [o](std::int64_t) { o->config.graph_pose = false; },
                 "report each closure's own match pose, not the pose graph's for the consistent ones");
   cmd->add_flag("--quiet", o->quiet, "no progress bar");
