@@ -203,6 +203,10 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_SECOND")) config.front_end.second_prediction = std::atof(v);
     if (const char* v = std::getenv("FE_MARGIN")) config.front_end.second_margin = std::atof(v);
     if (const char* v = std::getenv("LOOPS_VERIFY_DMM")) config.loops.verify_dmm = std::atoi(v) != 0;
+    if (const char* v = std::getenv("LOOPS_GATE_CANDIDATES")) config.loops.gate_candidates = std::atoi(v) != 0;
+    if (const char* v = std::getenv("LOOPS_CONSISTENCY")) config.loops.consistency.enabled = std::atoi(v) != 0;
+    if (const char* v = std::getenv("LOOPS_CONSISTENCY_RATE")) config.loops.consistency.rate = std::atof(v);
+    if (const char* v = std::getenv("LOOPS_CONSISTENCY_OFFSET")) config.loops.consistency.offset = std::atof(v);
     if (forced) {  // every closure kept, with a quadratic loss: the injected ones bend the map
       config.back_end.max_translation_residual = config.back_end.max_rotation_residual = 1e6;
       config.back_end.graph.robust_scale = 1e6;
