@@ -223,6 +223,7 @@ TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("ground truth: the stored frames"));
   EXPECT_THAT(run.output, HasSubstr("recall at 100 % precision"));
+  EXPECT_THAT(run.output, HasSubstr("outside the consistent group"));
   const nlohmann::json j = read_json(json);
   ASSERT_GT(j["closures"].size(), 0u);
   EXPECT_TRUE(j["closures"][0]["pose"]["theta"].is_number());
@@ -244,6 +245,8 @@ TEST_F(CliEvalTest, LoopsWritesClosuresGraphAndCurve) {
   for (std::size_t i = 0; i < u["closures"].size(); ++i) {
     EXPECT_EQ(u["closures"][i]["match"], j["closures"][i]["match"]);
     EXPECT_GE(u["closures"][i]["confidence"].get<double>(), j["closures"][i]["confidence"].get<double>());
+    EXPECT_TRUE(u["closures"][i]["consistent_group"].get<bool>() && u["closures"][i]["graph_agrees"].get<bool>());
+    EXPECT_TRUE(j["closures"][i]["consistent_group"].is_boolean());
   }
 
   // A scan-matched dataset has no ground truth of its own: a curve needs --truth.

@@ -59,6 +59,8 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_TRUE(j["map_check"]["passed"].get<bool>());
   EXPECT_GT(j["closures"]["used"].get<int>(), 10);
   EXPECT_LE(j["closures"]["used"].get<int>(), j["closures"]["offered"].get<int>());
+  EXPECT_LE(j["closures"]["outside_consistent_group"].get<int>(), j["closures"]["hypotheses"].get<int>());
+  EXPECT_LE(j["closures"]["at_odds_with_graph"].get<int>(), j["closures"]["hypotheses"].get<int>());
   EXPECT_EQ(j["relations"]["slam"]["relations"].get<int>(), 0);
   EXPECT_FALSE(j["relations"]["slam"].contains("translation_m"));
   const CliRun located = run_partslam("locate --map " + quoted(out / "map.yaml") + " --query-log " +

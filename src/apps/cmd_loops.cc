@@ -146,8 +146,10 @@ void run_loops(const LoopsOptions& o) {
     if (c.confidence >= o.min_confidence) accepted.push_back(c);
   std::cout << std::fixed << std::setprecision(1) << dataset.spec.name << ": " << maps.size() << " submaps, "
             << closures.size() << " verified hypotheses (" << o.config.method << ", G " << o.config.min_travel_gap
-            << " m), " << accepted.size() << " accepted at confidence >= " << std::setprecision(2) << o.min_confidence
-            << std::setprecision(1) << ", " << seconds << " s\n"
+            << " m; " << failed_checks(closures).outside_group << " outside the consistent group, "
+            << failed_checks(closures).at_odds_with_graph << " at odds with its pose graph), " << accepted.size()
+            << " accepted at confidence >= " << std::setprecision(2) << o.min_confidence << std::setprecision(1)
+            << ", " << seconds << " s\n"
             << note << "\n";
   nlohmann::json j = {{"dataset", dataset.spec.name},
                       {"method", o.config.method},

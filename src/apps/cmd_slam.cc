@@ -94,6 +94,8 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"seconds", r.front_end_s}}},
           {"closures",
            {{"hypotheses", r.closures.size()},
+            {"outside_consistent_group", failed_checks(r.closures).outside_group},
+            {"at_odds_with_graph", failed_checks(r.closures).at_odds_with_graph},
             {"offered", r.accepted},
             {"used", b.used_count},
             {"set_aside", b.rejected},
@@ -186,7 +188,10 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << r.front_end_s << " s (" << std::setprecision(0) << fe.log_seconds / std::max(r.front_end_s, 1e-9)
             << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n"
             << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
-            << " loop-closure hypotheses, " << r.accepted << " offered (confidence >= " << std::setprecision(2)
+            << " loop-closure hypotheses (" << failed_checks(r.closures).outside_group
+            << " outside the consistent group, " << failed_checks(r.closures).at_odds_with_graph
+            << " at odds with its pose graph), " << r.accepted
+            << " offered (confidence >= " << std::setprecision(2)
             << o.config.min_confidence << std::setprecision(1) << "), " << r.loops_s << " s; "
             << (o.config.refinement.enabled ? "refined on the scans in " : "not refined on the scans (refinement off), ")
             << r.refine_s << " s\n"

@@ -86,7 +86,6 @@ std::vector<LoopClosure> hypotheses(const Submaps& maps, std::size_t q, const st
 // pose the optimised frames disagree with by more than 0.5 m or 0.1 rad fails; with graph_pose one that passed
 // both takes the optimised relative pose.
 void judge_agreement(const Submaps& maps, std::vector<LoopClosure>& closures, const LoopClosureConfig& c) {
-  std::vector<bool> grouped(closures.size(), true);
   if (c.consistency.enabled) {
     std::vector<std::size_t> positive;
     std::vector<LoopClosure> group;
@@ -94,18 +93,17 @@ void judge_agreement(const Submaps& maps, std::vector<LoopClosure>& closures, co
       if (closures[k].confidence > 0) positive.push_back(k), group.push_back(closures[k]);
     const std::vector<bool> kept = consistent_closures(maps, group, c.consistency);
     for (std::size_t k = 0; k < positive.size(); ++k)
-      if (!kept[k]) grouped[positive[k]] = false, closures[positive[k]].confidence -= 1.0;
+      if (!kept[k]) closures[positive[k]].in_group = false, closures[positive[k]].confidence -= 1.0;
   }
   if (!c.graph_check || maps.size() < 2) return;
   std::vector<LoopClosure> graph;
   for (const LoopClosure& l : closures)
     if (l.confidence > 0) graph.push_back(l);
   const std::vector<Pose2> solved = optimize_submap_graph(maps, graph);
-  for (std::size_t k = 0; k < closures.size(); ++k) {
-    LoopClosure& l = closures[k];
+  for (LoopClosure& l : closures) {
     const Pose2 T = solved[l.match].inverse() * solved[l.query];
-    if (!kConsistent.accepts(T, l.T_match_query)) l.confidence -= 1.0;
-    else if (grouped[k] && c.graph_pose) l.T_match_query = T;
+    if (!kConsistent.accepts(T, l.T_match_query)) l.graph_agrees = false, l.confidence -= 1.0;
+    else if (l.in_group && c.graph_pose) l.T_match_query = T;
   }
 }
 
@@ -148,6 +146,12 @@ std::vector<LoopClosure> gather_hypotheses(const std::vector<LoopClosure>& mine,
 }
 
 }  // namespace
+
+FailedChecks failed_checks(const std::vector<LoopClosure>& closures) {
+  FailedChecks f;
+  for (const LoopClosure& l : closures) f.outside_group += !l.in_group, f.at_odds_with_graph += !l.graph_agrees;
+  return f;
+}
 
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config,
                                             const Progress& progress, const WorkSplit& split) {

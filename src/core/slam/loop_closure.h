@@ -65,6 +65,13 @@ struct LoopClosureConfig {
 /// Throws InputError naming the offending field.
 void validate(const LoopClosureConfig& config);
 
+/// How many hypotheses failed each consistency check (LoopClosure::in_group, graph_agrees).
+struct FailedChecks {
+  std::size_t outside_group = 0;
+  std::size_t at_odds_with_graph = 0;
+};
+FailedChecks failed_checks(const std::vector<LoopClosure>& closures);
+
 /// Hypotheses of every query, in query order, each query's by decreasing score. Over a split of several
 /// processes (MPI ranks), each takes every size-th query (later queries have more candidates) and the hypotheses
 /// are gathered before the graph check, so every process returns the one-process result.

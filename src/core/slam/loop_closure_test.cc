@@ -255,8 +255,11 @@ TEST(LoopClosure, TheChecksTakeConfidenceFromWrongHypothesesAndSpareRightOnes) {
   const LoopEvaluation e = evaluate_loop_closures(unchecked, maps, exact_frames(maps));
   std::size_t right = 0, right_lost = 0, wrong = 0;
   for (std::size_t i = 0; i < checked.size(); ++i) {
-    if (unchecked[i].confidence <= 0 || e.verdicts[i] < 0) continue;
     const double lost = unchecked[i].confidence - checked[i].confidence;
+    // Each failed check, as the hypothesis records it, took 1 of confidence.
+    EXPECT_NEAR(lost, !checked[i].in_group + !checked[i].graph_agrees, 1e-9);
+    EXPECT_TRUE(unchecked[i].in_group && unchecked[i].graph_agrees);
+    if (unchecked[i].confidence <= 0 || e.verdicts[i] < 0) continue;
     if (e.verdicts[i] == 0) {
       wrong += 1;
       EXPECT_GE(lost, 1.0 - 1e-12) << checked[i].query << " -> " << checked[i].match;

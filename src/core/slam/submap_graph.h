@@ -22,6 +22,11 @@ struct LoopClosure {
   /// Same-place probability of the two submaps at dMM's verified pose (before the context stage refines it);
   /// -1 when dMM was not verified (LoopClosureConfig::verify_dmm false).
   double probability = -1.0;
+  /// The consistency checks of loop_closure.h (each failed one took 1 of confidence): in the largest group of
+  /// hypotheses that agree pairwise through the front end's chain (true when not tested: confidence <= 0, or the
+  /// check off), and in agreement with the robust pose graph of that group (true when the graph check is off).
+  bool in_group = true;
+  bool graph_agrees = true;
 };
 
 /// Information of a submap pose graph's edges: consecutive submaps joined by their stored relative pose (the

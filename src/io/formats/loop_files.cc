@@ -26,6 +26,8 @@ nlohmann::json closures_json(const Submaps& maps, const std::vector<LoopClosure>
                    {"context_score", c.context_score},
                    {"confidence", c.confidence},
                    {"probability", c.probability},
+                   {"consistent_group", c.in_group},
+                   {"graph_agrees", c.graph_agrees},
                    {"accepted", c.confidence >= min_confidence}});
   }
   return out;

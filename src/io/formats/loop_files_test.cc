@@ -47,12 +47,16 @@ TEST(LoopFiles, JsonNamesTheMapsAndWhetherEachClosureIsAccepted) {
   std::vector<LoopClosure> closures(2);
   closures[0].query = 2, closures[0].match = 0, closures[0].confidence = 0.5;
   closures[1].query = 2, closures[1].match = 1, closures[1].confidence = 0.1;
+  closures[1].in_group = false;
   const nlohmann::json j = closures_json(maps, closures, 0.2);
   ASSERT_EQ(j.size(), 2u);
   EXPECT_EQ(j[0]["query"], 12);
   EXPECT_EQ(j[0]["match"], 10);
   EXPECT_TRUE(j[0]["accepted"]);
   EXPECT_FALSE(j[1]["accepted"]);
+  EXPECT_TRUE(j[0]["consistent_group"]);
+  EXPECT_FALSE(j[1]["consistent_group"]);
+  EXPECT_TRUE(j[1]["graph_agrees"]);
   LoopEvaluation e;
   e.relevant_pairs = 7;
   e.curve.push_back({0.3, 1.0, 0.25});
