@@ -14,7 +14,8 @@ namespace {
 
 // The travel along the two chain segments of a and b's cycle [m].
 double chain_travel(const Submaps& maps, const LoopClosure& a, const LoopClosure& b) {
-  return std::abs(maps[a.match].travel - maps[b.match].travel) + std::abs(maps[a.query].travel - maps[b.query].travel);
+  return std::abs(maps[a.match].travel - maps[b.match].travel) +
+         std::abs(maps[a.query].travel - maps[b.query].travel);
 }
 
 // The stored relative pose of submap v in submap u's frame.
@@ -25,8 +26,10 @@ Pose2 chain(const Submaps& maps, std::size_t u, std::size_t v) {
 }  // namespace
 
 void validate(const ClosureConsistencyConfig& c) {
-  const std::pair<double, const char*> values[] = {{c.offset, "offset"},       {c.rate, "rate"},
-                                                   {c.turn, "turn"},           {c.turn_rate, "turn_rate"},
+  const std::pair<double, const char*> values[] = {{c.offset, "offset"},
+                                                   {c.rate, "rate"},
+                                                   {c.turn, "turn"},
+                                                   {c.turn_rate, "turn_rate"},
                                                    {c.max_chain, "max_chain"}};
   for (const auto& [v, name] : values)
     if (!(v >= 0) || !std::isfinite(v))
@@ -36,7 +39,8 @@ void validate(const ClosureConsistencyConfig& c) {
 bool closures_agree(const Submaps& maps, const LoopClosure& a, const LoopClosure& b,
                     const ClosureConsistencyConfig& c) {
   const double travel = chain_travel(maps, a, b);
-  const Pose2 E = a.T_match_query.inverse() * chain(maps, a.match, b.match) * b.T_match_query * chain(maps, b.query, a.query);
+  const Pose2 E = a.T_match_query.inverse() * chain(maps, a.match, b.match) * b.T_match_query *
+                  chain(maps, b.query, a.query);
   return E.translation().norm() <= c.offset + c.rate * travel &&
          std::abs(E.theta) <= c.turn + c.turn_rate * travel;
 }
@@ -52,11 +56,13 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   const auto query_travel = [&](std::size_t k) { return maps[closures[k].query].travel; };
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
   std::vector<std::vector<std::size_t>> conflicts(n);
   for (std::size_t p = 0; p < n; ++p) {
     const LoopClosure& a = closures[order[p]];
-    for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= c.max_chain; ++q) {
+    for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= c.max_chain;
+         ++q) {
       const LoopClosure& b = closures[order[q]];
       if (chain_travel(maps, a, b) > c.max_chain || closures_agree(maps, a, b, c)) continue;
       conflicts[order[p]].push_back(order[q]);
@@ -69,7 +75,8 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   for (std::size_t k = 0; k < n; ++k) degree[k] = conflicts[k].size();
   const auto worse = [&](std::size_t x, std::size_t y) {  // x is dropped before y
     if (degree[x] != degree[y]) return degree[x] > degree[y];
-    if (closures[x].confidence != closures[y].confidence) return closures[x].confidence < closures[y].confidence;
+    if (closures[x].confidence != closures[y].confidence)
+      return closures[x].confidence < closures[y].confidence;
     return x > y;
   };
   const auto cmp = [&](std::size_t x, std::size_t y) { return worse(x, y); };

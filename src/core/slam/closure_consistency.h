@@ -1,12 +1,12 @@
-// Loop closures accepted as a consistent group (pairwise consistency maximisation, PCM: Mangelson et al., ICRA
-// 2018). Two closures a (query i in match j's frame) and b (query k in match l's frame) close a cycle through the
-// front end's chain: Z_a^-1 * C(j, l) * Z_b * C(k, i), where C(u, v) is the stored relative pose of submaps u and
-// v (locally consistent, drifting with the travel between them). When both closures are right the cycle is the
-// identity up to the chain's drift; a wrong closure (an alias, a match slid along a corridor) breaks the cycle
-// with every right closure near it. The largest set of closures that agree pairwise is kept: the complement of
-// the consistency graph is sparse (far-apart closures cannot contradict each other through a long, loose chain),
-// so the closure with the most disagreements is dropped until none disagree (a greedy vertex cover of the
-// disagreements; ties drop the less confident closure).
+// Loop closures accepted as a consistent group (pairwise consistency maximisation, PCM: Mangelson et al.,
+// ICRA 2018). Two closures a (query i in match j's frame) and b (query k in match l's frame) close a cycle
+// through the front end's chain: Z_a^-1 * C(j, l) * Z_b * C(k, i), where C(u, v) is the stored relative pose
+// of submaps u and v (locally consistent, drifting with the travel between them). When both closures are
+// right the cycle is the identity up to the chain's drift; a wrong closure (an alias, a match slid along a
+// corridor) breaks the cycle with every right closure near it. The largest set of closures that agree
+// pairwise is kept: the complement of the consistency graph is sparse (far-apart closures cannot contradict
+// each other through a long, loose chain), so the closure with the most disagreements is dropped until none
+// disagree (a greedy vertex cover of the disagreements; ties drop the less confident closure).
 #pragma once
 
 #include <vector>

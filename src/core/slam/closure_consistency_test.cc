@@ -14,7 +14,8 @@ using Laps = testing::RectangleLaps;
 const auto laps = testing::rectangle_laps;
 
 // Submap q of the second lap closed on submap m with the true relative pose, moved by `error`.
-LoopClosure closure(const Laps& l, std::size_t q, std::size_t m, const Pose2& error = {}, double confidence = 0.5) {
+LoopClosure closure(const Laps& l, std::size_t q, std::size_t m, const Pose2& error = {},
+                    double confidence = 0.5) {
   return {q, m, l.truth[m].inverse() * l.truth[q] * error, 0.5, confidence, confidence};
 }
 
@@ -31,9 +32,9 @@ TEST(ClosureConsistency, RightClosuresAgreeAndAnAliasAlongTheCorridorDoesNot) {
   EXPECT_FALSE(closures_agree(l.maps, turned, b));
 }
 
-// The fr079 case (docs/NOTES.md, "Closures accepted as consistent groups"): a group of wrong closures that agree
-// with one another (two passes put on top of each other, all 2.5 m off) among more right ones at the same
-// places. The right ones are kept, the group is dropped, whatever the wrong ones' confidence.
+// The fr079 case (docs/NOTES.md, "Closures accepted as consistent groups"): a group of wrong closures that
+// agree with one another (two passes put on top of each other, all 2.5 m off) among more right ones at the
+// same places. The right ones are kept, the group is dropped, whatever the wrong ones' confidence.
 TEST(ClosureConsistency, KeepsTheLargestGroupAndDropsASmallerConsistentWrongOne) {
   const Laps l = laps();
   std::vector<LoopClosure> closures;
@@ -49,7 +50,8 @@ TEST(ClosureConsistency, ClosuresFartherApartThanTheLongestChainAreNotTested) {
   const Laps l = laps();
   ClosureConsistencyConfig c;
   c.max_chain = 10.0;
-  const std::vector<LoopClosure> closures = {closure(l, l.lap + 2, 2), closure(l, l.lap + 70, 70, {3.0, 0, 0})};
+  const std::vector<LoopClosure> closures = {closure(l, l.lap + 2, 2),
+                                             closure(l, l.lap + 70, 70, {3.0, 0, 0})};
   EXPECT_FALSE(closures_agree(l.maps, closures[0], closures[1], c));  // 68 submaps = 34 m of chain each side
   EXPECT_EQ(consistent_closures(l.maps, closures, c), (std::vector<bool>{true, true}));
   c.max_chain = 100.0;
@@ -60,9 +62,9 @@ TEST(ClosureConsistency, ClosuresFartherApartThanTheLongestChainAreNotTested) {
 
 TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
   const Laps l = laps();
-  for (auto field : {&ClosureConsistencyConfig::offset, &ClosureConsistencyConfig::rate,
-                     &ClosureConsistencyConfig::turn, &ClosureConsistencyConfig::turn_rate,
-                     &ClosureConsistencyConfig::max_chain}) {
+  for (auto field :
+       {&ClosureConsistencyConfig::offset, &ClosureConsistencyConfig::rate, &ClosureConsistencyConfig::turn,
+        &ClosureConsistencyConfig::turn_rate, &ClosureConsistencyConfig::max_chain}) {
     ClosureConsistencyConfig c;
     c.*field = -1.0;
     EXPECT_THROW(validate(c), InputError);

@@ -40,7 +40,7 @@ bool within_drift(const Submaps& maps, std::size_t q, std::size_t m, const Pose2
 // False when no pose dMM can return (translations within its window) passes the drift gate.
 bool may_pass_drift(const Submaps& maps, std::size_t q, std::size_t m, const DmmConfig& dmm,
                     const LoopClosureConfig& c) {
-  if (c.drift_offset == 0 && c.drift_rate == 0) return true;
+  if ((c.drift_offset == 0 && c.drift_rate == 0) || dmm.linear_window <= 0) return true;  // no gate, or no window
   const double gap = std::abs(maps[q].travel - maps[m].travel);
   const Pose2 prior = maps[m].T_world_map.inverse() * maps[q].T_world_map;
   return prior.translation().norm() <= c.drift_offset + c.drift_rate * gap + std::sqrt(2.0) * dmm.linear_window;

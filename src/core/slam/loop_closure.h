@@ -5,9 +5,11 @@
 // the query and around the match, joined, matched around that pose: a corridor that looks the same over one 2 m
 // submap rarely does over 10 m; the pose is refined by it) and a confidence: the context score minus the best one
 // among the query's hypotheses at another place (stored frames other_place.distance or more apart), so a place that
-// looks like several others gets a low confidence even when its score is high. Their precision and recall against
-// true map frames: core/evaluation/loop_evaluation.h; the pose graph they join, and the LoopClosure type:
-// submap_graph.h.
+// looks like several others gets a low confidence even when its score is high, less 1 for each consistency check
+// it fails (the largest group that agrees pairwise through the front end's chain, closure_consistency.h; a robust
+// pose graph of that group). Only the earlier submaps the drift gate can admit are ranked. Their precision and
+// recall against true map frames: core/evaluation/loop_evaluation.h; the pose graph they join, and the LoopClosure
+// type: submap_graph.h.
 #pragma once
 
 #include <string>
@@ -74,7 +76,7 @@ FailedChecks failed_checks(const std::vector<LoopClosure>& closures);
 
 /// Hypotheses of every query, in query order, each query's by decreasing score. Over a split of several
 /// processes (MPI ranks), each takes every size-th query (later queries have more candidates) and the hypotheses
-/// are gathered before the graph check, so every process returns the one-process result.
+/// are gathered before the consistency checks, so every process returns the one-process result.
 std::vector<LoopClosure> find_loop_closures(const Submaps& maps, const LoopClosureConfig& config = {},
                                             const Progress& progress = {}, const WorkSplit& split = local_work());
 

@@ -1,5 +1,6 @@
-// Test helper: twice round a 20 m x 10 m rectangle, a submap every 0.5 m of travel: the true frames, and the stored
-// frames of a front end whose heading drifts 0.002 rad per submap (the back end's and the closure checks' tests).
+// Test helper: twice round a 20 m x 10 m rectangle, a submap every 0.5 m of travel: the true frames, and the
+// stored frames of a front end whose heading drifts 0.002 rad per submap (the back end's and the closure
+// checks' tests).
 #pragma once
 
 #include <cmath>
@@ -12,8 +13,8 @@ namespace partslam::testing {
 
 struct RectangleLaps {
   std::vector<Pose2> truth;
-  Submaps maps;           ///< stored frames and travel; no points
-  std::size_t lap = 0;    ///< submaps per lap
+  Submaps maps;         ///< stored frames and travel; no points
+  std::size_t lap = 0;  ///< submaps per lap
 };
 
 inline RectangleLaps rectangle_laps() {
