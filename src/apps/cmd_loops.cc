@@ -144,10 +144,11 @@ void run_loops(const LoopsOptions& o) {
   std::vector<LoopClosure> accepted;
   for (const LoopClosure& c : closures)
     if (c.confidence >= o.min_confidence) accepted.push_back(c);
+  const FailedChecks failed = failed_checks(closures);
   std::cout << std::fixed << std::setprecision(1) << dataset.spec.name << ": " << maps.size() << " submaps, "
             << closures.size() << " verified hypotheses (" << o.config.method << ", G " << o.config.min_travel_gap
-            << " m; " << failed_checks(closures).outside_group << " outside the consistent group, "
-            << failed_checks(closures).at_odds_with_graph << " at odds with its pose graph), " << accepted.size()
+            << " m; " << failed.outside_group << " outside the consistent group, " << failed.at_odds_with_graph
+            << " at odds with its pose graph), " << accepted.size()
             << " accepted at confidence >= " << std::setprecision(2) << o.min_confidence << std::setprecision(1)
             << ", " << seconds << " s\n"
             << note << "\n";

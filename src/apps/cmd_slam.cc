@@ -84,6 +84,7 @@ nlohmann::json map_check_json(const MapCheck& m, const MapCheckConfig& c) {
 
 nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
   const BackEndResult& b = r.back_end;
+  const FailedChecks failed = failed_checks(r.closures);
   return {{"log", o.log},
           {"scans", r.scans.size()},
           {"submaps", r.submaps.size()},
@@ -94,8 +95,8 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"seconds", r.front_end_s}}},
           {"closures",
            {{"hypotheses", r.closures.size()},
-            {"outside_consistent_group", failed_checks(r.closures).outside_group},
-            {"at_odds_with_graph", failed_checks(r.closures).at_odds_with_graph},
+            {"outside_consistent_group", failed.outside_group},
+            {"at_odds_with_graph", failed.at_odds_with_graph},
             {"offered", r.accepted},
             {"used", b.used_count},
             {"set_aside", b.rejected},
@@ -184,12 +185,13 @@ std::filesystem::path output_folder(const SlamOptions& o, bool& created) {
 void print_summary(const SlamOptions& o, const io::ScanSource& source, const SlamResult& r) {
   const FrontEndStats& fe = r.front_end;
   const BackEndResult& b = r.back_end;
+  const FailedChecks failed = failed_checks(r.closures);
   std::cout << std::fixed << std::setprecision(1) << source.name << ": " << fe.scans << " scans, front end "
             << r.front_end_s << " s (" << std::setprecision(0) << fe.log_seconds / std::max(r.front_end_s, 1e-9)
             << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n"
             << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
-            << " loop-closure hypotheses (" << failed_checks(r.closures).outside_group
-            << " outside the consistent group, " << failed_checks(r.closures).at_odds_with_graph
+            << " loop-closure hypotheses (" << failed.outside_group << " outside the consistent group, "
+            << failed.at_odds_with_graph
             << " at odds with its pose graph), " << r.accepted
             << " offered (confidence >= " << std::setprecision(2)
             << o.config.min_confidence << std::setprecision(1) << "), " << r.loops_s << " s; "

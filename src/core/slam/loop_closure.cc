@@ -27,23 +27,34 @@ Points2 context_points(const Submaps& maps, std::size_t i, double context) {
   return voxel_downsample(all, kContextResolution);
 }
 
+// The drift gate between query q and match m: a true match lies within `translation` [m] and `turn` [rad] of the
+// stored relative pose `prior`, bounds that grow with the travel between the two. `off` when it is turned off.
+struct DriftGate {
+  bool off = false;
+  Pose2 prior;
+  double translation = 0, turn = 0;
+};
+
+DriftGate drift_gate(const Submaps& maps, std::size_t q, std::size_t m, const LoopClosureConfig& c) {
+  const double gap = std::abs(maps[q].travel - maps[m].travel);
+  return {c.drift_offset == 0 && c.drift_rate == 0, maps[m].T_world_map.inverse() * maps[q].T_world_map,
+          c.drift_offset + c.drift_rate * gap, c.drift_turn + c.drift_turn_rate * gap};
+}
+
 // False when the hypothesis lies outside the drift gate around the stored relative pose.
 bool within_drift(const Submaps& maps, std::size_t q, std::size_t m, const Pose2& T_match_query,
                   const LoopClosureConfig& c) {
-  if (c.drift_offset == 0 && c.drift_rate == 0) return true;
-  const double gap = std::abs(maps[q].travel - maps[m].travel);
-  const Pose2 prior = maps[m].T_world_map.inverse() * maps[q].T_world_map;
-  return (prior.translation() - T_match_query.translation()).norm() <= c.drift_offset + c.drift_rate * gap &&
-         std::abs(wrap_angle(prior.theta - T_match_query.theta)) <= c.drift_turn + c.drift_turn_rate * gap;
+  const DriftGate g = drift_gate(maps, q, m, c);
+  return g.off || ((g.prior.translation() - T_match_query.translation()).norm() <= g.translation &&
+                   std::abs(wrap_angle(g.prior.theta - T_match_query.theta)) <= g.turn);
 }
 
 // False when no pose dMM can return (translations within its window) passes the drift gate.
 bool may_pass_drift(const Submaps& maps, std::size_t q, std::size_t m, const DmmConfig& dmm,
                     const LoopClosureConfig& c) {
-  if ((c.drift_offset == 0 && c.drift_rate == 0) || dmm.linear_window <= 0) return true;  // no gate, or no window
-  const double gap = std::abs(maps[q].travel - maps[m].travel);
-  const Pose2 prior = maps[m].T_world_map.inverse() * maps[q].T_world_map;
-  return prior.translation().norm() <= c.drift_offset + c.drift_rate * gap + std::sqrt(2.0) * dmm.linear_window;
+  const DriftGate g = drift_gate(maps, q, m, c);
+  return g.off || dmm.linear_window <= 0 ||  // no gate, or no window
+         g.prior.translation().norm() <= g.translation + std::sqrt(2.0) * dmm.linear_window;
 }
 
 // The hypotheses of one query from its ranking: every candidate dMM verified within the drift gate, then in
