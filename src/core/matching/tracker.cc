@@ -34,6 +34,13 @@ void validate(const TrackerConfig& c) {
   if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
 }
 
+double shared_evidence_log_ratio(std::span<const double> a, std::span<const double> b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  double ratio = 0;
+  for (std::size_t i = 1; i <= n; ++i) ratio += a[a.size() - i] - b[b.size() - i];
+  return ratio;
+}
+
 const char* to_string(TrackStatus status) {
   switch (status) {
     case TrackStatus::kSearching: return "searching";
@@ -56,6 +63,7 @@ void Tracker::reset() {
   dominant_steps_ = weak_steps_ = 0;
   blind_ = false;
   steps_since_search_ = 0;
+  previous_.reset();
 }
 
 const Tracker::Hypothesis* Tracker::find(int id) const {
@@ -113,6 +121,21 @@ void Tracker::merge_and_drop() {
   hypotheses_ = std::move(out);
 }
 
+// Whether the steps since each other place's hypothesis was born weighed `h` above it by declare_share's
+// odds: a rival found later started from the none weight's share, so its weight is smaller by when it was
+// found, not by what the local maps said of it. Hypotheses within the localizer's "elsewhere" of `h` are the
+// same place seen a little off, not rivals.
+bool Tracker::ahead_of_rivals(const Hypothesis& h) const {
+  const double odds = std::log(config_.declare_share / (1 - config_.declare_share));
+  const OtherPlace& elsewhere = localizer_.config().elsewhere;
+  const PoseTolerance same_place{elsewhere.distance, elsewhere.angle};
+  for (const Hypothesis& r : hypotheses_) {
+    if (r.id == h.id || same_place.accepts(h.T_map_query, r.T_map_query)) continue;
+    if (!(shared_evidence_log_ratio(h.history, r.history) >= odds)) return false;
+  }
+  return true;
+}
+
 // Returns true when the robot was lost this step (every hypothesis dropped).
 bool Tracker::update_status(bool evidence) {
   const Hypothesis* declared = find(declared_);
@@ -141,7 +164,8 @@ bool Tracker::update_status(bool evidence) {
         if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
         blind_ = true;
       } else if (blind_) {
-        if (std::exp(declared->log_weight) >= config_.declare_share) status_ = TrackStatus::kLocalised;
+        if (std::exp(declared->log_weight) >= config_.declare_share && ahead_of_rivals(*declared))
+          status_ = TrackStatus::kLocalised;
         else declared_ = -1;
         blind_ = false;
       }
@@ -154,7 +178,7 @@ bool Tracker::update_status(bool evidence) {
     return h.seen >= config_.min_seen && h.probability >= config_.lost_probability && !h.moved;
   };
   if (heaviest != nullptr && evidence && fits(*heaviest) && std::exp(heaviest->log_weight) >= config_.declare_share &&
-      heaviest->probability >= config_.declare_probability) {
+      heaviest->probability >= config_.declare_probability && ahead_of_rivals(*heaviest)) {
     dominant_steps_ = heaviest->id == dominant_ ? dominant_steps_ + 1 : 1;
     dominant_ = heaviest->id;
   } else if (evidence) {
@@ -184,29 +208,18 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   if (!hypotheses_.empty()) {
     std::vector<Pose2> carried;
     for (Hypothesis& h : hypotheses_) h.T_map_query = h.T_map_query * motion, ++h.age, carried.push_back(h.T_map_query);
-    VerifyConfig verify = localizer_.config().verify;
-    verify.refine_window = config_.track_window;
-    verify.refine_angle = config_.track_angle;
-    std::vector<Verified> at_carried;
-    std::vector<Verified> seen = localizer_.verify_all(points, origins, carried, verify, &at_carried);
+    const std::vector<Verified> seen = verify_carried(points, origins, carried);
     for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
       Hypothesis& h = hypotheses_[i];
-      const Pose2 moved = carried[i].inverse() * seen[i].T_map_query;
-      h.moved = std::hypot(moved.x, moved.y) > config_.claim_shift.translation ||
-                std::abs(moved.theta) > config_.claim_shift.rotation;
-      // A match that moves the pose further than the odometry errs in a step must fit much better there: along
-      // a corridor (or where the local map is half outside the map) it fits about as well anywhere, and the
-      // odometry's pose is the better guess.
-      if (h.moved && seen[i].probability < config_.move_gain * at_carried[i].probability)
-        seen[i] = at_carried[i], h.moved = false;
+      h.moved = shifted(carried[i], seen[i].T_map_query);
       h.T_map_query = seen[i].T_map_query;
       h.probability = seen[i].probability;
       h.seen = seen[i].terms.query.seen;
-      // Where the building map never saw the local map's place, the local map says nothing of the
-      // hypothesis: it is weighed as the none weight is.
-      const bool weighs = h.seen >= config_.min_seen;
-      evidence = evidence || weighs;
-      h.log_weight += std::log(weighs ? std::max(h.probability, config_.floor_probability) : config_.other_probability);
+      evidence = evidence || h.seen >= config_.min_seen;
+      const double factor = weight_factor(seen[i]);
+      h.log_weight += factor;
+      h.history.push_back(factor);
+      if (h.history.size() > kHistory) h.history.erase(h.history.begin());
     }
     none_log_weight_ += std::log(config_.other_probability), weighed = true;
     normalise();
@@ -221,6 +234,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     const std::vector<Verified> found = localizer_.hypotheses(points, origins, config_.hypotheses, config_.search_verified);
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
+    const std::size_t rivals = hypotheses_.size();
     for (const Verified& v : found) {
       evidence = evidence || v.terms.query.seen >= config_.min_seen;
       const bool known = std::any_of(hypotheses_.begin(), hypotheses_.end(),
@@ -231,8 +245,19 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
       h.T_map_query = v.T_map_query;
       h.probability = v.probability;
       h.seen = v.terms.query.seen;
-      h.log_weight = from + std::log(std::max(v.probability, config_.floor_probability));
+      h.history = {std::log(std::max(v.probability, config_.floor_probability))};
+      h.log_weight = from + h.history.front();
       hypotheses_.push_back(h);
+    }
+    // The newborn are weighed on the previous local map too, where the odometry says they were, so that a
+    // rival carried since then is compared with them on two steps, not on this one alone (tracker.h, 4).
+    if (rivals > 0 && previous_.has_value() && hypotheses_.size() > rivals) {
+      std::vector<Pose2> before;
+      for (std::size_t i = rivals; i < hypotheses_.size(); ++i)
+        before.push_back(hypotheses_[i].T_map_query * motion.inverse());
+      const std::vector<Verified> then = verify_carried(previous_->points, previous_->origins, before);
+      for (std::size_t i = rivals; i < hypotheses_.size(); ++i)
+        hypotheses_[i].history.insert(hypotheses_[i].history.begin(), weight_factor(then[i - rivals]));
     }
     if (!weighed) none_log_weight_ += std::log(config_.other_probability), weighed = true;
     normalise();
@@ -247,7 +272,39 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   else merge_and_drop(), normalise();
   // 4. The status; lost this step: the search starts again at once.
   if (update_status(evidence) && !searched) weighed = false, search();
+  previous_ = Previous{points, origins};
   return report(searched, evidence, ms_since(t0));
+}
+
+// Each pose refined within the track window; a refinement that moves it further than claim_shift is kept only
+// when it is move_gain times as probable as the pose itself: along a corridor (or where the local map is half
+// outside the map) it fits about as well anywhere, and the odometry's pose is the better guess.
+std::vector<Verified> Tracker::verify_carried(const Points2& points, const Points2& origins,
+                                              const std::vector<Pose2>& poses) const {
+  VerifyConfig verify = localizer_.config().verify;
+  verify.refine_window = config_.track_window;
+  verify.refine_angle = config_.track_angle;
+  std::vector<Verified> at_poses;
+  std::vector<Verified> out = localizer_.verify_all(points, origins, poses, verify, &at_poses);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (shifted(poses[i], out[i].T_map_query) &&
+        out[i].probability < config_.move_gain * at_poses[i].probability)
+      out[i] = at_poses[i];
+  return out;
+}
+
+bool Tracker::shifted(const Pose2& from, const Pose2& to) const {
+  const Pose2 d = from.inverse() * to;
+  return std::hypot(d.x, d.y) > config_.claim_shift.translation ||
+         std::abs(d.theta) > config_.claim_shift.rotation;
+}
+
+// What a step multiplies a hypothesis's weight by (log): its probability (at least floor_probability),
+// or, where the building map never saw the local map's place, other_probability (the local map says
+// nothing of it).
+double Tracker::weight_factor(const Verified& v) const {
+  const bool weighs = v.terms.query.seen >= config_.min_seen;
+  return std::log(weighs ? std::max(v.probability, config_.floor_probability) : config_.other_probability);
 }
 
 TrackStep Tracker::report(bool searched, bool evidence, double time_ms) const {

@@ -14,25 +14,33 @@
 //      honest when every hypothesis fits badly;
 //   3. while not localised (the first step, and every search_every steps), the global search's best distinct
 //      poses (Localizer::hypotheses) join as new hypotheses, each with the none weight's share times its
-//      probability; hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop,
-//      at most max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at
-//      most: a kidnapped pose is not immune by what it once fitted);
+//      probability (when others are being carried, the newborn are also weighed on the previous local map,
+//      where the odometry says they were: evidence for the comparison of 4, not for their weight);
+//      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
+//      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
+//      kidnapped pose is not immune by what it once fitted);
 //   4. a hypothesis is declared when its share of the weight (the none weight included) reaches declare_share
-//      on declare_steps consecutive steps on which it fits (probability at least declare_probability); the
-//      others are still carried (they may win back); when the declared one's probability stays below
-//      lost_probability for lost_steps steps in a row the robot was carried elsewhere (kidnapped) or the map no
-//      longer holds the place: "lost", every hypothesis is dropped and the search starts again at once.
-// Nothing is claimed (the status reads "searching", the declared hypothesis is kept and declared again at once
-// when it fits again with declare_share) on a step where the declared pose fits below lost_probability, lies
-// where the building map saw little of the local map (query seen share below min_seen: a room the map does not
-// hold, or a pose drifted off; such a hypothesis is weighed as the none weight is, the local map says nothing of
-// it), or was moved by the match more than claim_shift from where the odometry carried it. Such a move is taken
-// only when the match is move_gain times as probable as the odometry's pose (along a corridor it fits about as
-// well anywhere).
+//      on declare_steps consecutive steps on which it fits (probability at least declare_probability) and
+//      the steps since each rival place's birth weighed it above that rival by the same odds (declare_share
+//      / (1 - declare_share)): a rival the search found only later (a corridor's mirror image, where the
+//      true place fits as well) starts from the none weight's share, so its small weight says when it was
+//      found, not that it fits worse (docs/NOTES.md, "Rivals found later"); the others are still carried
+//      (they may win back); when the declared one's probability stays below lost_probability for lost_steps
+//      steps in a row the robot was carried elsewhere (kidnapped) or the map no longer holds the place:
+//      "lost", every hypothesis is dropped and the search starts again at once.
+// Nothing is claimed (the status reads "searching", the declared hypothesis is kept and declared again at
+// once when it fits again with declare_share, ahead of its rivals) on a step where the declared pose fits
+// below lost_probability, lies where the building map saw little of the local map (query seen share below
+// min_seen: a room the map does not hold, or a pose drifted off; such a hypothesis is weighed as the none
+// weight is, the local map says nothing of it), or was moved by the match more than claim_shift from where
+// the odometry carried it. Such a move is taken only when the match is move_gain times as probable as the
+// odometry's pose (along a corridor it fits about as well anywhere).
 #pragma once
 
 #include <cstddef>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -74,6 +82,11 @@ struct TrackerConfig {
 
 /// Throws InputError naming the field.
 void validate(const TrackerConfig& config);
+
+/// The log of how much more the steps both hypotheses lived through weighed `a` than `b`: a and b hold what
+/// each step multiplied a hypothesis's weight by (log, oldest first, the last entry this step's), so the
+/// shorter one's span is compared with the same steps of the longer.
+double shared_evidence_log_ratio(std::span<const double> a, std::span<const double> b);
 
 enum class TrackStatus { kSearching, kLocalised, kLost };
 /// "searching", "localised", "lost".
@@ -120,7 +133,16 @@ class Tracker {
     double seen = 0;  ///< this step's query seen share there (core/matching/verification.h)
     bool moved = false;  ///< this step's match moved it by more than claim_shift
     int age = 0;
+    /// what each step since its birth multiplied its weight by (log; the birth search's probability first, at
+    /// most kHistory steps): the evidence it and a rival born later both saw
+    std::vector<double> history;
   };
+  static constexpr std::size_t kHistory = 256;
+  bool ahead_of_rivals(const Hypothesis& h) const;
+  std::vector<Verified> verify_carried(const Points2& points, const Points2& origins,
+                                       const std::vector<Pose2>& poses) const;
+  bool shifted(const Pose2& from, const Pose2& to) const;
+  double weight_factor(const Verified& v) const;
   void normalise();
   void merge_and_drop();
   bool update_status(bool evidence);
@@ -139,8 +161,12 @@ class Tracker {
   int dominant_ = -1;         ///< id of the heaviest one while it holds declare_share ...
   int dominant_steps_ = 0;    ///< ... on this many consecutive steps
   int weak_steps_ = 0;        ///< consecutive steps the declared one fell below lost_probability
-  bool blind_ = false;
-  int steps_since_search_ = 0;        ///< the declared one left the map's seen cells: searching until it is seen again
+  bool blind_ = false;  ///< the declared one fits badly or left the map's seen cells: no claim until it fits
+  int steps_since_search_ = 0;  ///< steps since the last global search
+  struct Previous {
+    Points2 points, origins;
+  };
+  std::optional<Previous> previous_;  ///< the last step's local map (the newborn are weighed on it too)
 };
 
 }  // namespace partslam

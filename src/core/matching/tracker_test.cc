@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "core/error.h"
 #include "core/maps/grid_map.h"
 #include "core/maps/submap.h"
@@ -93,6 +95,20 @@ TEST(Tracker, NoticesAKidnappingAndLocalisesAgain) {
   EXPECT_LE(lost_at, 3);
   ASSERT_GE(again_at, 0) << "never localised again";
   EXPECT_LE(again_at - lost_at, 10);
+}
+
+TEST(Tracker, ComparesARivalFoundLaterOnlyOnTheStepsItLivedThrough) {
+  // `a` has fitted for six steps; `b`, found three steps ago, fitted as well on each of them: no evidence
+  // favours `a`, however much heavier its six steps made it.
+  const std::vector<double> a{-1.0, -1.2, -0.9, -1.5, -1.1, -1.3};
+  const std::vector<double> b{-1.5, -1.1, -1.3};
+  EXPECT_DOUBLE_EQ(shared_evidence_log_ratio(a, b), 0.0);
+  // Refuted on its first step (probability e^-6 against e^-1.5): odds of e^4.5 for `a`, the other way round
+  // for `refuted`.
+  const std::vector<double> refuted{-6.0, -1.1, -1.3};
+  EXPECT_NEAR(shared_evidence_log_ratio(a, refuted), 4.5, 1e-12);
+  EXPECT_NEAR(shared_evidence_log_ratio(refuted, a), -4.5, 1e-12);
+  EXPECT_DOUBLE_EQ(shared_evidence_log_ratio(a, {}), 0.0);
 }
 
 TEST(Tracker, RejectsBadConfigsAndEmptyLocalMaps) {
