@@ -197,6 +197,12 @@ TEST_F(CliLocateTest, TrackFollowsTheLogThroughItsMap) {
   }
   EXPECT_GE(localised, j["tracked"].size() * 3 / 4);
   EXPECT_LE(first, 5u);
+  EXPECT_THAT(run.output, Not(HasSubstr("hint:")));
+  // A map of the log's first 10 m: most steps lie outside it, and the run says what else could be wrong.
+  ASSERT_EQ(run_partslam("export-map sim:1 --until 10 --out " + quoted(dir_ / "first.yaml")).exit_code, 0);
+  run = run_partslam("locate --map " + quoted(dir_ / "first.yaml") + " --query-log sim:1 --track --every 4 --quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("hint: fewer than half the steps were localised"));
   run = run_partslam("locate --map " + quoted(yaml) + " --query-log sim:1 --track --from 1 --to 3");
   EXPECT_NE(run.exit_code, 0);
   EXPECT_THAT(run.output, HasSubstr("--track goes with --query-log alone"));

@@ -256,7 +256,7 @@ std::vector<Tracked> track_log(const LocateOptions& o, const Localizer& localize
   return out;
 }
 
-void print_tracked(const std::vector<Tracked>& tracked) {
+void print_tracked(const std::vector<Tracked>& tracked, bool scan_matched) {
   std::vector<double> times;
   std::size_t localised = 0, lost = 0;
   std::optional<std::size_t> first;
@@ -281,6 +281,12 @@ void print_tracked(const std::vector<Tracked>& tracked) {
               "max %.1f ms\n",
               tracked.size(), localised, first ? std::to_string(*first + 1).c_str() : "none", lost,
               times[times.size() / 2], times.back());
+  // A raw log's odometry bends a 2 m local map (fr079's bag: 34 of 196 steps localised, 190 of 200 with
+  // --scan-match).
+  if (!scan_matched && 2 * localised < tracked.size())
+    std::fprintf(stderr,
+                 "hint: fewer than half the steps were localised; the local maps were built on the log's own poses: "
+                 "for a raw log (poses from odometry) add --scan-match\n");
 }
 
 nlohmann::json tracked_json(const Tracked& t) {
@@ -381,7 +387,7 @@ void run_locate(const LocateOptions& o) {
   const QueryLog log = o.query.log.empty() ? QueryLog{} : load_query_log(o.query, {}, o.submap.window_length);
   if (o.track) {
     const std::vector<Tracked> tracked = track_log(o, localizer, log.scans);
-    print_tracked(tracked);
+    print_tracked(tracked, o.query.scan_match);
     if (!o.plot.empty() && !tracked.empty()) write_track_plot(o, map, tracked);
     if (!o.mcap.empty() && !tracked.empty()) {
       std::vector<io::LocatedPose> poses;
