@@ -187,7 +187,10 @@ void define_localization(py::module_& m) {
       .def("locate", &Localizer::locate, "query_points"_a, "query_origins"_a = Points2{}, release_gil(),
            "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives; "
            "query_origins: its laser positions, Submap.origins, for a calibrated probability).")
-      .def("hypotheses", &Localizer::hypotheses, "query_points"_a, "query_origins"_a = Points2{}, "count"_a = 8,
+      .def("hypotheses",
+           static_cast<std::vector<Verified> (Localizer::*)(const Points2&, const Points2&, int, int) const>(
+               &Localizer::hypotheses),
+           "query_points"_a, "query_origins"_a = Points2{}, "count"_a = 8,
            "verified"_a = 0, release_gil(),
            "The global search's distinct verified poses (Verified), most probable first: what a tracker starts "
            "from.")

@@ -139,9 +139,13 @@ Verified Localizer::verify(const Points2& query_points, const Points2& query_ori
 std::vector<Verified> Localizer::verify_all(const Points2& query_points, const Points2& query_origins,
                                        std::span<const Pose2> poses, const VerifyConfig& config,
                                        std::vector<Verified>* at_poses) const {
-  validate(config);
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
-  const VerifyQuery query = verify_query(query_points, query_origins);
+  return verify_all(verify_query(query_points, query_origins), poses, config, at_poses);
+}
+
+std::vector<Verified> Localizer::verify_all(const VerifyQuery& query, std::span<const Pose2> poses,
+                                            const VerifyConfig& config, std::vector<Verified>* at_poses) const {
+  validate(config);
   std::vector<Verified> out;
   if (at_poses != nullptr) at_poses->assign(poses.size(), {});
   for (std::size_t i = 0; i < poses.size(); ++i)
@@ -152,9 +156,14 @@ std::vector<Verified> Localizer::verify_all(const Points2& query_points, const P
 std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const Points2& query_origins,
                                             int count, int verified) const {
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
+  return hypotheses(query_points, verify_query(query_points, query_origins), count, verified);
+}
+
+std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const VerifyQuery& verify_local,
+                                            int count, int verified) const {
+  if (query_points.empty()) throw InputError("localizer: the local map has no point");
   const PreparedQuery query = prepare_query(query_points, config_.dmm);
   const std::vector<Candidate> found = search_candidates(query_points, query, centroid(query_points));
-  const VerifyQuery verify_local = verify_query(query_points, query_origins);
   const std::size_t chosen =
       std::min<std::size_t>(found.size(), static_cast<std::size_t>(verified >= 1 ? verified : config_.verified));
   std::vector<Verified> all;

@@ -135,11 +135,23 @@ class Localizer {
   /// refined and scored (verify_match). query_points must not be empty.
   Verified verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const;
 
+  /// A local map prepared for verification once, however many poses are verified: its grid (beams cast from
+  /// its laser origins) and the box of its points and origins.
+  struct VerifyQuery {
+    VerifyMap map;
+    Vec2 lo, hi;
+  };
+  /// query_points must not be empty.
+  VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;
+
   /// The global search's distinct answers, most probable first (a tracker's hypotheses): locate()'s best
   /// `verified` candidates (config().verified when < 1) refined and scored as its answer is; an answer that
   /// refines within candidate_distance and elsewhere.angle of a more probable one is the same pose and dropped;
   /// at most `count`. Throws InputError as locate() does.
   std::vector<Verified> hypotheses(const Points2& query_points, const Points2& query_origins, int count,
+                                   int verified = 0) const;
+  /// The same with the local map already prepared for verification (verify_query of the same points).
+  std::vector<Verified> hypotheses(const Points2& query_points, const VerifyQuery& prepared, int count,
                                    int verified = 0) const;
   /// Each of `poses` verified as verify() does, refined within `config`'s window instead of the localizer's
   /// (a pose carried by odometry is further off than a lattice pose); the local map's beams cast once.
@@ -147,6 +159,9 @@ class Localizer {
   std::vector<Verified> verify_all(const Points2& query_points, const Points2& query_origins,
                                    std::span<const Pose2> poses, const VerifyConfig& config,
                                    std::vector<Verified>* at_poses = nullptr) const;
+  /// The same with the local map already prepared (a tracker verifies one local map at several steps' poses).
+  std::vector<Verified> verify_all(const VerifyQuery& prepared, std::span<const Pose2> poses,
+                                   const VerifyConfig& config, std::vector<Verified>* at_poses = nullptr) const;
 
   const LocalizerConfig& config() const { return config_; }
   /// The rotation that took the building map into its canonical frame [rad].
@@ -159,13 +174,6 @@ class Localizer {
  private:
   Localizer(const Points2& map_points, const Points2& free_points, const LocalizerConfig& config);
   int free_conflicts(const Points2& query_points, const Pose2& T_map_query) const;
-  /// A local map prepared for verification once, however many candidates are verified: its grid (beams cast
-  /// from its laser origins) and the box of its points and origins.
-  struct VerifyQuery {
-    VerifyMap map;
-    Vec2 lo, hi;
-  };
-  VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;
   Verified verify(const VerifyQuery& query, const Pose2& T_map_query) const;
   Verified verify(const VerifyQuery& query, const Pose2& T_map_query, const VerifyConfig& config,
                   Verified* at_pose = nullptr) const;

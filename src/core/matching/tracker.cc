@@ -63,7 +63,7 @@ void Tracker::reset() {
   dominant_steps_ = weak_steps_ = 0;
   blind_ = false;
   steps_since_search_ = 0;
-  previous_.reset();
+  previous_.clear();
 }
 
 const Tracker::Hypothesis* Tracker::find(int id) const {
@@ -202,13 +202,16 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     throw InputError("tracker: the local map's odometry pose is not finite");
   const Pose2 motion = has_last_ ? T_odom_last_.inverse() * T_odom_map : Pose2{};
   T_odom_last_ = T_odom_map, has_last_ = true;
+  if (!previous_.empty()) previous_.back().motion = motion;
+  // The local map's beams cast once for every verification of this step (and the newborn's of later steps).
+  Localizer::VerifyQuery prepared = localizer_.verify_query(points, origins);
 
   // 1-2. Carry and weigh.
   bool evidence = false, weighed = false;
   if (!hypotheses_.empty()) {
     std::vector<Pose2> carried;
     for (Hypothesis& h : hypotheses_) h.T_map_query = h.T_map_query * motion, ++h.age, carried.push_back(h.T_map_query);
-    const std::vector<Verified> seen = verify_carried(points, origins, carried);
+    const std::vector<Verified> seen = verify_carried(prepared, carried, true);
     for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
       Hypothesis& h = hypotheses_[i];
       h.moved = shifted(carried[i], seen[i].T_map_query);
@@ -231,7 +234,8 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   const auto search = [&] {
     searched = true;
     steps_since_search_ = 0;
-    const std::vector<Verified> found = localizer_.hypotheses(points, origins, config_.hypotheses, config_.search_verified);
+    const std::vector<Verified> found =
+        localizer_.hypotheses(points, prepared, config_.hypotheses, config_.search_verified);
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
     const std::size_t rivals = hypotheses_.size();
@@ -249,15 +253,27 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
       h.log_weight = from + h.history.front();
       hypotheses_.push_back(h);
     }
-    // The newborn are weighed on the previous local map too, where the odometry says they were, so that a
-    // rival carried since then is compared with them on two steps, not on this one alone (tracker.h, 4).
-    if (rivals > 0 && previous_.has_value() && hypotheses_.size() > rivals) {
+    // The newborn are weighed on the last kWeighedBack local maps too, where the odometry says they were
+    // (refined within the localizer's window, as the search's candidates are), so that a rival carried since
+    // then is compared with them on those steps as well, not on this one alone (tracker.h, 4).
+    // Only those that fit this step within declare_share's odds of the best carried one: the others cannot
+    // hold back a declaration on this step's evidence alone.
+    double best_carried = 0;
+    for (std::size_t i = 0; i < rivals; ++i) best_carried = std::max(best_carried, hypotheses_[i].probability);
+    std::vector<std::size_t> close;
+    for (std::size_t i = rivals; i < hypotheses_.size(); ++i)
+      if (hypotheses_[i].probability * config_.declare_share >= best_carried * (1 - config_.declare_share))
+        close.push_back(i);
+    if (!close.empty()) {
       std::vector<Pose2> before;
-      for (std::size_t i = rivals; i < hypotheses_.size(); ++i)
-        before.push_back(hypotheses_[i].T_map_query * motion.inverse());
-      const std::vector<Verified> then = verify_carried(previous_->points, previous_->origins, before);
-      for (std::size_t i = rivals; i < hypotheses_.size(); ++i)
-        hypotheses_[i].history.insert(hypotheses_[i].history.begin(), weight_factor(then[i - rivals]));
+      for (const std::size_t i : close) before.push_back(hypotheses_[i].T_map_query);
+      for (std::size_t k = 0; k < previous_.size(); ++k) {
+        const Previous& p = previous_[previous_.size() - 1 - k];
+        for (Pose2& b : before) b = b * p.motion.inverse();
+        const std::vector<Verified> then = verify_carried(p.prepared, before, false);
+        for (std::size_t j = 0; j < close.size(); ++j)
+          hypotheses_[close[j]].history.insert(hypotheses_[close[j]].history.begin(), weight_factor(then[j]));
+      }
     }
     if (!weighed) none_log_weight_ += std::log(config_.other_probability), weighed = true;
     normalise();
@@ -272,20 +288,20 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   else merge_and_drop(), normalise();
   // 4. The status; lost this step: the search starts again at once.
   if (update_status(evidence) && !searched) weighed = false, search();
-  previous_ = Previous{points, origins};
+  previous_.push_back(Previous{std::move(prepared), Pose2{}});
+  if (previous_.size() > kWeighedBack) previous_.erase(previous_.begin());
   return report(searched, evidence, ms_since(t0));
 }
 
-// Each pose refined within the track window; a refinement that moves it further than claim_shift is kept only
+// Each pose refined within the track window (or the localizer's own, track_window false); a refinement that moves it further than claim_shift is kept only
 // when it is move_gain times as probable as the pose itself: along a corridor (or where the local map is half
 // outside the map) it fits about as well anywhere, and the odometry's pose is the better guess.
-std::vector<Verified> Tracker::verify_carried(const Points2& points, const Points2& origins,
-                                              const std::vector<Pose2>& poses) const {
+std::vector<Verified> Tracker::verify_carried(const Localizer::VerifyQuery& prepared,
+                                              const std::vector<Pose2>& poses, bool track_window) const {
   VerifyConfig verify = localizer_.config().verify;
-  verify.refine_window = config_.track_window;
-  verify.refine_angle = config_.track_angle;
+  if (track_window) verify.refine_window = config_.track_window, verify.refine_angle = config_.track_angle;
   std::vector<Verified> at_poses;
-  std::vector<Verified> out = localizer_.verify_all(points, origins, poses, verify, &at_poses);
+  std::vector<Verified> out = localizer_.verify_all(prepared, poses, verify, &at_poses);
   for (std::size_t i = 0; i < out.size(); ++i)
     if (shifted(poses[i], out[i].T_map_query) &&
         out[i].probability < config_.move_gain * at_poses[i].probability)

@@ -14,7 +14,7 @@
 //      honest when every hypothesis fits badly;
 //   3. while not localised (the first step, and every search_every steps), the global search's best distinct
 //      poses (Localizer::hypotheses) join as new hypotheses, each with the none weight's share times its
-//      probability (when others are being carried, the newborn are also weighed on the previous local map,
+//      probability (when others are being carried, the newborn are also weighed on the last two local maps,
 //      where the odometry says they were: evidence for the comparison of 4, not for their weight);
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
@@ -39,7 +39,6 @@
 
 #include <cstddef>
 #include <numbers>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -139,8 +138,8 @@ class Tracker {
   };
   static constexpr std::size_t kHistory = 256;
   bool ahead_of_rivals(const Hypothesis& h) const;
-  std::vector<Verified> verify_carried(const Points2& points, const Points2& origins,
-                                       const std::vector<Pose2>& poses) const;
+  std::vector<Verified> verify_carried(const Localizer::VerifyQuery& prepared, const std::vector<Pose2>& poses,
+                                       bool track_window) const;
   bool shifted(const Pose2& from, const Pose2& to) const;
   double weight_factor(const Verified& v) const;
   void normalise();
@@ -164,9 +163,14 @@ class Tracker {
   bool blind_ = false;  ///< the declared one fits badly or left the map's seen cells: no claim until it fits
   int steps_since_search_ = 0;  ///< steps since the last global search
   struct Previous {
-    Points2 points, origins;
+    Localizer::VerifyQuery prepared;  ///< its local map, prepared for verification
+    Pose2 motion;                     ///< the odometry's motion from it to the next step
   };
-  std::optional<Previous> previous_;  ///< the last step's local map (the newborn are weighed on it too)
+  /// The newborn are weighed on this many earlier local maps too (1 / 2 / 3 tried: 2 gave intel harsh, a tuning
+  /// log, 28 of 29 starts where 1 gave 27, fhw, fr079 and seattle unchanged; 3 brought wrong steps back on
+  /// infinite-corridor; docs/NOTES.md, "Rivals found later").
+  static constexpr std::size_t kWeighedBack = 2;
+  std::vector<Previous> previous_;  ///< the last kWeighedBack steps' local maps, oldest first
 };
 
 }  // namespace partslam
