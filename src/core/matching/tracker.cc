@@ -152,6 +152,7 @@ bool Tracker::update_status(bool evidence) {
       if (weak_steps_ >= config_.lost_steps) {
         status_ = TrackStatus::kLost;
         hypotheses_.clear();
+        previous_.clear();  // the local maps before are of where the robot was carried from
         none_log_weight_ = 0;
         declared_ = dominant_ = -1;
         dominant_steps_ = weak_steps_ = 0;
@@ -293,9 +294,10 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   return report(searched, evidence, ms_since(t0));
 }
 
-// Each pose refined within the track window (or the localizer's own, track_window false); a refinement that moves it further than claim_shift is kept only
-// when it is move_gain times as probable as the pose itself: along a corridor (or where the local map is half
-// outside the map) it fits about as well anywhere, and the odometry's pose is the better guess.
+// Each pose refined within the track window (or the localizer's own, track_window false); a refinement that
+// moves it further than claim_shift is kept only when it is move_gain times as probable as the pose itself:
+// along a corridor (or where the local map is half outside the map) it fits about as well anywhere, and the
+// odometry's pose is the better guess.
 std::vector<Verified> Tracker::verify_carried(const Localizer::VerifyQuery& prepared,
                                               const std::vector<Pose2>& poses, bool track_window) const {
   VerifyConfig verify = localizer_.config().verify;

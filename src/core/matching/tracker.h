@@ -14,7 +14,7 @@
 //      honest when every hypothesis fits badly;
 //   3. while not localised (the first step, and every search_every steps), the global search's best distinct
 //      poses (Localizer::hypotheses) join as new hypotheses, each with the none weight's share times its
-//      probability (when others are being carried, the newborn are also weighed on the last two local maps,
+//      probability (the newborn are also weighed on the last two local maps since the robot was last lost,
 //      where the odometry says they were: evidence for the comparison of 4, not for their weight);
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
