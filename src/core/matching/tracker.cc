@@ -215,7 +215,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     const std::vector<Verified> seen = verify_carried(prepared, carried, true);
     for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
       Hypothesis& h = hypotheses_[i];
-      h.moved = shifted(carried[i], seen[i].T_map_query);
+      h.moved = !config_.claim_shift.accepts(carried[i], seen[i].T_map_query);
       h.T_map_query = seen[i].T_map_query;
       h.probability = seen[i].probability;
       h.seen = seen[i].terms.query.seen;
@@ -305,16 +305,10 @@ std::vector<Verified> Tracker::verify_carried(const Localizer::VerifyQuery& prep
   std::vector<Verified> at_poses;
   std::vector<Verified> out = localizer_.verify_all(prepared, poses, verify, &at_poses);
   for (std::size_t i = 0; i < out.size(); ++i)
-    if (shifted(poses[i], out[i].T_map_query) &&
+    if (!config_.claim_shift.accepts(poses[i], out[i].T_map_query) &&
         out[i].probability < config_.move_gain * at_poses[i].probability)
       out[i] = at_poses[i];
   return out;
-}
-
-bool Tracker::shifted(const Pose2& from, const Pose2& to) const {
-  const Pose2 d = from.inverse() * to;
-  return std::hypot(d.x, d.y) > config_.claim_shift.translation ||
-         std::abs(d.theta) > config_.claim_shift.rotation;
 }
 
 // What a step multiplies a hypothesis's weight by (log): its probability (at least floor_probability),

@@ -140,7 +140,6 @@ class Tracker {
   bool ahead_of_rivals(const Hypothesis& h) const;
   std::vector<Verified> verify_carried(const Localizer::VerifyQuery& prepared, const std::vector<Pose2>& poses,
                                        bool track_window) const;
-  bool shifted(const Pose2& from, const Pose2& to) const;
   double weight_factor(const Verified& v) const;
   void normalise();
   void merge_and_drop();
