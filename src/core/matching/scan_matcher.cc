@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 #include <string>
 
 #include "core/error.h"
@@ -44,19 +46,20 @@ Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pos
 #pragma omp parallel num_threads(std::max(1, num_threads)) if (num_threads > 1 && rotations > 2)
   {
     std::vector<Eigen::Vector2i> cells(points.size());
+    std::vector<double> sums;
 #pragma omp for schedule(static)
     for (int ka = 0; ka < rotations; ++ka) {
       const int a = (ka % 2 == 0 ? 1 : -1) * ((ka + 1) / 2);  // 0, -1, 1, -2, 2, ...: nearest first
       const Pose2 turn{center.x, center.y, wrap_angle(center.theta + a * g.angle_step)};
       for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(turn * points[i]);
-      Eigen::Vector2i lo = cells.empty() ? Eigen::Vector2i::Zero() : cells.front(), hi = lo;
-      for (const Eigen::Vector2i& q : cells) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
       double& best_score = best_of[static_cast<std::size_t>(ka)].first;
       Pose2& best = best_of[static_cast<std::size_t>(ka)].second;
+      field.shifted_sums(cells, g.cell_step, g.shifts, sums);
+      const int n = 2 * g.shifts + 1;
       for (int sy = -g.shifts; sy <= g.shifts; ++sy) {
         for (int sx = -g.shifts; sx <= g.shifts; ++sx) {
           const int dx = sx * g.cell_step, dy = sy * g.cell_step;
-          double score = field.sum_shifted(cells, lo, hi, dx, dy);
+          double score = sums[static_cast<std::size_t>((sy + g.shifts) * n + sx + g.shifts)];
           score -= 1e-9 * (sx * sx + sy * sy + a * a);  // ties: nearest the centre
           if (score > best_score) {
             best_score = score;
@@ -175,19 +178,35 @@ float LikelihoodField::cell_value(int x, int y) const {
   return values_[static_cast<std::size_t>(y) * width_ + x];
 }
 
-double LikelihoodField::sum_shifted(std::span<const Eigen::Vector2i> cells, const Eigen::Vector2i& lo,
-                                    const Eigen::Vector2i& hi, int dx, int dy) const {
-  double sum = 0.0;
-  const std::int64_t x0 = std::int64_t{lo.x()} + dx, y0 = std::int64_t{lo.y()} + dy;
-  const std::int64_t x1 = std::int64_t{hi.x()} + dx, y1 = std::int64_t{hi.y()} + dy;
-  if (x0 >= 0 && y0 >= 0 && x1 < width_ && y1 < height_) {
-    const auto width = static_cast<std::size_t>(width_);
-    for (const Eigen::Vector2i& q : cells)
-      sum += values_[static_cast<std::size_t>(q.y() + dy) * width + static_cast<std::size_t>(q.x() + dx)];
-  } else {
-    for (const Eigen::Vector2i& q : cells) sum += cell_value(q.x() + dx, q.y() + dy);
+void LikelihoodField::shifted_sums(std::span<const Eigen::Vector2i> cells, int step, int shifts,
+                                   std::vector<double>& out) const {
+  if (step < 1 || shifts < 0) throw std::invalid_argument("likelihood field: shifted sums need step >= 1, shifts >= 0");
+  const int n = 2 * shifts + 1;
+  out.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  // Shift k of a cell at c lands on c + (k - shifts) step: the shifts that land inside [0, size) are k in
+  // [lo, hi]. A cell value outside the grid is 0 and adding 0 to a sum of non-negative values changes nothing,
+  // so those shifts are skipped.
+  const auto inside = [&](int c, int size, int& lo, int& hi) {
+    const std::int64_t first = std::int64_t{c} - std::int64_t{shifts} * step;  // where shift 0 lands
+    // lo: the least k with first + k step >= 0; hi: the greatest with first + k step <= size - 1.
+    const std::int64_t l = first >= 0 ? 0 : (-first + step - 1) / step;
+    const std::int64_t h = size - 1 - first < 0 ? -1 : (size - 1 - first) / step;
+    lo = static_cast<int>(std::clamp<std::int64_t>(l, 0, n)), hi = static_cast<int>(std::clamp<std::int64_t>(h, -1, n - 1));
+  };
+  const auto width = static_cast<std::size_t>(width_);
+  for (const Eigen::Vector2i& q : cells) {
+    int kx0 = 0, kx1 = -1, ky0 = 0, ky1 = -1;
+    inside(q.x(), width_, kx0, kx1);
+    inside(q.y(), height_, ky0, ky1);
+    if (kx0 > kx1) continue;
+    const int x_first = q.x() + (kx0 - shifts) * step;
+    for (int ky = ky0; ky <= ky1; ++ky) {
+      const float* row = &values_[static_cast<std::size_t>(q.y() + (ky - shifts) * step) * width +
+                                  static_cast<std::size_t>(x_first)];
+      double* sum = &out[static_cast<std::size_t>(ky) * static_cast<std::size_t>(n)];
+      for (int kx = kx0; kx <= kx1; ++kx) sum[kx] += row[(kx - kx0) * step];
+    }
   }
-  return sum;
 }
 
 float LikelihoodField::at(const Vec2& q) const {

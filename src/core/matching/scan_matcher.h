@@ -41,10 +41,11 @@ class LikelihoodField {
   /// The cell holding q (may lie outside the grid), and a cell's value (0 outside the grid).
   Eigen::Vector2i cell_of(const Vec2& q) const;
   float cell_value(int x, int y) const;
-  /// The sum of cell_value(c.x + dx, c.y + dy) over `cells`, in their order (so the same double whichever path);
-  /// lo / hi: the cells' bounding box, tested once against the grid instead of every cell where it lies inside.
-  double sum_shifted(std::span<const Eigen::Vector2i> cells, const Eigen::Vector2i& lo, const Eigen::Vector2i& hi,
-                     int dx, int dy) const;
+  /// The sums of cell_value(c.x + sx step, c.y + sy step) over `cells`, each in the cells' order, for every
+  /// shift sx, sy in [-shifts, shifts]: out[(sy + shifts) (2 shifts + 1) + sx + shifts]. The cells are the outer
+  /// loop (one cell's window of the field is read at once), yet each sum takes its additions in the cells' order,
+  /// so every sum is the same double as adding that shift's cell values one by one.
+  void shifted_sums(std::span<const Eigen::Vector2i> cells, int step, int shifts, std::vector<double>& out) const;
   /// Bilinear value at q and its gradient [1/m]; 0 outside the grid.
   double interpolate(const Vec2& q, Vec2* gradient) const;
   double resolution() const { return resolution_; }

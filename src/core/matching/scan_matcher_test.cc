@@ -35,18 +35,35 @@ TEST(LikelihoodField, ShiftedSumsAreTheCellsSumsInsideAndAcrossTheEdge) {
   const LikelihoodField field(room(), 0.05, 0.1);  // the points grown by 3 sigma: 6 cells of margin
   std::vector<Eigen::Vector2i> cells;
   for (const Vec2& p : room()) cells.push_back(field.cell_of(p));
-  Eigen::Vector2i lo = cells.front(), hi = lo;
-  for (const Eigen::Vector2i& q : cells) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-  // Shifts of 0-3 cells keep the box inside the grid (one test for all), 9 and 40 take it across the edge (a
-  // test per cell), 4000 wholly off it: each the same additions in the same order as cell by cell.
-  for (const int d : {0, 1, -3, 9, -40, 4000}) {
-    double expected = 0.0;
-    for (const Eigen::Vector2i& q : cells) expected += field.cell_value(q.x() + d, q.y() - d);
-    EXPECT_EQ(field.sum_shifted(cells, lo, hi, d, -d), expected) << d;
+  // Windows of shifts about the cells as they are (inside the grid), about cells moved 9 and 40 cells (across
+  // the edge) and 4000 (wholly off it), by steps of 1 and 2 cells: each sum the same additions in the same
+  // order as cell by cell.
+  std::vector<double> sums;
+  for (const int d : {0, 9, -40, 4000}) {
+    std::vector<Eigen::Vector2i> moved = cells;
+    for (Eigen::Vector2i& q : moved) q += Eigen::Vector2i(d, -d);
+    for (const int step : {1, 2}) {
+      const int shifts = 3;
+      field.shifted_sums(moved, step, shifts, sums);
+      ASSERT_EQ(sums.size(), 49u);
+      for (int sy = -shifts; sy <= shifts; ++sy) {
+        for (int sx = -shifts; sx <= shifts; ++sx) {
+          double expected = 0.0;
+          for (const Eigen::Vector2i& q : moved) expected += field.cell_value(q.x() + sx * step, q.y() + sy * step);
+          EXPECT_EQ(sums[static_cast<std::size_t>((sy + shifts) * 7 + sx + shifts)], expected)
+              << d << " " << step << " " << sx << " " << sy;
+          if (d == 4000) {
+            EXPECT_EQ(expected, 0.0);
+          }
+        }
+      }
+    }
   }
-  EXPECT_GT(field.sum_shifted(cells, lo, hi, 0, 0), 0.8 * static_cast<double>(cells.size()));
-  EXPECT_EQ(field.sum_shifted(cells, lo, hi, 4000, -4000), 0.0);
-  EXPECT_EQ(field.sum_shifted({}, lo, hi, 0, 0), 0.0);
+  field.shifted_sums(cells, 1, 0, sums);
+  EXPECT_GT(sums.at(0), 0.8 * static_cast<double>(cells.size()));
+  field.shifted_sums({}, 1, 2, sums);
+  EXPECT_EQ(sums, std::vector<double>(25, 0.0));
+  EXPECT_THROW(field.shifted_sums(cells, 0, 2, sums), std::invalid_argument);
 }
 
 TEST(ScanMatcher, RecoversAnOffsetInsideTheWindow) {
