@@ -1,5 +1,7 @@
 #include "core/maps/local_shape.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -54,8 +56,28 @@ std::vector<LocalShape> local_shapes(const Points2& points, double radius) {
     const double half_trace = (cxx + cyy) / 2;
     const double root = std::sqrt(std::max(0.0, half_trace * half_trace - (cxx * cyy - cxy * cxy)));
     s.lambda_min = half_trace - root, s.lambda_max = half_trace + root;
+    s.angle = 0.5 * std::atan2(2 * cxy, cxx - cyy);
   }
   return shapes;
+}
+
+Eigen::Matrix2d wall_scatter(const std::vector<LocalShape>& shapes) {
+  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+  for (const LocalShape& s : shapes) {
+    const double w = 1.0 - s.cornerness();
+    if (!(w > 0)) continue;
+    const Vec2 n(-std::sin(s.angle), std::cos(s.angle));
+    A += w * n * n.transpose();
+  }
+  return A;
+}
+
+std::optional<Vec2> unconstrained_direction(const Eigen::Matrix2d& scatter, double ratio) {
+  if (!(ratio > 0)) return std::nullopt;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+  const Eigen::Vector2d l = eig.eigenvalues();  // ascending
+  if (!(l(1) > 0) || l(0) >= ratio * l(1)) return std::nullopt;
+  return Vec2(eig.eigenvectors().col(0));
 }
 
 std::vector<double> cornerness(const Points2& points, double radius) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 #include "core/types.h"
@@ -16,6 +17,7 @@ struct LocalShape {
   /// smaller eigenvalue of their covariance [m^2] (may be a rounding error below 0 on a line)
   double lambda_min = 0;
   double lambda_max = 0;  ///< larger one [m^2]
+  double angle = 0;       ///< direction of the larger one's eigenvector (along a wall) [rad], in (-pi/2, pi/2]
 
   /// lambda_min / lambda_max: 0 on a straight wall, up to 1 in a corner or clutter; 1 with fewer than three
   /// neighbours (nothing says the point lies on a line).
@@ -31,5 +33,15 @@ std::vector<LocalShape> local_shapes(const Points2& points, double radius);
 
 /// local_shapes(points, radius)[i].cornerness() for every i.
 std::vector<double> cornerness(const Points2& points, double radius);
+
+/// How the map's walls fix a translation: sum w n n^T over the shapes' wall normals n (across each shape's
+/// angle), each weighed by how straight a wall it lies on (w = 1 - cornerness) [dimensionless].
+Eigen::Matrix2d wall_scatter(const std::vector<LocalShape>& shapes);
+
+/// The direction (unit, the points' frame) in which the walls of a wall_scatter do not fix a translation, if
+/// any: its weaker eigenvector, when the eigenvalue is below `ratio` times the stronger one's. A bare
+/// corridor's walls all have normals across it: its axis. None when ratio <= 0 or there is no wall.
+std::optional<Vec2> unconstrained_direction(const Eigen::Matrix2d& scatter, double ratio);
+
 
 }  // namespace partslam

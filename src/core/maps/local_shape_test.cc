@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+#include <optional>
+
 #include "core/error.h"
 
 namespace partslam {
@@ -51,6 +55,26 @@ TEST(LocalShape, EigenvaluesOfASquareAndAnOrderThatDoesNotMatter) {
   Points2 reversed(square.rbegin(), square.rend());
   EXPECT_EQ(cornerness(reversed, 2.0), cornerness(square, 2.0));
   EXPECT_TRUE(local_shapes({}, 1.0).empty());
+}
+
+TEST(LocalShape, ABareCorridorLeavesItsAxisUnconstrainedAndARoomLeavesNothing) {
+  // Two walls 2 m apart along a direction at 30 degrees: the axis is the weak direction.
+  const double a = 30.0 * std::numbers::pi / 180;
+  const Vec2 along(std::cos(a), std::sin(a)), across(-std::sin(a), std::cos(a));
+  Points2 corridor;
+  for (int i = 0; i <= 80; ++i)
+    corridor.push_back(0.05 * i * along + across), corridor.push_back(0.05 * i * along - across);
+  const std::vector<LocalShape> shapes = local_shapes(corridor, 0.5);
+  EXPECT_NEAR(std::abs(std::cos(shapes[40].angle - a)), 1.0, 1e-9);  // a wall point's angle runs along it
+  const std::optional<Vec2> weak = unconstrained_direction(wall_scatter(shapes), 0.1);
+  ASSERT_TRUE(weak.has_value());
+  EXPECT_NEAR(std::abs(weak->dot(along)), 1.0, 1e-9);
+  EXPECT_FALSE(unconstrained_direction(wall_scatter(shapes), 0.0).has_value());  // off
+  // The same corridor closed by a wall across it at its end: both directions are fixed.
+  Points2 closed = corridor;
+  for (int j = -20; j <= 20; ++j) closed.push_back(4.0 * along + 0.05 * j * across);
+  EXPECT_FALSE(unconstrained_direction(wall_scatter(local_shapes(closed, 0.5)), 0.1).has_value());
+  EXPECT_FALSE(unconstrained_direction(wall_scatter({}), 0.1).has_value());  // no wall
 }
 
 TEST(LocalShape, RejectsAnAbsurdRadius) {

@@ -29,6 +29,7 @@ void validate(const TrackerConfig& c) {
   if (!in(c.min_seen, 0, 1)) throw InputError("tracker: min_seen must be in [0, 1]");
   if (!in(c.move_gain, 1, 1000)) throw InputError("tracker: move_gain must be in [1, 1000]");
   if (!in(c.declare_probability, 0, 1)) throw InputError("tracker: declare_probability must be in [0, 1]");
+  if (!(c.corridor_ratio >= 0 && c.corridor_ratio < 1)) throw InputError("tracker: corridor_ratio must be in [0, 1)");
   if (c.search_every < 1 || c.search_every > 1000) throw InputError("tracker: search_every must be in [1, 1000]");
   if (!in(c.min_none_share, 0, 0.5)) throw InputError("tracker: min_none_share must be in [0, 0.5]");
   if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
@@ -301,7 +302,10 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
 std::vector<Verified> Tracker::verify_carried(const Localizer::VerifyQuery& prepared,
                                               const std::vector<Pose2>& poses, bool track_window) const {
   VerifyConfig verify = localizer_.config().verify;
-  if (track_window) verify.refine_window = config_.track_window, verify.refine_angle = config_.track_angle;
+  if (track_window) {
+    verify.refine_window = config_.track_window, verify.refine_angle = config_.track_angle;
+    verify.keep_along_ratio = config_.corridor_ratio;
+  }
   std::vector<Verified> at_poses;
   std::vector<Verified> out = localizer_.verify_all(prepared, poses, verify, &at_poses);
   for (std::size_t i = 0; i < out.size(); ++i)

@@ -77,6 +77,12 @@ struct TrackerConfig {
   double move_gain = 2.0;
   /// a hypothesis counts towards being declared only on steps where its probability reaches this
   double declare_probability = 0.05;
+  /// a carried hypothesis keeps the translation the odometry carried it by along a direction the local map's
+  /// walls do not fix (VerifyConfig::keep_along_ratio: a bare corridor's axis, where the match slides), in
+  /// [0, 1); 0 (the default): the match moves it freely. Off: 0.1 and 0.05 took infinite-corridor's slide
+  /// out or made it worse and made freiburg-campus's aliases better or worse, not reliably better
+  /// (docs/NOTES.md, "A corridor's axis kept from the odometry")
+  double corridor_ratio = 0.0;
 };
 
 /// Throws InputError naming the field.

@@ -96,6 +96,8 @@ void validate(const VerifyConfig& c) {
     throw InputError("verify config: alternative_angle must be in [0, 4] rad");
   if (!(c.corner_radius >= 0.05) || c.corner_radius > 10.0)
     throw InputError("verify config: corner_radius must be in [0.05, 10] m");
+  if (!(c.keep_along_ratio >= 0.0) || c.keep_along_ratio >= 1.0)
+    throw InputError("verify config: keep_along_ratio must be in [0, 1)");
 }
 
 void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin) {
@@ -119,6 +121,13 @@ void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin)
   cells_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), kUnknown);
 }
 
+void VerifyMap::set_shapes(double radius) {
+  const std::vector<LocalShape> shapes = local_shapes(points_, radius);
+  cornerness_.resize(shapes.size());
+  std::transform(shapes.begin(), shapes.end(), cornerness_.begin(), [](const LocalShape& s) { return s.cornerness(); });
+  wall_scatter_ = partslam::wall_scatter(shapes);
+}
+
 void VerifyMap::mark_occupied(const Eigen::Vector2i& c, int d) {
   for (int dy = -d; dy <= d; ++dy)
     for (int dx = -d; dx <= d; ++dx)
@@ -135,7 +144,7 @@ VerifyMap::VerifyMap(const Points2& points, const Points2& origins, const Verify
   has_beams_ = !origins.empty();
   const int d = config.dilation;
   allocate({&points, &origins}, d + 1);  // throws for points spread too far
-  cornerness_ = partslam::cornerness(points, config.corner_radius);
+  set_shapes(config.corner_radius);
   // The points' own cells (for choosing each beam's origin), then the dilated occupied grid.
   std::vector<std::uint8_t> hit(cells_.size(), 0);
   std::vector<Eigen::Vector2i> point_cells;
@@ -185,7 +194,7 @@ VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_
   if (points.empty() && free_points.empty()) return m;
   m.points_ = points;
   m.allocate({&points, &free_points}, config.dilation + 1);  // throws for points spread too far
-  m.cornerness_ = partslam::cornerness(points, config.corner_radius);
+  m.set_shapes(config.corner_radius);
   for (const Vec2& p : points) m.mark_occupied(m.cell_of(p), config.dilation);
   for (const Vec2& p : free_points) {
     const Eigen::Vector2i c = m.cell_of(p);
@@ -290,7 +299,14 @@ Pose2 refine_match(const VerifyMap& query, const PairFields& fields, const Pose2
   ScanMatcherConfig matcher;  // PairFields' field: 0.05 m cells, sigma 0.1 m
   matcher.linear_window = config.refine_window;
   matcher.angular_window = config.refine_angle;
-  return match_scan(fields.map, query.points(), T_map_query, matcher).pose;
+  const Pose2 matched = match_scan(fields.map, query.points(), T_map_query, matcher).pose;
+  // Along a direction the query's walls do not fix (a bare corridor's axis) the match fits about as well
+  // anywhere: the translation along it stays the input pose's.
+  const std::optional<Vec2> weak = unconstrained_direction(query.wall_scatter(), config.keep_along_ratio);
+  if (!weak) return matched;
+  const Vec2 v = Eigen::Rotation2Dd(matched.theta) * *weak;
+  const Vec2 t = matched.translation() + v * v.dot(T_map_query.translation() - matched.translation());
+  return {t.x(), t.y(), matched.theta};
 }
 
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,

@@ -50,6 +50,10 @@ struct VerifyConfig {
   int refined = 4;
   /// a point's cornerness is read off its neighbours within this radius [m]
   double corner_radius = 0.7;
+  /// refine_match keeps the pose's translation along the direction the query's walls do not fix
+  /// (unconstrained_direction of its wall_scatter at this ratio, core/maps/local_shape.h: a bare corridor's
+  /// axis, where the match fits about as well anywhere and slides), in [0, 1); 0: the match moves it freely
+  double keep_along_ratio = 0.0;
 };
 
 /// Throws InputError naming the offending field.
@@ -91,6 +95,8 @@ class VerifyMap {
   const Points2& points() const { return points_; }
   /// points()[i]'s cornerness (LocalShape::cornerness), read on the whole map before any crop
   const std::vector<double>& cornerness() const { return cornerness_; }
+  /// How its walls fix a translation (wall_scatter of its points' shapes), read on the whole map before any crop
+  const Eigen::Matrix2d& wall_scatter() const { return wall_scatter_; }
   bool has_beams() const { return has_beams_; }
   double resolution() const { return resolution_; }
   std::size_t free_cells() const;
@@ -107,6 +113,8 @@ class VerifyMap {
     return static_cast<std::size_t>(y - y0_) * static_cast<std::size_t>(width_) +
            static_cast<std::size_t>(x - x0_);
   }
+  /// The points' cornerness and wall scatter over their neighbours within `radius`.
+  void set_shapes(double radius);
   /// The cells within `dilation` of `cell` (a disc) become occupied.
   void mark_occupied(const Eigen::Vector2i& cell, int dilation);
 
@@ -115,6 +123,7 @@ class VerifyMap {
   std::vector<std::uint8_t> cells_;
   Points2 points_;
   std::vector<double> cornerness_;
+  Eigen::Matrix2d wall_scatter_ = Eigen::Matrix2d::Zero();
   bool has_beams_ = false;
 };
 

@@ -167,6 +167,28 @@ TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {
   EXPECT_LT(std::abs(refined.theta), 0.005);
 }
 
+TEST(RefineMatch, KeepsTheTranslationAlongABareCorridorWhenAsked) {
+  // The corridor without its cross wall: nothing fixes x. The map's walls are longer than the query's, so the
+  // match fits as well anywhere along it; the query is off by 0.12 m along and 0.08 m across.
+  Points2 map, query;
+  for (double x = -6.0; x <= 6.0; x += 0.1) map.emplace_back(x, -1.0), map.emplace_back(x, 1.0);
+  for (double x = -2.0; x <= 2.0; x += 0.1) query.emplace_back(x, -1.0), query.emplace_back(x, 1.0);
+  const VerifyMap m(map, {}), q(query, {});
+  const PairFields fields(q, m);
+  const Pose2 off{0.12, 0.08, 0.0};
+  VerifyConfig keep;
+  keep.keep_along_ratio = 0.1;
+  const Pose2 kept = refine_match(q, fields, off, keep);
+  EXPECT_NEAR(kept.x, 0.12, 1e-9);  // along: the input pose's
+  EXPECT_LT(std::abs(kept.y), 0.02);  // across: matched
+  // A query with a wall across it is not a bare corridor: the pose is refined in both directions.
+  const VerifyMap closed(corridor(), axis_origins());
+  const Pose2 refined = refine_match(closed, PairFields(closed, closed), Pose2{0.07, -0.06, 0.014}, keep);
+  EXPECT_LT(refined.translation().norm(), 0.03);
+  keep.keep_along_ratio = 1.0;
+  EXPECT_THROW(validate(keep), InputError);
+}
+
 TEST(VerifyDmm, FindsAndVerifiesTheTruePoseOfARealSubmap) {
   const Submaps& maps = testing::simulated_maps();
   ASSERT_GT(maps.size(), 10u);

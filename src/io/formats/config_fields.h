@@ -244,6 +244,9 @@ void config_fields(V& v, std::type_identity<VerifyConfig>) {
   v.field("refined", &C::refined, "the most probable this many poses are refined");
   v.field("corner_radius", &C::corner_radius,
           "a point's cornerness is read off its neighbours within this [m]");
+  v.field("keep_along_ratio", &C::keep_along_ratio,
+          "the refinement keeps the translation along a direction the query's walls do not fix (weaker / stronger "
+          "below this; 0: off)");
 }
 
 template <class V>
@@ -293,6 +296,9 @@ void config_fields(V& v, std::type_identity<TrackerConfig>) {
           "a hypothesis counts towards being declared only on steps with this probability");
   v.field("search_every", &C::search_every, "while not localised, the global search runs every this many steps");
   v.field("min_none_share", &C::min_none_share, "the none weight's share never falls below this");
+  v.field("corridor_ratio", &C::corridor_ratio,
+          "a carried hypothesis keeps the odometry's translation along a direction the local map's walls do not fix "
+          "(weaker / stronger below this; 0: off)");
   v.field("claim_shift_distance", &C::claim_shift, &PoseTolerance::translation,
           "no claim on a step whose match moved the declared pose further than this from the odometry's [m] ...");
   v.field("claim_shift_angle", &C::claim_shift, &PoseTolerance::rotation, "... or turned it more than this [rad]");
