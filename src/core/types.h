@@ -37,11 +37,15 @@ struct Pose2 {
 
   Vec2 translation() const { return {x, y}; }
   Eigen::Matrix2d rotation() const { return Eigen::Rotation2Dd(theta).toRotationMatrix(); }
+  /// The map of operator*(Vec2) with its cosine and sine taken once: for one pose applied to many points (the
+  /// same arithmetic, so the same doubles).
+  struct Applied {
+    double c, s, x, y;
+    Vec2 operator()(const Vec2& p) const { return {c * p.x() - s * p.y() + x, s * p.x() + c * p.y() + y}; }
+  };
+  Applied applied() const { return {std::cos(theta), std::sin(theta), x, y}; }
   /// Maps a point from this pose's child frame into its parent frame.
-  Vec2 operator*(const Vec2& p) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    return {c * p.x() - s * p.y() + x, s * p.x() + c * p.y() + y};
-  }
+  Vec2 operator*(const Vec2& p) const { return applied()(p); }
   /// Composition: (T_a_b * T_b_c) = T_a_c.
   Pose2 operator*(const Pose2& o) const {
     const Vec2 t = (*this) * o.translation();
@@ -68,7 +72,8 @@ struct PoseTolerance {
 inline Points2 transform(const Pose2& T, const Points2& points) {
   Points2 out;
   out.reserve(points.size());
-  for (const Vec2& p : points) out.push_back(T * p);
+  const Pose2::Applied apply = T.applied();
+  for (const Vec2& p : points) out.push_back(apply(p));
   return out;
 }
 

@@ -23,7 +23,8 @@ void require_positive(double value, const char* field, const char* unit) {
 // Mean interpolated field value at the scan's points under `pose`.
 double mean_value(const LikelihoodField& field, const Points2& points, const Pose2& pose) {
   double sum = 0.0;
-  for (const Vec2& p : points) sum += field.interpolate(pose * p, nullptr);
+  const Pose2::Applied apply = pose.applied();
+  for (const Vec2& p : points) sum += field.interpolate(apply(p), nullptr);
   return sum / static_cast<double>(points.size());
 }
 
@@ -51,7 +52,8 @@ Pose2 grid_search(const LikelihoodField& field, const Points2& points, const Pos
     for (int ka = 0; ka < rotations; ++ka) {
       const int a = (ka % 2 == 0 ? 1 : -1) * ((ka + 1) / 2);  // 0, -1, 1, -2, 2, ...: nearest first
       const Pose2 turn{center.x, center.y, wrap_angle(center.theta + a * g.angle_step)};
-      for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(turn * points[i]);
+      const Pose2::Applied apply = turn.applied();
+      for (std::size_t i = 0; i < points.size(); ++i) cells[i] = field.cell_of(apply(points[i]));
       double& best_score = best_of[static_cast<std::size_t>(ka)].first;
       Pose2& best = best_of[static_cast<std::size_t>(ka)].second;
       field.shifted_sums(cells, g.cell_step, g.shifts, sums);
@@ -96,10 +98,11 @@ Pose2 refine(const LikelihoodField& field, const Points2& points, Pose2 pose, in
   for (int it = 0; it < iterations; ++it) {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    const Pose2::Applied apply = pose.applied();
+    const double c = apply.c, s = apply.s;
     for (const Vec2& p : points) {
       Vec2 grad;
-      const double m = field.interpolate(pose * p, &grad);
+      const double m = field.interpolate(apply(p), &grad);
       const Eigen::Vector3d J(grad.x(), grad.y(),
                               grad.x() * (-s * p.x() - c * p.y()) + grad.y() * (c * p.x() - s * p.y()));
       H += J * J.transpose();
@@ -178,6 +181,19 @@ float LikelihoodField::cell_value(int x, int y) const {
   return values_[static_cast<std::size_t>(y) * width_ + x];
 }
 
+namespace {
+
+// sum[k] += row[k * step] for k < count.
+template <int kStep>
+void add_row(const float* row, double* sum, int count) {
+  for (int k = 0; k < count; ++k) sum[k] += row[k * kStep];
+}
+void add_row(const float* row, double* sum, int count, int step) {
+  for (int k = 0; k < count; ++k) sum[k] += row[k * step];
+}
+
+}  // namespace
+
 void LikelihoodField::shifted_sums(std::span<const Eigen::Vector2i> cells, int step, int shifts,
                                    std::vector<double>& out) const {
   if (step < 1 || shifts < 0) throw std::invalid_argument("likelihood field: shifted sums need step >= 1, shifts >= 0");
@@ -204,7 +220,10 @@ void LikelihoodField::shifted_sums(std::span<const Eigen::Vector2i> cells, int s
       const float* row = &values_[static_cast<std::size_t>(q.y() + (ky - shifts) * step) * width +
                                   static_cast<std::size_t>(x_first)];
       double* sum = &out[static_cast<std::size_t>(ky) * static_cast<std::size_t>(n)];
-      for (int kx = kx0; kx <= kx1; ++kx) sum[kx] += row[(kx - kx0) * step];
+      // The common steps with a constant stride, which the compiler vectorises.
+      if (step == 2) add_row<2>(row, sum + kx0, kx1 - kx0 + 1);
+      else if (step == 1) add_row<1>(row, sum + kx0, kx1 - kx0 + 1);
+      else add_row(row, sum + kx0, kx1 - kx0 + 1, step);
     }
   }
 }

@@ -46,8 +46,9 @@ SideReading read_side(const VerifyMap& from, const VerifyMap& other, const Likel
   const std::vector<double>& c = from.cornerness();
   int occupied = 0, free = 0;
   double fit = 0, weight = 0, corner = 0, corner_fit = 0;
+  const Pose2::Applied apply = T_other_from.applied();
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec2 p = T_other_from * points[i];
+    const Vec2 p = apply(points[i]);
     const std::uint8_t s = other.at(p);
     const double f = other_field.at(p);
     occupied += s == VerifyMap::kOccupied;
