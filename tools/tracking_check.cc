@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
       else if (name == "twin_out") twin_out = text;
       else if (name == "move_gain") config.tracker.move_gain = value;
       else if (name == "corridor_ratio") config.tracker.corridor_ratio = value;
+      else if (name == "corridor_slack") config.tracker.corridor_slack = value;
       else if (name == "declare_probability") config.tracker.declare_probability = value;
       else if (name == "search_every") config.tracker.search_every = static_cast<int>(value);
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);

@@ -185,10 +185,10 @@ namespace {
 
 // sum[k] += row[k * step] for k < count.
 template <int kStep>
-void add_row(const float* row, double* sum, int count) {
+void add_field_row(const float* row, double* sum, int count) {
   for (int k = 0; k < count; ++k) sum[k] += row[k * kStep];
 }
-void add_row(const float* row, double* sum, int count, int step) {
+void add_field_row(const float* row, double* sum, int count, int step) {
   for (int k = 0; k < count; ++k) sum[k] += row[k * step];
 }
 
@@ -221,9 +221,9 @@ void LikelihoodField::shifted_sums(std::span<const Eigen::Vector2i> cells, int s
                                   static_cast<std::size_t>(x_first)];
       double* sum = &out[static_cast<std::size_t>(ky) * static_cast<std::size_t>(n)];
       // The common steps with a constant stride, which the compiler vectorises.
-      if (step == 2) add_row<2>(row, sum + kx0, kx1 - kx0 + 1);
-      else if (step == 1) add_row<1>(row, sum + kx0, kx1 - kx0 + 1);
-      else add_row(row, sum + kx0, kx1 - kx0 + 1, step);
+      if (step == 2) add_field_row<2>(row, sum + kx0, kx1 - kx0 + 1);
+      else if (step == 1) add_field_row<1>(row, sum + kx0, kx1 - kx0 + 1);
+      else add_field_row(row, sum + kx0, kx1 - kx0 + 1, step);
     }
   }
 }

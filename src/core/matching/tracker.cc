@@ -30,6 +30,7 @@ void validate(const TrackerConfig& c) {
   if (!in(c.move_gain, 1, 1000)) throw InputError("tracker: move_gain must be in [1, 1000]");
   if (!in(c.declare_probability, 0, 1)) throw InputError("tracker: declare_probability must be in [0, 1]");
   if (!(c.corridor_ratio >= 0 && c.corridor_ratio < 1)) throw InputError("tracker: corridor_ratio must be in [0, 1)");
+  if (!in(c.corridor_slack, 0, 5)) throw InputError("tracker: corridor_slack must be in [0, 5] m");
   if (c.search_every < 1 || c.search_every > 1000) throw InputError("tracker: search_every must be in [1, 1000]");
   if (!in(c.min_none_share, 0, 0.5)) throw InputError("tracker: min_none_share must be in [0, 0.5]");
   if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
@@ -305,6 +306,7 @@ std::vector<Verified> Tracker::verify_carried(const Localizer::VerifyQuery& prep
   if (track_window) {
     verify.refine_window = config_.track_window, verify.refine_angle = config_.track_angle;
     verify.keep_along_ratio = config_.corridor_ratio;
+    verify.keep_along_slack = config_.corridor_slack;
   }
   std::vector<Verified> at_poses;
   std::vector<Verified> out = localizer_.verify_all(prepared, poses, verify, &at_poses);

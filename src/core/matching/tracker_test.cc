@@ -121,6 +121,9 @@ TEST(Tracker, RejectsBadConfigsAndEmptyLocalMaps) {
   bad = {};
   bad.corridor_ratio = 1.0;
   EXPECT_THROW(validate(bad), InputError);
+  bad = {};
+  bad.corridor_slack = std::nan("");
+  EXPECT_THROW(validate(bad), InputError);
   Tracker tracker(tracked_localizer());
   EXPECT_THROW(tracker.step({}, {}, Pose2{}), InputError);
   EXPECT_THROW(tracker.step({Vec2(1, 1)}, {}, Pose2{std::nan(""), 0, 0}), InputError);

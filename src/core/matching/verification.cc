@@ -99,6 +99,8 @@ void validate(const VerifyConfig& c) {
     throw InputError("verify config: corner_radius must be in [0.05, 10] m");
   if (!(c.keep_along_ratio >= 0.0) || c.keep_along_ratio >= 1.0)
     throw InputError("verify config: keep_along_ratio must be in [0, 1)");
+  if (!(c.keep_along_slack >= 0.0) || c.keep_along_slack > 5.0)
+    throw InputError("verify config: keep_along_slack must be in [0, 5] m");
 }
 
 void VerifyMap::allocate(std::initializer_list<const Points2*> sets, int margin) {
@@ -209,6 +211,7 @@ VerifyMap VerifyMap::with_free_space(const Points2& points, const Points2& free_
 VerifyMap VerifyMap::cropped(const Vec2& lo, const Vec2& hi) const {
   VerifyMap out;
   out.resolution_ = resolution_, out.inv_resolution_ = inv_resolution_, out.has_beams_ = has_beams_;
+  out.wall_scatter_ = wall_scatter_;  // of the whole map, as the cornerness is
   if (lo.hasNaN() || hi.hasNaN()) return out;
   // The box's cells clamped to the grid in double (a box far out has no int cell), then cast.
   const double x0d = std::max<double>(x0_, std::floor(lo.x() * inv_resolution_));
@@ -302,11 +305,13 @@ Pose2 refine_match(const VerifyMap& query, const PairFields& fields, const Pose2
   matcher.angular_window = config.refine_angle;
   const Pose2 matched = match_scan(fields.map, query.points(), T_map_query, matcher).pose;
   // Along a direction the query's walls do not fix (a bare corridor's axis) the match fits about as well
-  // anywhere: the translation along it stays the input pose's.
+  // anywhere: the translation along it stays within keep_along_slack of the input pose's.
   const std::optional<Vec2> weak = unconstrained_direction(query.wall_scatter(), config.keep_along_ratio);
   if (!weak) return matched;
   const Vec2 v = Eigen::Rotation2Dd(matched.theta) * *weak;
-  const Vec2 t = matched.translation() + v * v.dot(T_map_query.translation() - matched.translation());
+  const double along = v.dot(matched.translation() - T_map_query.translation());
+  const double kept = std::clamp(along, -config.keep_along_slack, config.keep_along_slack);
+  const Vec2 t = matched.translation() + v * (kept - along);
   return {t.x(), t.y(), matched.theta};
 }
 

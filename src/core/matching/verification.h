@@ -52,8 +52,10 @@ struct VerifyConfig {
   double corner_radius = 0.7;
   /// refine_match keeps the pose's translation along the direction the query's walls do not fix
   /// (unconstrained_direction of its wall_scatter at this ratio, core/maps/local_shape.h: a bare corridor's
-  /// axis, where the match fits about as well anywhere and slides), in [0, 1); 0: the match moves it freely
+  /// axis, where the match fits about as well anywhere and slides) within keep_along_slack of the input pose's,
+  /// in [0, 1); 0: the match moves it freely
   double keep_along_ratio = 0.0;
+  double keep_along_slack = 0.0;  ///< [m], in [0, 5]; 0: the translation along it stays the input pose's
 };
 
 /// Throws InputError naming the offending field.

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/maps/local_shape.h"
 #include "core/testing/simulated_maps.h"
 
 namespace partslam {
@@ -146,7 +147,7 @@ TEST(VerifyMap, APointFarOutIsRefusedOrReadAsUnknown) {
   EXPECT_EQ(t.map.seen, 0.0);
 }
 
-TEST(VerifyMap, ACropKeepsEachPointsCornernessFromTheWholeMap) {
+TEST(VerifyMap, ACropKeepsEachPointsCornernessAndTheWallScatterFromTheWholeMap) {
   const VerifyMap a(corridor(), axis_origins());
   const VerifyMap crop = a.cropped({3.0, -2.0}, {5.0, 2.0});
   ASSERT_EQ(crop.cornerness().size(), crop.points().size());
@@ -156,6 +157,8 @@ TEST(VerifyMap, ACropKeepsEachPointsCornernessFromTheWholeMap) {
     ASSERT_NE(at, a.points().end());
     EXPECT_EQ(crop.cornerness()[i], a.cornerness()[static_cast<std::size_t>(at - a.points().begin())]);
   }
+  EXPECT_EQ(crop.wall_scatter(), a.wall_scatter());  // so is its wall scatter
+  EXPECT_GT(a.wall_scatter().trace(), 0.0);
 }
 
 TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {
@@ -168,24 +171,38 @@ TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {
 }
 
 TEST(RefineMatch, KeepsTheTranslationAlongABareCorridorWhenAsked) {
-  // The corridor without its cross wall: nothing fixes x. The map's walls are longer than the query's, so the
-  // match fits as well anywhere along it; the query is off by 0.12 m along and 0.08 m across.
-  Points2 map, query;
-  for (double x = -6.0; x <= 6.0; x += 0.1) map.emplace_back(x, -1.0), map.emplace_back(x, 1.0);
-  for (double x = -2.0; x <= 2.0; x += 0.1) query.emplace_back(x, -1.0), query.emplace_back(x, 1.0);
-  const VerifyMap m(map, {}), q(query, {});
+  // A corridor without a cross wall (nothing but its walls' ends and a doorway fixes x): the map's doorway in
+  // the upper wall lies 0.3 m further along than the query's, so the match, left free, slides the query 0.3 m
+  // along. The query starts 0.1 m short of that along and 0.08 m off across.
+  const auto corridor_with_door = [](double from, double to, double door) {
+    Points2 p;
+    for (int i = 0; std::lround(from * 10) + i <= std::lround(to * 10); ++i) {
+      const double x = from + 0.1 * i;
+      p.emplace_back(x, -1.0);
+      if (x < door - 0.01 || x > door + 0.41) p.emplace_back(x, 1.0);
+    }
+    return p;
+  };
+  const VerifyMap m(corridor_with_door(-6.0, 6.0, 0.3), {}), q(corridor_with_door(-2.0, 2.0, 0.0), {});
+  ASSERT_TRUE(unconstrained_direction(q.wall_scatter(), 0.1).has_value());
   const PairFields fields(q, m);
-  const Pose2 off{0.12, 0.08, 0.0};
+  const Pose2 off{0.2, 0.08, 0.0};
+  const Pose2 free = refine_match(q, fields, off, VerifyConfig{});
+  EXPECT_NEAR(free.x, 0.3, 0.03);
   VerifyConfig keep;
   keep.keep_along_ratio = 0.1;
   const Pose2 kept = refine_match(q, fields, off, keep);
-  EXPECT_NEAR(kept.x, 0.12, 1e-9);  // along: the input pose's
+  EXPECT_NEAR(kept.x, 0.2, 1e-9);     // along: the input pose's
   EXPECT_LT(std::abs(kept.y), 0.02);  // across: matched
-  // A query with a wall across it is not a bare corridor: the pose is refined in both directions.
+  keep.keep_along_slack = 0.05;       // along: at most 0.05 m from it
+  EXPECT_NEAR(refine_match(q, fields, off, keep).x, 0.25, 1e-9);
+  // A query with a wall across it leaves no direction free: refined in both.
   const VerifyMap closed(corridor(), axis_origins());
   const Pose2 refined = refine_match(closed, PairFields(closed, closed), Pose2{0.07, -0.06, 0.014}, keep);
   EXPECT_LT(refined.translation().norm(), 0.03);
   keep.keep_along_ratio = 1.0;
+  EXPECT_THROW(validate(keep), InputError);
+  keep.keep_along_ratio = 0.1, keep.keep_along_slack = -0.1;
   EXPECT_THROW(validate(keep), InputError);
 }
 

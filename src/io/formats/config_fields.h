@@ -246,7 +246,8 @@ void config_fields(V& v, std::type_identity<VerifyConfig>) {
           "a point's cornerness is read off its neighbours within this [m]");
   v.field("keep_along_ratio", &C::keep_along_ratio,
           "the refinement keeps the translation along a direction the query's walls do not fix (weaker / stronger "
-          "below this; 0: off)");
+          "below this; 0: off) ...");
+  v.field("keep_along_slack", &C::keep_along_slack, "... within this of the input pose's [m]");
 }
 
 template <class V>
@@ -297,8 +298,9 @@ void config_fields(V& v, std::type_identity<TrackerConfig>) {
   v.field("search_every", &C::search_every, "while not localised, the global search runs every this many steps");
   v.field("min_none_share", &C::min_none_share, "the none weight's share never falls below this");
   v.field("corridor_ratio", &C::corridor_ratio,
-          "a carried hypothesis keeps the odometry's translation along a direction the local map's walls do not fix "
-          "(weaker / stronger below this; 0: off)");
+          "a carried hypothesis's match moves it at most corridor_slack along a direction the local map's walls do "
+          "not fix (weaker / stronger below this; 0: off)");
+  v.field("corridor_slack", &C::corridor_slack, "... [m]");
   v.field("claim_shift_distance", &C::claim_shift, &PoseTolerance::translation,
           "no claim on a step whose match moved the declared pose further than this from the odometry's [m] ...");
   v.field("claim_shift_angle", &C::claim_shift, &PoseTolerance::rotation, "... or turned it more than this [rad]");
