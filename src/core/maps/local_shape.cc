@@ -80,6 +80,13 @@ std::optional<Vec2> unconstrained_direction(const Eigen::Matrix2d& scatter, doub
   return Vec2(eig.eigenvectors().col(0));
 }
 
+Pose2 keep_along(const Pose2& moved, const Pose2& start, const Vec2& direction, double slack) {
+  const Vec2 v = Eigen::Rotation2Dd(moved.theta) * direction;
+  const double along = v.dot(moved.translation() - start.translation());
+  const Vec2 t = moved.translation() + v * (std::clamp(along, -slack, slack) - along);
+  return {t.x(), t.y(), moved.theta};
+}
+
 std::vector<double> cornerness(const Points2& points, double radius) {
   const std::vector<LocalShape> shapes = local_shapes(points, radius);
   std::vector<double> c(shapes.size());

@@ -43,5 +43,11 @@ Eigen::Matrix2d wall_scatter(const std::vector<LocalShape>& shapes);
 /// corridor's walls all have normals across it: its axis. None when ratio <= 0 or there is no wall.
 std::optional<Vec2> unconstrained_direction(const Eigen::Matrix2d& scatter, double ratio);
 
+/// `moved` with its translation along `direction` (a unit vector in the pose's own frame, e.g. a matched scan's
+/// or local map's unconstrained_direction, turned into the parent frame by moved.theta) brought back to within
+/// `slack` [m] of `start`'s: a match along a bare corridor's axis keeps at most that much of its move there, the
+/// rest is the start's (the odometry's prediction). slack 0: start's translation along it.
+Pose2 keep_along(const Pose2& moved, const Pose2& start, const Vec2& direction, double slack);
+
 
 }  // namespace partslam

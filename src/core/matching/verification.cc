@@ -307,12 +307,7 @@ Pose2 refine_match(const VerifyMap& query, const PairFields& fields, const Pose2
   // Along a direction the query's walls do not fix (a bare corridor's axis) the match fits about as well
   // anywhere: the translation along it stays within keep_along_slack of the input pose's.
   const std::optional<Vec2> weak = unconstrained_direction(query.wall_scatter(), config.keep_along_ratio);
-  if (!weak) return matched;
-  const Vec2 v = Eigen::Rotation2Dd(matched.theta) * *weak;
-  const double along = v.dot(matched.translation() - T_map_query.translation());
-  const double kept = std::clamp(along, -config.keep_along_slack, config.keep_along_slack);
-  const Vec2 t = matched.translation() + v * (kept - along);
-  return {t.x(), t.y(), matched.theta};
+  return weak ? keep_along(matched, T_map_query, *weak, config.keep_along_slack) : matched;
 }
 
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <Eigen/Eigenvalues>
 #include <deque>
 #include <optional>
 #include <string>
 
 #include "core/error.h"
+#include "core/maps/local_shape.h"
 #include "core/maps/submap.h"
 #include "core/timing.h"
 
@@ -38,17 +38,7 @@ std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c) {
     const Vec2 n(-d.y() / d.norm(), d.x() / d.norm());
     A += n * n.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A);
-  const Eigen::Vector2d l = eig.eigenvalues();  // ascending
-  if (!(l(1) > 0) || l(0) >= c.degenerate_ratio * l(1)) return std::nullopt;
-  return Vec2(eig.eigenvectors().col(0));
-}
-
-// The matched pose with its translation along the weak direction (laser frame) taken from the prediction.
-Pose2 keep_prediction_along(const Pose2& matched, const Pose2& prediction, const Vec2& weak_laser) {
-  const Vec2 v = Eigen::Rotation2Dd(matched.theta) * weak_laser;
-  const Vec2 t = matched.translation() + v * v.dot(prediction.translation() - matched.translation());
-  return {t.x(), t.y(), matched.theta};
+  return unconstrained_direction(A, c.degenerate_ratio);
 }
 
 // The pose the front end's last step, continued at the same velocity, predicts for a scan `dt` after the previous
@@ -126,7 +116,7 @@ Pose2 accepted_pose(const LocalMap& local, const Points2& points, const Scan& sc
     pose = match_scan(local.fine_field(), points, matched, fine).pose;
   }
   if (const std::optional<Vec2> weak = odometry_moves ? weak_direction(scan, config) : std::nullopt) {
-    pose = keep_prediction_along(pose, prediction, *weak);
+    pose = keep_along(pose, prediction, *weak, 0.0);
     ++stats.degenerate;
   }
   return pose;
