@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <map>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -304,6 +305,24 @@ int main(int argc, char** argv) {
       for (const Relation& rel : b.relations) (std::abs(rel.t2 - rel.t1) <= 10.0 ? within : between).push_back(rel);
       out["slam_within_visit"] = io::relations_error_json(relations_error(r.scans, within));
       out["slam_between_visits"] = io::relations_error_json(relations_error(r.scans, between));
+      // With SLAM_BENCH_BETWEEN=FILE: one line per relation between visits (t1, t2, slam's error m and rad, the
+      // front end's error m, the true x, y of both scans), to see where a map is off (not in the bench's table).
+      if (const char* path = std::getenv("SLAM_BENCH_BETWEEN")) {
+        std::FILE* f = std::fopen(path, "w");
+        if (f == nullptr) throw InputError(std::string(path) + ": cannot be written (SLAM_BENCH_BETWEEN)");
+        std::map<double, Pose2> truth_at;
+        for (const Scan& s : b.truth) truth_at[s.timestamp] = s.T_world_laser;
+        for (const Relation& rel : between) {
+          const RelationsError e = relations_error(r.scans, Relations{rel});
+          const RelationsError fe = relations_error(front_end_estimate, Relations{rel});
+          auto a = truth_at.lower_bound(rel.t1 - 1e-6), c = truth_at.lower_bound(rel.t2 - 1e-6);
+          std::fprintf(f, "%.3f %.3f %.4f %.4f %.4f %.3f %.3f %.3f %.3f\n", rel.t1, rel.t2, e.translation_mean,
+                       e.rotation_mean, fe.translation_mean, a == truth_at.end() ? 0 : a->second.x,
+                       a == truth_at.end() ? 0 : a->second.y, c == truth_at.end() ? 0 : c->second.x,
+                       c == truth_at.end() ? 0 : c->second.y);
+        }
+        std::fclose(f);
+      }
     }
     out["front_end"] = io::relations_error_json(relations_error(front_end_estimate, b.relations));
     out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", real}, {"injected", injected},

@@ -51,6 +51,9 @@ void define_logs(py::module_& m) {
   options.def_readwrite("min_range", &io::LogReadOptions::min_range, "[m]")
       .def_readwrite("max_usable_range", &io::LogReadOptions::max_usable_range, "[m]")
       .def_readwrite("no_return_range", &io::LogReadOptions::no_return_range, "[m]")
+      .def_readwrite("no_return_code_share", &io::LogReadOptions::no_return_code_share,
+                     "a 1 cm range bin holding this share of a recording's beams is the scanner's no-return code")
+      .def_readwrite("no_return_code_min_range", &io::LogReadOptions::no_return_code_min_range, "[m]")
       .def_readwrite("flaser_spacing", &io::LogReadOptions::flaser_spacing)
       .def_readwrite("max_points", &io::LogReadOptions::max_points, "a log with more valid beams is refused")
       .def_readwrite("skip_damaged", &io::LogReadOptions::skip_damaged,
@@ -76,6 +79,7 @@ void define_logs(py::module_& m) {
       .def_readonly("blank", &io::CarmenLogStats::blank)
       .def_readonly("beams", &io::CarmenLogStats::beams)
       .def_readonly("valid_beams", &io::CarmenLogStats::valid_beams)
+      .def_readonly("no_return_code_beams", &io::CarmenLogStats::no_return_code_beams)
       .def_readonly("skipped", &io::CarmenLogStats::skipped, "skipped messages by name")
       .def_readonly("damaged", &io::CarmenLogStats::damaged, "damaged lines skipped (skip_damaged)")
       .def_readonly("pose_jumps", &io::CarmenLogStats::pose_jumps, "scans skipped for a pose jump (skip_damaged)")

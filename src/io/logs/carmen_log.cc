@@ -10,6 +10,7 @@
 #include "io/files/atomic_file.h"
 #include "io/files/line_reader.h"
 #include "io/files/text_fields.h"
+#include "io/logs/no_return_codes.h"
 
 namespace partslam::io {
 namespace {
@@ -357,6 +358,8 @@ CarmenLog read_carmen_log(const std::filesystem::path& path, const LogReadOption
   while (std::optional<Scan> scan = reader.next()) log.scans.push_back(std::move(*scan));
   log.odometry = reader.take_odometry();
   log.stats = reader.stats();
+  log.stats.no_return_code_beams = drop_no_return_codes(log.scans, find_no_return_codes(log.scans, options));
+  log.stats.valid_beams -= log.stats.no_return_code_beams;
   log.warnings = reader.warnings();
   return log;
 }

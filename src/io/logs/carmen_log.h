@@ -55,6 +55,8 @@ struct CarmenLogStats {
   std::size_t blank = 0;        ///< empty or whitespace-only lines
   std::size_t beams = 0;        ///< beams in all scans
   std::size_t valid_beams = 0;  ///< beams kept as points
+  /// Beams dropped as the scanner's no-return code once the log was read (read_carmen_log; io/logs/no_return_codes.h).
+  std::size_t no_return_code_beams = 0;
   /// Skipped messages by name (PARAM, NEFF, VERTEX2, EDGE2, SYNC, unknown ones).
   std::map<std::string, std::size_t, std::less<>> skipped;
   std::size_t damaged = 0;     ///< malformed or binary lines skipped (LogReadOptions::skip_damaged)
@@ -135,7 +137,8 @@ struct CarmenLog {
   std::vector<std::string> warnings;  ///< CarmenReader::warnings(): a cut-off end, damage skipped
 };
 
-/// Reads a whole log; same errors as CarmenReader.
+/// Reads a whole log, then drops its scanner's no-return codes (io/logs/no_return_codes.h; CarmenReader::next does
+/// not: a code is known only once the whole log is read); same errors as CarmenReader.
 CarmenLog read_carmen_log(const std::filesystem::path& path, const LogReadOptions& options = {});
 
 /// Writes scans as a CARMEN log of FLASER messages (atomically): each scan's ranges rebuilt from its points on

@@ -1,4 +1,5 @@
 #include "io/logs/carmen_log.h"
+#include "io/logs/no_return_codes.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -144,6 +145,30 @@ TEST(CarmenLog, SpacingConventionsAndRangeOptions) {
   }
   options.max_points = 0;
   EXPECT_THROW(validate(options), InputError);
+}
+
+TEST(CarmenLog, AScannersNoReturnCodeIsDroppedOnceTheLogIsReadAndFarReturnsAreKept) {
+  // 200 scans of 4 beams: two far returns (30 to 48 m, another range each scan) and two beams at 50.0 m, the
+  // code aces's scanner writes when it sees nothing (its maximum: beams beyond it would be dropped too).
+  std::string text;
+  for (int i = 0; i < 200; ++i) {
+    char line[256];
+    std::snprintf(line, sizeof line, "FLASER 4 %.2f 50.00 50.00 %.2f 0 0 0 0 0 0 %d.0 host %d.0\n", 30.0 + 0.05 * i,
+                  40.0 + 0.04 * i, i, i);
+    text += line;
+  }
+  TempDir dir;
+  write_text(dir / "coded.log", text, false);
+  const CarmenLog log = read_carmen_log(dir / "coded.log");
+  EXPECT_EQ(log.stats.no_return_code_beams, 400u);
+  EXPECT_EQ(log.stats.valid_beams, 400u);
+  for (const Scan& scan : log.scans) {
+    ASSERT_EQ(scan.points_laser.size(), 2u);
+    for (const Vec2& p : scan.points_laser) EXPECT_GT(std::abs(p.norm() - 50.0), kNoReturnCodeWindow) << p.norm();
+  }
+  LogReadOptions off;  // without the search, the codes are read as returns
+  off.no_return_code_share = 0.0;
+  EXPECT_EQ(read_carmen_log(dir / "coded.log", off).stats.valid_beams, 800u);
 }
 
 TEST(CarmenLog, ValidatesOptions) {

@@ -21,6 +21,14 @@ void validate(const LogReadOptions& options) {
     throw InputError("LogReadOptions.no_return_range: must exceed min_range, got " +
                      std::to_string(options.no_return_range));
   }
+  if (!(options.no_return_code_share >= 0.0 && options.no_return_code_share <= 1.0)) {
+    throw InputError("LogReadOptions.no_return_code_share: must be in [0, 1], got " +
+                     std::to_string(options.no_return_code_share));
+  }
+  if (!std::isfinite(options.no_return_code_min_range) || options.no_return_code_min_range < 0.0) {
+    throw InputError("LogReadOptions.no_return_code_min_range: must be finite and >= 0, got " +
+                     std::to_string(options.no_return_code_min_range));
+  }
   if (!(options.max_scan_jump > 0.0)) {
     throw InputError("LogReadOptions.max_scan_jump: must be positive, got " + std::to_string(options.max_scan_jump));
   }

@@ -19,14 +19,20 @@ enum class FlaserSpacing {
 struct LogReadOptions {
   /// Beams with range <= min_range are dropped [m].
   double min_range = 0.0;
-  /// Beams with range >= max_usable_range are dropped [m]. 30 m: SICK LMS scanners are specified to
-  /// 30 m on dark targets, and the logs' saturation codes (50.0 aces, ~51.15 acapulco/edmonton,
-  /// 32.767 orebro) all lie above it; valid returns beyond 30 m are < 0.2 % of beams except in the
-  /// outdoor freiburg-campus log (9 %). Raise it for outdoor logs.
-  double max_usable_range = 30.0;
+  /// Beams with range >= max_usable_range are dropped [m]. 80 m: the farthest a SICK LMS reports (its long-range
+  /// mode); a scanner's no-return code below it is found per recording (no_return_code_share). Outdoors the
+  /// returns beyond 30 m are what holds the front end along a road (docs/NOTES.md, "Usable range"); the maps cap
+  /// their own range (SubmapConfig::max_range, 8 m).
+  double max_usable_range = 80.0;
   /// Ranges >= no_return_range are CARMEN's "no return" codes (81.83 .. 81.92) and always dropped [m],
   /// whatever max_usable_range says. ROBOTLASER1 beams >= the message's own max_range are dropped too.
   double no_return_range = 81.0;
+  /// A scanner's own no-return code (50.0 m in aces, ~51.1 m in acapulco, 32.77 m in orebro): a 1 cm range bin
+  /// beyond no_return_code_min_range holding at least this share of the recording's beams; its beams are dropped
+  /// once the whole recording is read (io/logs/no_return_codes.h). 0: no codes looked for.
+  double no_return_code_share = 0.003;
+  /// Codes are looked for at or beyond this range [m].
+  double no_return_code_min_range = 20.0;
   /// FLASER beam spacing convention; kCarmen matches CARMEN's readlog and the SICK hardware.
   FlaserSpacing flaser_spacing = FlaserSpacing::kCarmen;
   /// A log with more valid beams than this is refused (a small gzip file can expand to gigabytes of points;

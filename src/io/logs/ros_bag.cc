@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/logs/no_return_codes.h"
 #include "io/logs/ros_bag_messages.h"
 
 namespace partslam::io {
@@ -167,6 +168,7 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
     s.T_world_laser = s.T_world_odom = odometry_at(odom, s.timestamp) * log.T_base_laser;
     log.scans.push_back(std::move(s));
   }
+  drop_no_return_codes(log.scans, find_no_return_codes(log.scans, options));
   return log;
 }
 

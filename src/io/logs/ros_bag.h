@@ -1,6 +1,7 @@
 // ROS 1 bags as a scan source, read with Debian's rosbag_storage library:
 // sensor_msgs/LaserScan messages become Scans (points of the beams with range_min < r < min(range_max,
-// LogReadOptions::max_usable_range); num_beams = ranges.size(); timestamp = header.stamp), posed by the
+// LogReadOptions::max_usable_range), less the scanner's no-return code (io/logs/no_return_codes.h); num_beams =
+// ranges.size(); timestamp = header.stamp), posed by the
 // nav_msgs/Odometry messages interpolated at each scan's stamp (linear in x, y, the short way in theta) in both
 // pose slots, times the laser's mount on the robot when the bag's transforms give one (base_link -> the scans'
 // frame, e.g. on /tf_static; the benchmark's .clf files, made from these bags, do not apply it). A bag without

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "io/logs/carmen_log.h"
+#include "io/logs/no_return_codes.h"
 #include "io/logs/relations.h"
 #include "io/testing/test_files.h"
 
@@ -16,19 +17,20 @@ namespace {
 struct LogFacts {
   std::size_t scans;
   std::size_t odometry;
+  double code = 0.0;  ///< the scanner's no-return code below 81 m, 0 if none: the 1 cm value most frequent beyond 30 m
 };
 
-// Counted independently with zcat | awk.
+// Counted independently with zcat | awk (the codes: a histogram of the ranges beyond 30 m, by /usr/bin/python3).
 const std::map<std::string, LogFacts> kLogs = {
-    {"aces/aces-corrected.log.gz", {440, 7814}},
-    {"aces/aces.clf.gz", {7374, 7375}},
-    {"corrected/acapulco-corrected.log.gz", {861, 12142}},
+    {"aces/aces-corrected.log.gz", {440, 7814, 50.0}},
+    {"aces/aces.clf.gz", {7374, 7375, 50.0}},
+    {"corrected/acapulco-corrected.log.gz", {861, 12142, 51.15}},
     {"corrected/belgioioso-corrected.log.gz", {395, 4442}},
-    {"corrected/edmonton-corrected.log.gz", {340, 6351}},
-    {"corrected/fhw-corrected.log.gz", {488, 13935}},
+    {"corrected/edmonton-corrected.log.gz", {340, 6351, 51.15}},
+    {"corrected/fhw-corrected.log.gz", {488, 13935, 51.05}},
     {"corrected/freiburg-campus-corrected.log.gz", {2008, 17691}},
-    {"corrected/infinite-corridor-corrected.log.gz", {1941, 18191}},
-    {"corrected/orebro-corrected.log.gz", {237, 255}},
+    {"corrected/infinite-corridor-corrected.log.gz", {1941, 18191, 51.06}},
+    {"corrected/orebro-corrected.log.gz", {237, 255, 32.76}},
     {"corrected/seattle-corrected.log.gz", {241, 19311}},
     {"csail/mit-csail.clf.gz", {1988, 0}},  // FLASER only: the pose fields carry the odometry
     {"fr079/fr079-corrected.log.gz", {4791, 9725}},
@@ -99,10 +101,15 @@ TEST_P(RealLog, ParsesWithKnownCountsAndPlausibleScans) {
     ASSERT_TRUE(n == 180 || n == 181 || n == 360 || n == 361) << n;
     ASSERT_LE(scan.points_laser.size(), static_cast<std::size_t>(n));
     ASSERT_TRUE(std::isfinite(scan.T_world_laser.x) && std::isfinite(scan.T_world_odom.theta));
-    for (const Vec2& p : scan.points_laser) ASSERT_LT(p.norm(), 30.0);
+    for (const Vec2& p : scan.points_laser) {
+      ASSERT_LT(p.norm(), LogReadOptions{}.max_usable_range);
+      ASSERT_GT(std::abs(p.norm() - facts.code), kNoReturnCodeWindow) << "a no-return code kept";
+    }
     if (scan.points_laser.size() < static_cast<std::size_t>(n) / 4) ++sparse;
   }
-  // Outdoor freiburg-campus is the worst: 6 % sparse scans, 62 % valid beams within 30 m.
+  EXPECT_EQ(log.stats.no_return_code_beams > 0, facts.code > 0);
+  EXPECT_TRUE(find_no_return_codes(log.scans, LogReadOptions{}).empty());
+  // Outdoor freiburg-campus is the worst: 6 % sparse scans, 74 % valid beams (62 % within 30 m).
   EXPECT_LT(sparse, log.scans.size() / 10) << "scans with under a quarter of their beams valid";
   EXPECT_GT(log.stats.valid_beams, log.stats.beams / 2);
 }
