@@ -8,9 +8,10 @@ namespace partslam::io {
 std::vector<double> find_no_return_codes(const Scans& scans, const LogReadOptions& options) {
   std::vector<double> codes;
   if (options.no_return_code_share <= 0.0) return codes;
-  // 1 cm bins from min_range up to no_return_range (the farthest a kept beam can be).
+  // 1 cm bins from min_range up to the farthest a kept beam can be, at most kNoReturnCodeSpan beyond min_range
+  // (the limits may be infinite).
   const double lo = options.no_return_code_min_range;
-  const double hi = std::max(lo, std::min(options.max_usable_range, options.no_return_range));
+  const double hi = std::clamp(std::min(options.max_usable_range, options.no_return_range), lo, lo + kNoReturnCodeSpan);
   const auto bins = static_cast<long>(std::ceil((hi - lo) * 100.0)) + 1;
   std::vector<std::size_t> count(static_cast<std::size_t>(bins), 0);
   std::size_t beams = 0;

@@ -23,6 +23,8 @@ namespace partslam::io {
 inline constexpr double kNoReturnCodeWindow = 0.1;
 /// A code's bin holds at least this many times the mean bin around it.
 inline constexpr double kNoReturnCodePeak = 20.0;
+/// Codes are looked for up to this far beyond LogReadOptions::no_return_code_min_range [m].
+inline constexpr double kNoReturnCodeSpan = 200.0;
 
 /// The codes of a recording's scans (ranges [m], ascending, each the centre of its 1 cm bin); none when
 /// options.no_return_code_share is 0.

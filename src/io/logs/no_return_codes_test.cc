@@ -123,6 +123,14 @@ TEST(NoReturnCodes, StragglersBeyondTheScannersMaximumGoToo) {
   EXPECT_EQ(drop_no_return_codes(scans, codes), 300u * 20u + 30u);
 }
 
+TEST(NoReturnCodes, InfiniteRangeLimitsLookOnlySoFar) {
+  LogReadOptions o;
+  o.max_usable_range = o.no_return_range = INFINITY;
+  Scans scans = scans_with_code(300, 20, 50.0, 0.0);
+  scans[0].points_laser.push_back(beam(1e6, 0.0));  // a return a thousand kilometres out
+  EXPECT_THAT(find_no_return_codes(scans, o), ElementsAre(DoubleNear(50.0, 0.006)));
+}
+
 TEST(NoReturnCodes, NoScansOrNoPointsAreNoCodes) {
   Scans scans;
   EXPECT_TRUE(find_no_return_codes(scans, LogReadOptions{}).empty());
