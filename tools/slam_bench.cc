@@ -28,8 +28,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <map>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>

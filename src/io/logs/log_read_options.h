@@ -21,7 +21,7 @@ struct LogReadOptions {
   double min_range = 0.0;
   /// Beams with range >= max_usable_range are dropped [m]. 80 m: the farthest a SICK LMS reports (its long-range
   /// mode); a scanner's no-return code below it is found per recording (no_return_code_share). Outdoors the
-  /// returns beyond 30 m are what holds the front end along a road (docs/NOTES.md, "Usable range"); the maps cap
+  /// returns beyond 30 m are what holds the front end along a road (docs/NOTES.md, "Far returns kept"); the maps cap
   /// their own range (SubmapConfig::max_range, 8 m).
   double max_usable_range = 80.0;
   /// Ranges >= no_return_range are CARMEN's "no return" codes (81.83 .. 81.92) and always dropped [m],
