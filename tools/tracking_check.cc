@@ -54,7 +54,13 @@ int main(int argc, char** argv) {
       else if (name == "corridor_slack") config.tracker.corridor_slack = value;
       else if (name == "declare_probability") config.tracker.declare_probability = value;
       else if (name == "search_every") config.tracker.search_every = static_cast<int>(value);
+      else if (name == "search_budget") config.tracker.search_budget = static_cast<int>(value);
+      else if (name == "search_min_share") config.tracker.search_min_share = value;
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);
+      else if (name == "candidates") config.localizer.candidates = static_cast<int>(value);
+      else if (name == "turns") config.localizer.dmm.canonical_turns = static_cast<int>(value);
+      else if (name == "dmm_res") config.localizer.dmm.resolution = value;
+      else if (name == "restart") config.localizer.restart_distance = value;
       else if (name == "search_verified") config.tracker.search_verified = static_cast<int>(value);
       else if (name == "claim_m") config.tracker.claim_shift.translation = value;
       else if (name == "claim_deg") config.tracker.claim_shift.rotation = value * std::numbers::pi / 180;
@@ -116,10 +122,10 @@ int main(int argc, char** argv) {
                   run.declared_wrong, run.declared_wrong_in_map);
       if (std::getenv("TRACK_STEPS") == nullptr) continue;  // the steps too, for a closer look
       for (const TrackedStep& t : run.steps)
-        std::printf("    %5.1f m%s  overlap %.2f  %-9s  %s %5.2f m %5.1f deg  share %.3f  p %.3f  none %.3f  hyps %zu%s%s\n", t.travel,
+        std::printf("    %5.1f m%s  overlap %.2f  %-9s  %s %5.2f m %5.1f deg  share %.3f  p %.3f  none %.3f  hyps %zu  %.1f ms%s%s\n", t.travel,
                     t.after_jump ? " (jumped)" : "", t.overlap, to_string(t.step.status), t.right ? "right" : "off  ", t.translation_error,
                     t.rotation_error * 180 / std::numbers::pi,
-                    t.step.best.share, t.step.best.probability, t.step.none_share, t.step.hypotheses.size(),
+                    t.step.best.share, t.step.best.probability, t.step.none_share, t.step.hypotheses.size(), t.step.time_ms,
                     t.step.evidence ? "" : "  no evidence", t.step.searched ? "  searched" : "");
     }
   } catch (const std::exception& e) {

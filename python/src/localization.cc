@@ -188,12 +188,13 @@ void define_localization(py::module_& m) {
            "The local map's pose in the map frame (its points in their canonical frame, as build_local_map gives; "
            "query_origins: its laser positions, Submap.origins, for a calibrated probability).")
       .def("hypotheses",
-           static_cast<std::vector<Verified> (Localizer::*)(const Points2&, const Points2&, int, int) const>(
-               &Localizer::hypotheses),
+           static_cast<std::vector<Verified> (Localizer::*)(const Points2&, const Points2&, int, int, double)
+                           const>(&Localizer::hypotheses),
            "query_points"_a, "query_origins"_a = Points2{}, "count"_a = 8,
-           "verified"_a = 0, release_gil(),
+           "verified"_a = 0, "min_share"_a = 0.0, release_gil(),
            "The global search's distinct verified poses (Verified), most probable first: what a tracker starts "
-           "from.")
+           "from (min_share: candidates with no more than this share of the best one's inliers are not searched "
+           "for).")
       .def_property_readonly("prepare_ms", &Localizer::prepare_ms)
       .def_property_readonly("alignment_angle", &Localizer::alignment_angle)
       .def_property_readonly("wing_directions", &Localizer::wing_directions,

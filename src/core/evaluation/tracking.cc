@@ -77,7 +77,7 @@ TrackingReport evaluate_tracking(const GridMap& map, const Scans& scans, std::si
     }
     tracker.reset();
     Pose2 T_rebase, T_odom_last;
-    bool lost = false;
+    bool lost = false, first_hypotheses = false;
     for (int half = 0; half < 2; ++half) {
       const double from = half == 0 ? run.start : run.jump_to;
       bool first_of_half = true;
@@ -100,9 +100,12 @@ TrackingReport evaluate_tracking(const GridMap& map, const Scans& scans, std::si
         ts.right = ts.step.has_pose && config.correct.accepts(ts.step.best.T_map_query, m.map.T_world_map);
         const Pose2 error = m.map.T_world_map.inverse() * ts.step.best.T_map_query;
         ts.translation_error = std::hypot(error.x, error.y), ts.rotation_error = std::abs(error.theta);
-        if (run.steps.empty()) {
+        if (!first_hypotheses && !ts.step.hypotheses.empty()) {  // the first search's (it may end steps later)
+          first_hypotheses = true;
           for (const TrackHypothesis& h : ts.step.hypotheses)
             run.truth_among_first = run.truth_among_first || config.correct.accepts(h.T_map_query, m.map.T_world_map);
+        }
+        if (run.steps.empty()) {
           const Localization single = localizer.locate(m.map.points, m.map.origins);
           run.single_shot_right = is_confident(single) && config.correct.accepts(single.T_map_query, m.map.T_world_map);
         }

@@ -50,7 +50,7 @@ struct TrackingRun {
   bool eligible = false;     ///< every local map of its first converge_within is in the map
   double converged = -1;     ///< travel to its first localised step (before the jump), -1: never [m]
   bool converged_right = false;
-  bool truth_among_first = false;  ///< the first step's hypotheses held the true pose
+  bool truth_among_first = false;  ///< the first step with hypotheses held the true pose among them
   bool single_shot_right = false;  ///< locate() on the first local map alone: confident and right
   bool localised_at_jump = false;  ///< localised on the last step before the jump
   bool jump_in_map = false;  ///< some local map of the jump's first recover_within is in the map

@@ -102,6 +102,7 @@ struct DmmResult {
   bool exact = true;             ///< false when top-k pruning proved the map's score <= the k-th best score of
                                  ///< the maps before it: inliers is then 0 and T_map_query the identity
   std::int64_t candidates_scored = 0;  ///< (rotation, translation block) bounds and scores evaluated
+  bool paused = false;           ///< DmmSearch::next ran out of its budget before the next pose (no pose here)
 };
 
 /// Exact maximum of Eq. 1 over the discretised window, by branch-and-bound. Ties keep the candidate found first.
@@ -147,7 +148,12 @@ class DmmSearch {
   /// The next pose. bar >= 0: only a pose scoring more than the highest bar given so far is reported, else
   /// exact = false and inliers 0 (bars are floors: a lower one later does not bring back what a higher one
   /// pruned). inliers 0 with exact = true when every candidate has been returned or excluded.
-  DmmResult next(int bar = -1);
+  /// budget > 0: once this call's work reaches `budget` (the query cells its bound passes read, plus 2000 per
+  /// node popped: about proportional to time, about a millisecond per million), it stops between two steps of
+  /// the search and returns paused = true (no pose); the next call goes on from there, so the poses come in the
+  /// same order as without a budget (a search spread over several steps of a tracker). The work before the
+  /// first pop (bounding the roots' children) is not split.
+  DmmResult next(int bar = -1, std::int64_t budget = -1);
 
  private:
   struct State;

@@ -97,5 +97,44 @@ TEST(DmmSearch, EachNextPoseIsTheBestElsewhereThanThoseBefore) {
   EXPECT_THROW(DmmSearch(same, map, -1.0, 0.1), InputError);
 }
 
+// A search spread over calls with a budget (a tracker's slices; 5000: a few nodes a call) pauses, then yields the
+// same poses in the same order as one without, lazy or not, with and without a bar; every call makes progress
+// (the calls for a pose end).
+TEST(DmmSearch, ABudgetSpreadsTheSearchWithoutChangingItsPoses) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> offset(-1.5, 1.5);
+  for (int p = 0; p < 4; ++p) {
+    const testing::SyntheticWorld world = testing::random_world(rng, 20.0, 20);
+    const testing::SyntheticPair pair = testing::make_pair(world, rng, {offset(rng), offset(rng)},
+                                                           {offset(rng), offset(rng)}, p * std::numbers::pi / 2);
+    DmmConfig config = small_search_config();
+    config.search_depth = p % 2 == 0 ? 0 : 2;
+    const PreparedQuery q = prepare_query(pair.query, config);
+    const PreparedMap m = prepare_map(pair.map, config);
+    const bool lazy = p >= 2;
+    DmmSearch whole(q, m, 0.5, 1.5 * kDegree, lazy), sliced(q, m, 0.5, 1.5 * kDegree, lazy);
+    int pauses = 0;
+    for (int k = 0; k < 12; ++k) {
+      const int bar = k >= 6 ? 10 : -1;
+      const DmmResult expected = whole.next(bar);
+      EXPECT_FALSE(expected.paused);
+      DmmResult got;
+      for (int call = 0; call < 100000; ++call) {
+        got = sliced.next(bar, 5000);
+        if (!got.paused) break;
+        EXPECT_EQ(got.inliers, 0);
+        ++pauses;
+      }
+      ASSERT_FALSE(got.paused) << "pair " << p << " pose " << k;
+      EXPECT_EQ(got.inliers, expected.inliers) << "pair " << p << " pose " << k;
+      EXPECT_EQ(got.exact, expected.exact) << "pair " << p << " pose " << k;
+      EXPECT_EQ(got.T_map_query.x, expected.T_map_query.x) << "pair " << p << " pose " << k;
+      EXPECT_EQ(got.T_map_query.y, expected.T_map_query.y) << "pair " << p << " pose " << k;
+      EXPECT_EQ(got.T_map_query.theta, expected.T_map_query.theta) << "pair " << p << " pose " << k;
+    }
+    EXPECT_GT(pauses, 10) << "pair " << p << ": the budget never stopped the search";
+  }
+}
+
 }  // namespace
 }  // namespace partslam

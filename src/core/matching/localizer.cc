@@ -154,20 +154,24 @@ std::vector<Verified> Localizer::verify_all(const VerifyQuery& query, std::span<
 }
 
 std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const Points2& query_origins,
-                                            int count, int verified) const {
+                                            int count, int verified, double min_share) const {
   if (query_points.empty()) throw InputError("localizer: the local map has no point");
-  return hypotheses(query_points, verify_query(query_points, query_origins), count, verified);
+  return hypotheses(query_points, verify_query(query_points, query_origins), count, verified, min_share);
 }
 
 std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const VerifyQuery& verify_local,
-                                            int count, int verified) const {
-  if (query_points.empty()) throw InputError("localizer: the local map has no point");
-  const PreparedQuery query = prepare_query(query_points, config_.dmm);
-  const std::vector<Candidate> found = search_candidates(query_points, query, centroid(query_points));
+                                            int count, int verified, double min_share) const {
+  HypothesisSearch search(*this, query_points, verify_local, count, verified, min_share);
+  search.advance(0);
+  return search.result();
+}
+
+std::vector<Verified> Localizer::distinct_verified(const VerifyQuery& query, const std::vector<Candidate>& found,
+                                                   int count, int verified) const {
   const std::size_t chosen =
       std::min<std::size_t>(found.size(), static_cast<std::size_t>(verified >= 1 ? verified : config_.verified));
   std::vector<Verified> all;
-  for (std::size_t i = 0; i < chosen; ++i) all.push_back(verify(verify_local, found[i].T_map_query));
+  for (std::size_t i = 0; i < chosen; ++i) all.push_back(verify(query, found[i].T_map_query));
   std::stable_sort(all.begin(), all.end(),
                    [](const Verified& a, const Verified& b) { return a.probability > b.probability; });
   std::vector<Verified> out;
@@ -180,6 +184,40 @@ std::vector<Verified> Localizer::hypotheses(const Points2& query_points, const V
     if (!same) out.push_back(v);
   }
   return out;
+}
+
+namespace {
+
+const Points2& non_empty(const Points2& points) {
+  if (points.empty()) throw InputError("localizer: the local map has no point");
+  return points;
+}
+
+double checked_share(double min_share) {
+  if (!(min_share >= 0.0 && min_share < 1.0)) throw InputError("localizer: min_share must be in [0, 1)");
+  return min_share;
+}
+
+}  // namespace
+
+Localizer::HypothesisSearch::HypothesisSearch(const Localizer& localizer, const Points2& query_points,
+                                              VerifyQuery prepared, int count, int verified, double min_share)
+    : localizer_(localizer),
+      points_(non_empty(query_points)),
+      prepared_(std::move(prepared)),
+      count_(count),
+      verified_(verified),
+      query_(prepare_query(points_, localizer.config_.dmm)),
+      candidates_(std::make_unique<Candidates>(localizer, query_, centroid(points_), checked_share(min_share))) {}
+
+Localizer::HypothesisSearch::~HypothesisSearch() = default;
+
+bool Localizer::HypothesisSearch::advance(std::int64_t budget) {
+  if (done_) return true;
+  if (!localizer_.search_candidates(points_, *candidates_, budget)) return false;
+  result_ = localizer_.distinct_verified(prepared_, candidates_->found, count_, verified_);
+  done_ = true;
+  return true;
 }
 
 bool answers_agree(const Pose2& T_map_a, const Pose2& T_map_b, const Pose2& T_log_a, const Pose2& T_log_b,
@@ -208,42 +246,54 @@ bool is_confident(const Localization& l, const ConfidenceRule& rule) {
   return rule.confident(l.confidence, l.calibrated ? std::optional(l.probability) : std::nullopt);
 }
 
-std::vector<Localizer::Candidate> Localizer::search_candidates(const Points2& query_points,
-                                                               const PreparedQuery& query, const Vec2& centre) const {
+Localizer::Candidates::Candidates(const Localizer& localizer, const PreparedQuery& query, const Vec2& where,
+                                  double share)
+    : search(query, localizer.map_, localizer.config_.candidate_distance, localizer.config_.elsewhere.angle),
+      centre(where),
+      min_share(share) {}
+
+bool Localizer::search_candidates(const Points2& query_points, Candidates& state, std::int64_t budget) const {
+  if (state.done) return true;
   const Pose2 T_map_canonical = T_canonical_map_.inverse();
-  std::vector<Candidate> found;
   const double n = static_cast<double>(query_points.size());
-  // The two best rescored scores of distinct places so far [points]: a candidate with no more inliers than
-  // the second cannot change the answer's confidence (rescoring only subtracts), so it is the next search's
-  // bar.
-  double first = -1e300, second = -1e300;
+  std::vector<Candidate>& found = state.found;
   // One best-first search yields the distinct candidates in turn.
-  DmmSearch search(query, map_, config_.candidate_distance, config_.elsewhere.angle);
-  for (int k = 0; k < config_.candidates; ++k) {
+  while (static_cast<int>(found.size()) < config_.candidates) {
     Candidate s;
-    const int bar = second > 0 ? static_cast<int>(std::floor(second)) : -1;
-    s.dmm = search.next(bar);
-    if (k > 0 && (!s.dmm.exact || s.dmm.inliers == 0)) break;  // nothing left that could matter
+    int bar = state.second > 0 ? static_cast<int>(std::floor(state.second)) : -1;
+    if (!found.empty() && state.min_share > 0)  // found.front(): the search's first, the most inliers
+      bar = std::max(bar, static_cast<int>(std::floor(state.min_share * found.front().dmm.inliers)));
+    s.dmm = state.search.next(bar, budget);
+    if (s.dmm.paused) return false;
+    if (!found.empty() && (!s.dmm.exact || s.dmm.inliers == 0)) break;  // nothing left that could matter
     s.T_map_query = T_map_canonical * s.dmm.T_map_query;
     s.conflicts = free_conflicts(query_points, s.T_map_query);
     const double points = s.dmm.inliers - config_.free_weight * s.conflicts;
     s.score = points / n;
     s.place = std::all_of(found.begin(), found.end(), [&](const Candidate& f) {
-      return config_.elsewhere.apart(f.T_map_query, s.T_map_query, centre);
+      return config_.elsewhere.apart(f.T_map_query, s.T_map_query, state.centre);
     });
     if (!s.place) {
       // a place found before, seen a little off: its margin is over other places
-    } else if (points > first) {
-      second = first, first = points;
-    } else if (points > second) {
-      second = points;
+    } else if (points > state.first) {
+      state.second = state.first, state.first = points;
+    } else if (points > state.second) {
+      state.second = points;
     }
     found.push_back(s);
   }
   // Best rescored first; ties keep the search order (the higher dMM score).
   std::stable_sort(found.begin(), found.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  return found;
+  state.done = true;
+  return true;
+}
+
+std::vector<Localizer::Candidate> Localizer::search_candidates(const Points2& query_points,
+                                                               const PreparedQuery& query, const Vec2& centre) const {
+  Candidates state(*this, query, centre);
+  search_candidates(query_points, state, 0);
+  return std::move(state.found);
 }
 
 Verified Localizer::verify_best(const VerifyQuery& query, const std::vector<Candidate>& found,

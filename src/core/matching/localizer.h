@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -116,6 +117,9 @@ bool answers_agree(const Pose2& T_map_a, const Pose2& T_map_b, const Pose2& T_lo
 std::string not_confident_because(const Localization& l, const ConfidenceRule& rule = {});
 
 class Localizer {
+  struct Candidate;
+  struct Candidates;
+
  public:
   /// A building map with its free space (a map_server map, build_grid_map of a corrected log). Throws
   /// InputError for a map without an occupied cell, a bad config or a map beyond the dMM limits.
@@ -147,12 +151,45 @@ class Localizer {
   /// The global search's distinct answers, most probable first (a tracker's hypotheses): locate()'s best
   /// `verified` candidates (config().verified when < 1) refined and scored as its answer is; an answer that
   /// refines within candidate_distance and elsewhere.angle of a more probable one is the same pose and dropped;
-  /// at most `count`. Throws InputError as locate() does.
+  /// at most `count`. min_share in [0, 1): the search stops at candidates with no more than this share of the
+  /// first one's inliers (a pose that fits half as well as the best is not one to carry; it cuts the search's
+  /// work where the second place is far below the first; 0: every candidate, as locate() searches). Throws
+  /// InputError as locate() does, and for min_share out of range.
   std::vector<Verified> hypotheses(const Points2& query_points, const Points2& query_origins, int count,
-                                   int verified = 0) const;
+                                   int verified = 0, double min_share = 0.0) const;
   /// The same with the local map already prepared for verification (verify_query of the same points).
   std::vector<Verified> hypotheses(const Points2& query_points, const VerifyQuery& prepared, int count,
-                                   int verified = 0) const;
+                                   int verified = 0, double min_share = 0.0) const;
+  /// hypotheses() spread over several calls (a tracker whose steps have a time limit): each advance() goes on
+  /// with the dMM search for about `budget` of its work (DmmSearch::next's budget, about a millisecond per
+  /// million; 0: to its end), and the call that ends the search verifies its candidates. The hypotheses are
+  /// those hypotheses() gives for the same local map, however the work was split. Keeps a reference to the
+  /// localizer; not copied or moved (the search refers to its own prepared query).
+  class HypothesisSearch {
+   public:
+    /// Throws InputError as hypotheses() does.
+    HypothesisSearch(const Localizer& localizer, const Points2& query_points, VerifyQuery prepared, int count,
+                     int verified = 0, double min_share = 0.0);
+    ~HypothesisSearch();
+    HypothesisSearch(const HypothesisSearch&) = delete;
+    HypothesisSearch& operator=(const HypothesisSearch&) = delete;
+    /// True once the hypotheses are ready (result()); then it does nothing more.
+    bool advance(std::int64_t budget);
+    bool done() const { return done_; }
+    /// Most probable first, as hypotheses() returns them; empty until done().
+    const std::vector<Verified>& result() const { return result_; }
+
+   private:
+    const Localizer& localizer_;
+    const Points2 points_;
+    const VerifyQuery prepared_;
+    const int count_, verified_;
+    const PreparedQuery query_;
+    std::unique_ptr<Candidates> candidates_;
+    bool done_ = false;
+    std::vector<Verified> result_;
+  };
+
   /// Each of `poses` verified as verify() does, refined within `config`'s window instead of the localizer's
   /// (a pose carried by odometry is further off than a lattice pose); the local map's beams cast once.
   /// at_poses (when given): each pose's terms and probability where it is, before refining.
@@ -185,9 +222,29 @@ class Localizer {
     double score = 0;
     bool place = false;  ///< the best of its place: no candidate found before it lies within "elsewhere" of it
   };
+  /// One search's distinct candidates as they are found, and the search's state between budgets.
+  struct Candidates {
+    Candidates(const Localizer& localizer, const PreparedQuery& query, const Vec2& centre, double min_share = 0);
+    DmmSearch search;
+    Vec2 centre;
+    double min_share = 0;  ///< hypotheses()'s
+    std::vector<Candidate> found;
+    /// The two best rescored scores of distinct places so far [points]: a candidate with no more inliers than
+    /// the second cannot change the answer's confidence (rescoring only subtracts), so it is the next search's
+    /// bar.
+    double first = -1e300, second = -1e300;
+    bool done = false;
+  };
+  /// Goes on finding candidates for about `budget` of the search's work (0: to the end); true when it is done, its
+  /// candidates (at most `candidates`) then sorted best rescored first.
+  bool search_candidates(const Points2& query_points, Candidates& state, std::int64_t budget) const;
   /// The distinct candidates of one search (at most `candidates`), best rescored first.
   std::vector<Candidate> search_candidates(const Points2& query_points, const PreparedQuery& query,
                                            const Vec2& centre) const;
+  /// The best `verified` candidates (config().verified when < 1) verified, distinct, at most `count`, most
+  /// probable first (hypotheses()).
+  std::vector<Verified> distinct_verified(const VerifyQuery& query, const std::vector<Candidate>& found, int count,
+                                          int verified) const;
   /// The most probable of the best few candidates, verified (and verified again from starts around it); sets
   /// `chosen` to its index.
   Verified verify_best(const VerifyQuery& query, const std::vector<Candidate>& found, std::size_t& chosen) const;

@@ -69,6 +69,56 @@ TEST_P(LocalizerSearch, FindsLocalMapsInTheBuildingMapWithTheirPose) {
 
 INSTANTIATE_TEST_SUITE_P(CandidateDistances, LocalizerSearch, ::testing::Values(2.0, 0.5));
 
+// The global search spread over calls with a small budget (a tracker's slices) pauses, then gives the
+// hypotheses the whole search gives, in the same order, poses and probabilities.
+TEST(Localizer, AHypothesisSearchInSlicesGivesTheWholeSearchsHypotheses) {
+  const Scans& scans = building_scans();
+  const Localizer localizer(build_grid_map(scans));
+  const std::vector<double> travel = travel_distances(scans);
+  for (const double s : {5.0, 0.5 * travel.back()}) {
+    const Submap query = build_local_map(scans, s, s + 2.0);
+    const std::vector<Verified> whole = localizer.hypotheses(query.points, query.origins, 8, 8);
+    Localizer::HypothesisSearch sliced(localizer, query.points, localizer.verify_query(query.points, query.origins),
+                                       8, 8);
+    int calls = 1;
+    while (!sliced.advance(2000)) {
+      EXPECT_TRUE(sliced.result().empty());
+      ASSERT_LT(++calls, 1000000);
+    }
+    EXPECT_GT(calls, 2) << "the budget never paused the search";
+    EXPECT_TRUE(sliced.done());
+    EXPECT_TRUE(sliced.advance(2000));  // done: nothing more
+    ASSERT_EQ(sliced.result().size(), whole.size());
+    ASSERT_FALSE(whole.empty());
+    for (std::size_t i = 0; i < whole.size(); ++i) {
+      EXPECT_EQ(sliced.result()[i].T_map_query.x, whole[i].T_map_query.x) << i;
+      EXPECT_EQ(sliced.result()[i].T_map_query.y, whole[i].T_map_query.y) << i;
+      EXPECT_EQ(sliced.result()[i].T_map_query.theta, whole[i].T_map_query.theta) << i;
+      EXPECT_EQ(sliced.result()[i].probability, whole[i].probability) << i;
+    }
+  }
+  EXPECT_THROW(Localizer::HypothesisSearch(localizer, Points2{}, Localizer::VerifyQuery{}, 8), InputError);
+}
+
+// Candidates with no more than half the best one's inliers not searched for: the most probable hypothesis is the
+// same where the true place is also the best-scoring one (the simulated building's), and at most as many.
+TEST(Localizer, HypothesesAboveAShareOfTheBestAreASubsetsWorth) {
+  const Scans& scans = building_scans();
+  const Localizer localizer(build_grid_map(scans));
+  const std::vector<double> travel = travel_distances(scans);
+  for (const double s : {5.0, 0.3 * travel.back(), 0.6 * travel.back()}) {
+    const Submap query = build_local_map(scans, s, s + 2.0);
+    const std::vector<Verified> all = localizer.hypotheses(query.points, query.origins, 8, 8);
+    const std::vector<Verified> some = localizer.hypotheses(query.points, query.origins, 8, 8, 0.5);
+    ASSERT_FALSE(some.empty());
+    EXPECT_LE(some.size(), all.size());
+    EXPECT_TRUE((PoseTolerance{0.3, 3 * kDegree}.accepts(some.front().T_map_query, query.T_world_map))) << s;
+    EXPECT_EQ(some.front().T_map_query.x, all.front().T_map_query.x) << s;
+    EXPECT_EQ(some.front().probability, all.front().probability) << s;
+  }
+  EXPECT_THROW(localizer.hypotheses(Points2{Vec2(1, 1), Vec2(2, 1)}, Points2{}, 8, 8, 1.0), InputError);
+}
+
 // Verifying more candidates answers with the most probable of them: never a less probable answer than the
 // best-scoring candidate's, which is the answer with one verified (and then scores at least as high as any other).
 TEST(Localizer, VerifyingMoreCandidatesAnswersWithTheMostProbable) {

@@ -32,6 +32,9 @@ void validate(const TrackerConfig& c) {
   if (!(c.corridor_ratio >= 0 && c.corridor_ratio < 1)) throw InputError("tracker: corridor_ratio must be in [0, 1)");
   if (!in(c.corridor_slack, 0, 5)) throw InputError("tracker: corridor_slack must be in [0, 5] m");
   if (c.search_every < 1 || c.search_every > 1000) throw InputError("tracker: search_every must be in [1, 1000]");
+  if (c.search_budget < 0) throw InputError("tracker: search_budget must be >= 0");
+  if (!(c.search_min_share >= 0 && c.search_min_share < 1))
+    throw InputError("tracker: search_min_share must be in [0, 1)");
   if (!in(c.min_none_share, 0, 0.5)) throw InputError("tracker: min_none_share must be in [0, 0.5]");
   if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
 }
@@ -66,6 +69,8 @@ void Tracker::reset() {
   blind_ = false;
   steps_since_search_ = 0;
   previous_.clear();
+  pending_.reset();
+  steps_ = 0;
 }
 
 const Tracker::Hypothesis* Tracker::find(int id) const {
@@ -233,12 +238,32 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
 
   // 3. The global search: new hypotheses out of the none weight, each weighed by its probability; the none
   // weight weighed too if no carried hypothesis did it this step.
+  // A search runs in slices of search_budget (tracker.h, 5): it starts on this step's local map, goes on over
+  // the next steps, and its hypotheses, found for the local map it started on, are carried by the odometry
+  // since then and weighed here as the carried ones are.
   bool searched = false;
+  const auto begin_search = [&] {
+    pending_ = std::make_unique<Localizer::HypothesisSearch>(localizer_, points, prepared, config_.hypotheses,
+                                                            config_.search_verified, config_.search_min_share);
+    pending_step_ = steps_;
+    T_odom_pending_ = T_odom_map;
+  };
   const auto search = [&] {
     searched = true;
+    if (pending_ == nullptr) begin_search();
+    if (!pending_->advance(config_.search_budget)) {
+      merge_and_drop(), normalise();
+      return;
+    }
+    std::vector<Verified> found = pending_->result();
+    if (pending_step_ != steps_) {
+      const Pose2 since = T_odom_pending_.inverse() * T_odom_map;
+      std::vector<Pose2> carried;
+      for (const Verified& v : found) carried.push_back(v.T_map_query * since);
+      found = verify_carried(prepared, carried, true);
+    }
+    pending_.reset();
     steps_since_search_ = 0;
-    const std::vector<Verified> found =
-        localizer_.hypotheses(points, prepared, config_.hypotheses, config_.search_verified);
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
     const std::size_t rivals = hypotheses_.size();
@@ -286,11 +311,20 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   // While not localised: a search when there is no hypothesis, else every search_every steps (a global search
   // costs ten to a hundred times a carried step; in between, the carried hypotheses gather evidence).
   ++steps_since_search_;
-  if (status_ != TrackStatus::kLocalised && (hypotheses_.empty() || steps_since_search_ >= config_.search_every))
+  if (status_ == TrackStatus::kLocalised) pending_.reset();  // no search while localised
+  if (pending_ != nullptr ||
+      (status_ != TrackStatus::kLocalised && (hypotheses_.empty() || steps_since_search_ >= config_.search_every)))
     search();
   else merge_and_drop(), normalise();
-  // 4. The status; lost this step: the search starts again at once.
-  if (update_status(evidence) && !searched) weighed = false, search();
+  // 4. The status; lost this step: the search starts again at once, on this step's local map (a search begun
+  // before is of where the robot was carried from).
+  if (update_status(evidence)) {
+    const bool fresh = pending_ != nullptr && pending_step_ == steps_;
+    if (!fresh) pending_.reset();
+    if (!searched) weighed = false, search();
+    else if (config_.search_budget > 0 && !fresh) begin_search();  // it goes on from the next step
+  }
+  ++steps_;
   previous_.push_back(Previous{std::move(prepared), Pose2{}});
   if (previous_.size() > kWeighedBack) previous_.erase(previous_.begin());
   return report(searched, evidence, ms_since(t0));

@@ -35,9 +35,16 @@
 // weight is, the local map says nothing of it), or was moved by the match more than claim_shift from where
 // the odometry carried it. Such a move is taken only when the match is move_gain times as probable as the
 // odometry's pose (along a corridor it fits about as well anywhere).
+//   5. a step's time is bounded (search_budget): a global search spends at most that much of its dMM search
+//      per step and goes on over the next steps (a step waits for no whole search); its hypotheses, found for
+//      the local map it started on, are carried by the odometry since then and weighed on the step it ends,
+//      as the carried ones are (refined within track_window). A search is dropped when the tracker declares a
+//      pose, and when it is lost (a new one starts on that step's local map).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <numbers>
 #include <span>
 #include <string>
@@ -85,6 +92,16 @@ struct TrackerConfig {
   /// went, 8 -> 1; chosen looking at those two validation buildings, so their figures are not independent)
   double corridor_ratio = 0.1;
   double corridor_slack = 0.1;  ///< [m], in [0, 5]
+  /// The global search's work per step (DmmSearch::next's budget, about a millisecond per million): a search
+  /// longer than that goes on over the next steps (step 5 above), so that no step waits for a whole search;
+  /// 0: every search within its step. 4e7 (docs/NOTES.md, "A step's time bounded": the step p95 under 50 ms
+  /// where freiburg-campus and fhw took 60-96 ms; their travel to localised grows by a step or three).
+  int search_budget = 40'000'000;
+  /// The global search looks for candidates with more than this share of the best one's inliers only
+  /// (Localizer::hypotheses' min_share), in [0, 1). 0.7 (docs/NOTES.md, "A step's time bounded": the second
+  /// candidate cost two thirds of a search; the same localised starts, wrong steps and kidnappings on every
+  /// building, a few more steps claimed on intel, fhw and seattle).
+  double search_min_share = 0.7;
 };
 
 /// Throws InputError naming the field.
@@ -178,6 +195,10 @@ class Tracker {
   /// infinite-corridor; docs/NOTES.md, "Rivals found later").
   static constexpr std::size_t kWeighedBack = 2;
   std::vector<Previous> previous_;  ///< the last kWeighedBack steps' local maps, oldest first
+  std::unique_ptr<Localizer::HypothesisSearch> pending_;  ///< a global search under way (search_budget)
+  std::size_t pending_step_ = 0;  ///< the step whose local map it searches ...
+  Pose2 T_odom_pending_;          ///< ... and that step's T_odom_map
+  std::size_t steps_ = 0;         ///< steps since the last reset
 };
 
 }  // namespace partslam

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 #include "core/error.h"
@@ -38,15 +39,33 @@ bool right(const TrackStep& t, const Submap& m) {
   return PoseTolerance{0.3, 3 * kDegree}.accepts(t.best.T_map_query, m.T_world_map);
 }
 
-TEST(Tracker, LocalisesAlongTheLogWithItsDriftingOdometryAndNeverDeclaresAWrongPose) {
+// The whole global search within each step (search_budget 0), every candidate or those with more than half the
+// best one's inliers, and spread over steps in slices small enough that each search takes several (the
+// tracker's bounded step time).
+struct SearchSettings {
+  int budget = 0;
+  double min_share = 0;
+};
+class TrackerBudget : public ::testing::TestWithParam<SearchSettings> {
+ protected:
+  static TrackerConfig config() {
+    TrackerConfig c;
+    c.search_budget = GetParam().budget;
+    c.search_min_share = GetParam().min_share;
+    return c;
+  }
+};
+
+TEST_P(TrackerBudget, LocalisesAlongTheLogWithItsDriftingOdometryAndNeverDeclaresAWrongPose) {
   const Scans& scans = tracked_scans();
   const double length = travel_distances(scans).back();
-  Tracker tracker(tracked_localizer());
-  int localised = 0, steps = 0, first = -1;
+  Tracker tracker(tracked_localizer(), config());
+  int localised = 0, steps = 0, first = -1, searched_without_hypotheses = 0;
   for (double s = 10.0; s + 2.0 < std::min(length, 70.0); s += 2.0, ++steps) {
     const TrackedStep in = step_at(scans, s);
     const TrackStep t = tracker.step(in.map.points, in.map.origins, in.T_odom_map);
     EXPECT_NE(t.status, TrackStatus::kLost) << "at " << s << " m";
+    searched_without_hypotheses += t.searched && t.hypotheses.empty();
     if (t.status != TrackStatus::kLocalised) continue;
     ++localised;
     if (first < 0) first = steps;
@@ -60,13 +79,19 @@ TEST(Tracker, LocalisesAlongTheLogWithItsDriftingOdometryAndNeverDeclaresAWrongP
   ASSERT_GE(first, 0) << "never localised";
   EXPECT_LE(first, 5);  // within 10 m of travel
   EXPECT_EQ(localised, steps - first);
+  // In slices, the first search ends steps after it began: searched, and no hypothesis yet.
+  if (GetParam().budget > 0) {
+    EXPECT_GE(searched_without_hypotheses, 1);
+  } else {
+    EXPECT_EQ(searched_without_hypotheses, 0);
+  }
 }
 
-TEST(Tracker, NoticesAKidnappingAndLocalisesAgain) {
+TEST_P(TrackerBudget, NoticesAKidnappingAndLocalisesAgain) {
   const Scans& scans = tracked_scans();
   const double length = travel_distances(scans).back();
   ASSERT_GT(length, 120.0);
-  Tracker tracker(tracked_localizer());
+  Tracker tracker(tracked_localizer(), config());
   // 30 m from 10 m on, then the robot is carried to 0.6 of the log: its odometry goes on as if nothing had
   // happened (the next local map's odometry pose is the last one's).
   Pose2 T_odom_last;
@@ -97,6 +122,14 @@ TEST(Tracker, NoticesAKidnappingAndLocalisesAgain) {
   EXPECT_LE(again_at - lost_at, 10);
 }
 
+INSTANTIATE_TEST_SUITE_P(WholeAndInSlices, TrackerBudget,
+                         ::testing::Values(SearchSettings{0, 0.0}, SearchSettings{0, 0.5},
+                                           SearchSettings{3000000, 0.5}),
+                         [](const ::testing::TestParamInfo<SearchSettings>& info) {
+                           return "budget" + std::to_string(info.param.budget) + "_share" +
+                                  std::to_string(static_cast<int>(info.param.min_share * 100)) + "pc";
+                         });
+
 TEST(Tracker, ComparesARivalFoundLaterOnlyOnTheStepsItLivedThrough) {
   // `a` has fitted for six steps; `b`, found three steps ago, fitted as well on each of them: no evidence
   // favours `a`, however much heavier its six steps made it.
@@ -123,6 +156,12 @@ TEST(Tracker, RejectsBadConfigsAndEmptyLocalMaps) {
   EXPECT_THROW(validate(bad), InputError);
   bad = {};
   bad.corridor_slack = std::nan("");
+  EXPECT_THROW(validate(bad), InputError);
+  bad = {};
+  bad.search_budget = -1;
+  EXPECT_THROW(validate(bad), InputError);
+  bad = {};
+  bad.search_min_share = 1.0;
   EXPECT_THROW(validate(bad), InputError);
   Tracker tracker(tracked_localizer());
   EXPECT_THROW(tracker.step({}, {}, Pose2{}), InputError);
