@@ -13,7 +13,8 @@
 //      other_probability each step, stands for "the robot is somewhere no hypothesis is" and keeps the shares
 //      honest when every hypothesis fits badly;
 //   3. while not localised (the first step, and every search_every steps), the global search's best distinct
-//      poses (Localizer::hypotheses) join as new hypotheses, each with the none weight's share times its
+//      poses (Localizer::hypotheses, candidates above search_min_share of the best one's inliers) join as new
+//      hypotheses, each with the none weight's share times its
 //      probability (the newborn are also weighed on the last two local maps since the robot was last lost,
 //      where the odometry says they were: evidence for the comparison of 4, not for their weight);
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
