@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: tracking_check CORRECTED_LOG OUT_DIR [noise=mild|harsh seed=N twin_out=FILE max_starts=K hypotheses=K "
                  "declare_share=S declare_steps=K other_probability=P lost_probability=P lost_steps=K "
-                 "track_window=M min_seen=S]\n");
+                 "track_window=M min_seen=S search_budget=W search_min_share=S candidates=K ...]\n");
     return 2;
   }
   try {
@@ -58,9 +58,6 @@ int main(int argc, char** argv) {
       else if (name == "search_min_share") config.tracker.search_min_share = value;
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);
       else if (name == "candidates") config.localizer.candidates = static_cast<int>(value);
-      else if (name == "turns") config.localizer.dmm.canonical_turns = static_cast<int>(value);
-      else if (name == "dmm_res") config.localizer.dmm.resolution = value;
-      else if (name == "restart") config.localizer.restart_distance = value;
       else if (name == "search_verified") config.tracker.search_verified = static_cast<int>(value);
       else if (name == "claim_m") config.tracker.claim_shift.translation = value;
       else if (name == "claim_deg") config.tracker.claim_shift.rotation = value * std::numbers::pi / 180;

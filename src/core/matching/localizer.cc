@@ -212,11 +212,13 @@ Localizer::HypothesisSearch::HypothesisSearch(const Localizer& localizer, const 
 
 Localizer::HypothesisSearch::~HypothesisSearch() = default;
 
+bool Localizer::HypothesisSearch::done() const { return candidates_->done; }
+
 bool Localizer::HypothesisSearch::advance(std::int64_t budget) {
-  if (done_) return true;
+  if (done()) return true;
   if (!localizer_.search_candidates(points_, *candidates_, budget)) return false;
+  // The call that ends the search verifies its candidates (search_candidates set done).
   result_ = localizer_.distinct_verified(prepared_, candidates_->found, count_, verified_);
-  done_ = true;
   return true;
 }
 

@@ -175,7 +175,7 @@ class Localizer {
     HypothesisSearch& operator=(const HypothesisSearch&) = delete;
     /// True once the hypotheses are ready (result()); then it does nothing more.
     bool advance(std::int64_t budget);
-    bool done() const { return done_; }
+    bool done() const;
     /// Most probable first, as hypotheses() returns them; empty until done().
     const std::vector<Verified>& result() const { return result_; }
 
@@ -186,7 +186,6 @@ class Localizer {
     const int count_, verified_;
     const PreparedQuery query_;
     std::unique_ptr<Candidates> candidates_;
-    bool done_ = false;
     std::vector<Verified> result_;
   };
 

@@ -297,8 +297,8 @@ void config_fields(V& v, std::type_identity<TrackerConfig>) {
           "a hypothesis counts towards being declared only on steps with this probability");
   v.field("search_every", &C::search_every, "while not localised, the global search runs every this many steps");
   v.field("search_budget", &C::search_budget,
-          "the global search's work per step (bounds of its dMM search); a longer search goes on over the next "
-          "steps; 0: each search within its step");
+          "the global search's work per step (DmmSearch::next's budget, about a millisecond per million); a "
+          "longer search goes on over the next steps; 0: each search within its step");
   v.field("search_min_share", &C::search_min_share,
           "the global search looks for candidates with more than this share of the best one's inliers only");
   v.field("min_none_share", &C::min_none_share, "the none weight's share never falls below this");
