@@ -185,11 +185,16 @@ bool Tracker::update_status(bool evidence) {
   const auto fits = [&](const Hypothesis& h) {  // seen here, not fitting badly, where the odometry carried it
     return h.seen >= config_.min_seen && h.probability >= config_.lost_probability && !h.moved;
   };
-  if (heaviest != nullptr && evidence && fits(*heaviest) && std::exp(heaviest->log_weight) >= config_.declare_share &&
-      heaviest->probability >= config_.declare_probability && ahead_of_rivals(*heaviest)) {
+  const auto qualifies = [&](const Hypothesis& h) {  // but for where its match moved it
+    return h.seen >= config_.min_seen && std::exp(h.log_weight) >= config_.declare_share &&
+           h.probability >= config_.declare_probability && ahead_of_rivals(h);
+  };
+  if (heaviest != nullptr && evidence && fits(*heaviest) && qualifies(*heaviest)) {
     dominant_steps_ = heaviest->id == dominant_ ? dominant_steps_ + 1 : 1;
     dominant_ = heaviest->id;
-  } else if (evidence) {
+  } else if (evidence && !(heaviest != nullptr && heaviest->id == dominant_ && heaviest->moved && qualifies(*heaviest))) {
+    // A step on which the dominant one only moved (the odometry erred more than claim_shift) neither counts nor
+    // undoes its steps before (docs/NOTES.md, "A moved step holds the count").
     dominant_steps_ = 0, dominant_ = -1;
   }
   const bool dominates = heaviest != nullptr && heaviest->id == dominant_ && fits(*heaviest);

@@ -21,7 +21,8 @@
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
 //      kidnapped pose is not immune by what it once fitted);
 //   4. a hypothesis is declared when its share of the weight (the none weight included) reaches declare_share
-//      on declare_steps consecutive steps on which it fits (probability at least declare_probability) and
+//      on declare_steps consecutive steps on which it fits (probability at least declare_probability; a step on
+//      which it would but for its match having moved it beyond claim_shift is skipped, not a break) and
 //      the steps since each rival place's birth weighed it above that rival by the same odds (declare_share
 //      / (1 - declare_share)): a rival the search found only later (a corridor's mirror image, where the
 //      true place fits as well) starts from the none weight's share, so its small weight says when it was
