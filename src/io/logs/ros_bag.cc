@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "core/error.h"
 #include "io/logs/no_return_codes.h"
@@ -37,7 +40,8 @@ Pose2 odometry_at(const std::vector<Stamped>& odom, double t) {
           wrap_angle(a.pose.theta + f * wrap_angle(b.pose.theta - a.pose.theta))};
 }
 
-Scan to_scan(const LaserScanMessage& msg, const LogReadOptions& o, const std::string& where) {
+// mirror: the laser is mounted upside down (LaserMount), its beams are read turning the other way.
+Scan to_scan(const LaserScanMessage& msg, const LogReadOptions& o, const std::string& where, bool mirror) {
   if (!std::isfinite(msg.stamp) || !std::isfinite(msg.angle_min) || !std::isfinite(msg.angle_increment) ||
       std::isnan(msg.range_max) || std::isnan(msg.range_min))
     throw InputError(where + ": a non-finite stamp, angle_min, angle_increment or range limit");
@@ -51,7 +55,7 @@ Scan to_scan(const LaserScanMessage& msg, const LogReadOptions& o, const std::st
     const double r = msg.ranges[i];
     if (!(r > lo && r < hi)) continue;  // NaN and inf (no return in ROS) fail too
     const double a = msg.angle_min + static_cast<double>(i) * msg.angle_increment;
-    scan.points_laser.emplace_back(r * std::cos(a), r * std::sin(a));
+    scan.points_laser.emplace_back(r * std::cos(a), (mirror ? -r : r) * std::sin(a));
   }
   return scan;
 }
@@ -65,31 +69,67 @@ Stamped to_pose(const OdometryMessage& m, const std::string& where) {
   return s;
 }
 
-// The laser's pose in the base frame: the chain of transforms from the odometry's base frame to the scans' frame
-// (e.g. base_link -> laser on /tf_static), each edge usable either way; nullopt when there is no such chain.
-std::optional<Pose2> laser_mount(const rosbag_messages::BagMessages& m, const std::string& where) {
+// The laser's mount on the robot: the chain of transforms from the odometry's base frame to the scans' frame
+// (e.g. base_link -> laser on /tf_static), each edge usable either way, composed in 3D, then seen from above. A
+// laser mounted upside down (its scan plane's normal pointing down: rolled or pitched by pi) sees its beams turn
+// clockwise from above, so its points are mirrored (y -> -y) before the mount's 2D pose applies; a scan plane
+// tilted from the base's is projected onto it, with a warning. nullopt when there is no such chain.
+struct LaserMount {
+  Pose2 T_base_laser;
+  bool upside_down = false;
+  double tilt = 0.0;  // [rad] between the scan plane and the base's plane (0 or pi when they are parallel)
+};
+
+std::optional<LaserMount> laser_mount(const rosbag_messages::BagMessages& m, const std::string& where,
+                                      std::vector<std::string>& warnings) {
   const std::string base = m.base_frame.empty() ? "base_link" : m.base_frame;
   const std::string laser = m.scans.empty() ? "" : m.scans.front().frame_id;
   if (laser.empty() || laser == base) return std::nullopt;
-  std::vector<Pose2> edges;  // each transform as a pose, checked once
+  std::vector<std::optional<Eigen::Isometry3d>> edges;  // each transform, checked once
   for (const rosbag_messages::FrameTransform& f : m.transforms) {
-    const Pose2 T{f.x, f.y, wrap_angle(yaw_of(f.qx, f.qy, f.qz, f.qw))};
-    if (!std::isfinite(T.x) || !std::isfinite(T.y) || !std::isfinite(T.theta) || std::abs(T.x) > 100 ||
-        std::abs(T.y) > 100)
+    const Eigen::Vector4d q(f.qx, f.qy, f.qz, f.qw);
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !q.allFinite() || std::abs(f.x) > 100 || std::abs(f.y) > 100)
       throw InputError(where + ": transform " + f.parent + " -> " + f.child + " is not finite or not on a robot");
+    if (q.norm() < 1e-6) {  // no rotation at all (tf2 discards such a transform too)
+      warnings.push_back(where + ": transform " + f.parent + " -> " + f.child +
+                         " has a zero quaternion; not used for the laser's mount");
+      edges.emplace_back();
+      continue;
+    }
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::Quaterniond(f.qw, f.qx, f.qy, f.qz).normalized().toRotationMatrix();
+    T.translation() = Eigen::Vector3d(f.x, f.y, 0.0);
     edges.push_back(T);
   }
-  std::vector<std::pair<std::string, Pose2>> reached{{base, Pose2{}}};  // breadth first, at most 64 frames
+  // Breadth first, at most 64 frames.
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> reached{{base, Eigen::Isometry3d::Identity()}};
   for (std::size_t at = 0; at < reached.size() && at < 64; ++at) {
     const auto [frame, T_base_frame] = reached[at];
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const rosbag_messages::FrameTransform& f = m.transforms[k];
       std::string next;
-      Pose2 T_base_next;
-      if (f.parent == frame) next = f.child, T_base_next = T_base_frame * edges[k];
-      else if (f.child == frame) next = f.parent, T_base_next = T_base_frame * edges[k].inverse();
+      Eigen::Isometry3d T_base_next;
+      if (!edges[k]) continue;
+      if (f.parent == frame) next = f.child, T_base_next = T_base_frame * *edges[k];
+      else if (f.child == frame) next = f.parent, T_base_next = T_base_frame * edges[k]->inverse();
       else continue;
-      if (next == laser) return T_base_next;
+      if (next == laser) {
+        const Eigen::Matrix3d R = T_base_next.linear();
+        LaserMount mount;
+        mount.T_base_laser = {T_base_next.translation().x(), T_base_next.translation().y(),
+                              std::atan2(R(1, 0), R(0, 0))};
+        mount.upside_down = R(2, 2) < 0;
+        mount.tilt = std::acos(std::clamp(std::abs(R(2, 2)), 0.0, 1.0));
+        if (mount.tilt > 5.0 * std::numbers::pi / 180) {
+          char what[200];
+          std::snprintf(what, sizeof what,
+                        "the laser frame %s is tilted %.1f degrees from %s's plane; its beams are projected onto "
+                        "that plane as they are",
+                        laser.c_str(), mount.tilt * 180 / std::numbers::pi, base.c_str());
+          warnings.push_back(where + ": " + what);
+        }
+        return mount;
+      }
       const auto seen = [&next](const auto& r) { return r.first == next; };
       if (std::none_of(reached.begin(), reached.end(), seen)) reached.emplace_back(next, T_base_next);
     }
@@ -158,13 +198,15 @@ RosBagLog scans_from_bag_messages(const rosbag_messages::BagMessages& messages, 
   }
   if (jumps > 1) log.warnings.back() += " (" + std::to_string(jumps) + " such poses in all)";
   odom = std::move(kept);
-  const std::optional<Pose2> mount = laser_mount(messages, name);
+  const std::optional<LaserMount> mount = laser_mount(messages, name, log.warnings);
   if (mount) {
-    log.T_base_laser = *mount;
+    log.T_base_laser = mount->T_base_laser;
+    log.laser_upside_down = mount->upside_down;
     log.laser_frame = messages.scans.front().frame_id;
   }
   for (std::size_t i = 0; i < messages.scans.size(); ++i) {
-    Scan s = to_scan(messages.scans[i], options, name + ": " + log.scan_topic + " message " + std::to_string(i));
+    Scan s = to_scan(messages.scans[i], options, name + ": " + log.scan_topic + " message " + std::to_string(i),
+                     log.laser_upside_down);
     s.T_world_laser = s.T_world_odom = odometry_at(odom, s.timestamp) * log.T_base_laser;
     log.scans.push_back(std::move(s));
   }

@@ -4,7 +4,8 @@
 // ranges.size(); timestamp = header.stamp), posed by the
 // nav_msgs/Odometry messages interpolated at each scan's stamp (linear in x, y, the short way in theta) in both
 // pose slots, times the laser's mount on the robot when the bag's transforms give one (base_link -> the scans'
-// frame, e.g. on /tf_static; the benchmark's .clf files, made from these bags, do not apply it). A bag without
+// frame, e.g. on /tf_static, composed in 3D: a laser mounted upside down has its points mirrored; the benchmark's
+// .clf files, made from these bags, do not apply it). A bag without
 // nav_msgs/Odometry is posed by its /tf odom -> base_link (or base_footprint) transforms instead. Scans outside the odometry's time span take the nearest odometry; a bag with neither gives
 // every scan the identity pose (the front end then predicts a standing robot). A bag cut short (its index, written
 // last, gone) is read up to its last whole chunk by walking its records, with a warning (RosBagLog::warnings). A
@@ -34,6 +35,10 @@ struct RosBagLog {
   /// Identity, with laser_frame empty, when the bag has no such chain.
   Pose2 T_base_laser;
   std::string laser_frame;
+  /// The mount turns the laser upside down (the transforms roll or pitch it by pi): its beams, seen from above,
+  /// turn clockwise, so each point's y was mirrored before T_base_laser applies (a tilted scan plane is
+  /// projected onto the base's, with a warning).
+  bool laser_upside_down = false;
   /// What was read past, "<file>: ..." each: a bag cut short or never closed (read up to its last whole chunk, as
   /// `rosbag reindex` would), damaged chunks or messages skipped with LogReadOptions::skip_damaged.
   std::vector<std::string> warnings;

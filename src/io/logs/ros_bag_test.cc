@@ -318,5 +318,80 @@ TEST(RosBag, AppliesTheLaserMountFromTfStatic) {
   }
 }
 
+// A laser mounted upside down (base_link -> laser rolled by pi, as robots that hang their scanner under a plate
+// publish it): beam i looks where an upright laser's beam n - 1 - i looks, so its points, read as written, would be
+// a mirror image of the room. The mount's rotation is composed in 3D and the points mirrored: the world points
+// are the upright laser's. A pitch by pi (the laser turned over the other way) faces backwards instead.
+TEST(RosBag, ReadsALaserMountedUpsideDown) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages upright;
+  for (int k = 0; k < 5; ++k) {
+    const double t = 10.0 + 0.1 * k, yaw = 0.3 * k;
+    upright.odometry.push_back({t, 0.1 * k, 0.05 * k, 0.0, 0.0, std::sin(yaw / 2), std::cos(yaw / 2)});
+    rosbag_messages::LaserScanMessage scan{t, -std::numbers::pi / 2, std::numbers::pi / 180, 0.1, 30.0, {}, "laser"};
+    for (int i = 0; i < 181; ++i) scan.ranges.push_back(static_cast<float>(2.0 + 0.01 * i + 0.1 * k));
+    upright.scans.push_back(scan);
+  }
+  upright.transforms = {{"base_link", "laser", 0.3, 0.1, 0.0, 0.0, 0.0, 1.0}};
+  rosbag_messages::BagMessages rolled = upright, pitched = upright;
+  for (rosbag_messages::LaserScanMessage& scan : rolled.scans) std::reverse(scan.ranges.begin(), scan.ranges.end());
+  rolled.transforms = {{"base_link", "laser", 0.3, 0.1, 1.0, 0.0, 0.0, 0.0}};  // roll pi
+  // Pitched by pi, beam i looks along base angle pi + a_i: the upright's beams, turned half round and reversed.
+  pitched.transforms = {{"base_link", "laser", 0.3, 0.1, 0.0, 1.0, 0.0, 0.0}};
+  rosbag_messages::write_bag_messages((dir / "upright.bag").string(), upright, false);
+  rosbag_messages::write_bag_messages((dir / "rolled.bag").string(), rolled, false);
+  rosbag_messages::write_bag_messages((dir / "pitched.bag").string(), pitched, false);
+  const RosBagLog a = read_ros_bag(dir / "upright.bag"), b = read_ros_bag(dir / "rolled.bag"),
+                  c = read_ros_bag(dir / "pitched.bag");
+  EXPECT_FALSE(a.laser_upside_down);
+  EXPECT_TRUE(b.laser_upside_down);
+  EXPECT_TRUE(c.laser_upside_down);
+  EXPECT_TRUE(b.warnings.empty());
+  EXPECT_NEAR(c.T_base_laser.theta, std::numbers::pi, 1e-9);
+  ASSERT_EQ(a.scans.size(), 5u);
+  ASSERT_EQ(b.scans.size(), 5u);
+  ASSERT_EQ(c.scans.size(), 5u);
+  for (std::size_t k = 0; k < 5; ++k) {
+    const Points2 want = points_world(a.scans[k]), rolled_points = points_world(b.scans[k]);
+    ASSERT_EQ(rolled_points.size(), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      // The rolled laser's beam i is the upright's beam n - 1 - i.
+      EXPECT_NEAR((rolled_points[want.size() - 1 - i] - want[i]).norm(), 0.0, 1e-5) << k << " " << i;
+    }
+    // The pitched laser at the same place sees the world turned about its own position: the upright's points
+    // mirrored across its y axis (its beams' angles become pi - a), each at its own range.
+    const Points2 pitched_points = c.scans[k].points_laser, upright_points = a.scans[k].points_laser;
+    ASSERT_EQ(pitched_points.size(), upright_points.size());
+    for (std::size_t i = 0; i < upright_points.size(); ++i) {
+      const Vec2 base_pitched = c.T_base_laser * pitched_points[i];
+      const Vec2 base_upright(-upright_points[i].x() + 0.3, upright_points[i].y() + 0.1);
+      EXPECT_NEAR((base_pitched - base_upright).norm(), 0.0, 1e-5) << k << " " << i;
+    }
+  }
+}
+
+// A scan plane tilted from the base's is projected onto it with a warning; a transform with a zero quaternion is
+// not used (with a warning), as tf2 discards it.
+TEST(RosBag, WarnsOfATiltedLaserAndSkipsAZeroQuaternion) {
+  testing::TempDir dir;
+  rosbag_messages::BagMessages m;
+  for (int k = 0; k < 3; ++k) {
+    m.odometry.push_back({1.0 + k, 0.1 * k, 0.0, 0.0, 0.0, 0.0, 1.0});
+    rosbag_messages::LaserScanMessage scan{1.0 + k, -1.0, 0.01, 0.1, 30.0, {}, "laser"};
+    scan.ranges.assign(201, 2.0f);
+    m.scans.push_back(scan);
+  }
+  const double half = 0.1;  // pitched 0.2 rad (11.5 degrees) down
+  m.transforms = {{"base_link", "laser", 0.2, 0.0, 0.0, std::sin(half), 0.0, std::cos(half)},
+                  {"base_link", "camera", 0.1, 0.0, 0.0, 0.0, 0.0, 0.0}};
+  rosbag_messages::write_bag_messages((dir / "tilted.bag").string(), m, false);
+  const RosBagLog log = read_ros_bag(dir / "tilted.bag");
+  EXPECT_EQ(log.laser_frame, "laser");
+  EXPECT_FALSE(log.laser_upside_down);
+  ASSERT_EQ(log.warnings.size(), 2u);
+  EXPECT_THAT(log.warnings[0], HasSubstr("base_link -> camera has a zero quaternion"));
+  EXPECT_THAT(log.warnings[1], HasSubstr("tilted.bag: the laser frame laser is tilted 11.5 degrees"));
+}
+
 }  // namespace
 }  // namespace partslam::io
