@@ -294,6 +294,8 @@ int main(int argc, char** argv) {
     out["front_end_jumps"] = {{"count", jump_count}, {"first", jumps}};
     out["front_end_degenerate"] = r.front_end.degenerate;
     out["front_end_heading_jumps"] = r.front_end.heading_jumps;
+    out["front_end_turn_slope"] = r.front_end.turn_slope();
+    out["front_end_turning_steps"] = r.front_end.turning_steps;
     Scans odometry = b.raw;
     for (Scan& s : odometry) s.T_world_laser = s.T_world_odom;
     out["scans"] = r.scans.size();

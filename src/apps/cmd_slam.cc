@@ -92,6 +92,9 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
            {{"rejected_matches", r.front_end.rejected},
             {"degenerate_scans", r.front_end.degenerate},
             {"heading_jumps", r.front_end.heading_jumps},
+            {"turning_steps", r.front_end.turning_steps},
+            {"turn_slope", r.front_end.turn_slope()},
+            {"mirrored", r.front_end.mirrored},
             {"seconds", r.front_end_s}}},
           {"closures",
            {{"hypotheses", r.closures.size()},
@@ -222,6 +225,7 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
   }
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
+  if (fe.mirrored) std::cerr << "partslam: warning: " << o.log << ": " << mirrored_description(fe) << "\n";
 }
 
 // DIR/loops.json: the closures offered to the back end, each with whether it was used.

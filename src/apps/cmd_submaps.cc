@@ -64,12 +64,13 @@ void scan_match(io::ScanSource& source, const SubmapsOptions& o, nlohmann::json&
   if (!st.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?): the "
               << "front end predicts a standing robot, so fast motion may break it\n";
+  if (st.mirrored) std::cerr << "partslam: warning: " << o.log << ": " << mirrored_description(st) << "\n";
   if (st.rejected * 10 > st.scans)
     std::cerr << "partslam: warning: " << o.log << ": " << st.rejected << " of " << st.scans
               << " scans matched nowhere (score < " << o.front_end.min_score << "): their poses are odometry\n";
   report["scan_matching"] = {{"scans", st.scans}, {"seconds", st.seconds}, {"log_seconds", st.log_seconds},
                              {"mean_score", st.mean_score}, {"rejected", st.rejected},
-                             {"time_reversals", st.time_reversals}};
+                             {"time_reversals", st.time_reversals}, {"mirrored", st.mirrored}};
   source.scans = std::move(fe.scans);
 }
 

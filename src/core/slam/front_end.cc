@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <optional>
 #include <string>
@@ -132,6 +133,11 @@ void count_heading_jump(const Scan& prev, const Scan& scan, const Pose2& T_world
     if (stats.jump_scans.size() < 100) stats.jump_scans.push_back(index);
     ++stats.heading_jumps;
   }
+  if (std::abs(odometry_turn) >= kTurningStep) {
+    ++stats.turning_steps;
+    stats.turn_products += turn * odometry_turn;
+    stats.odometry_turn_squares += odometry_turn * odometry_turn;
+  }
 }
 
 }  // namespace
@@ -161,8 +167,17 @@ void validate(const FrontEndConfig& c) {
     throw InputError("front end config: second_margin must be in [0, 1]");
 }
 
-FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, const Progress& progress) {
-  validate(config);
+namespace {
+
+// The log's scans with every point mirrored (y -> -y): what an upside-down laser's scans look like upright.
+Scans mirrored(const Scans& raw) {
+  Scans out = raw;
+  for (Scan& s : out)
+    for (Vec2& p : s.points_laser) p.y() = -p.y();
+  return out;
+}
+
+FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const Progress& progress) {
   const auto t0 = Clock::now();
   FrontEndResult result;
   FrontEndStats& stats = result.stats;
@@ -214,6 +229,30 @@ FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, co
   stats.seconds = ms_since(t0) / 1000.0;
   if (result.scans.size() > 1) stats.log_seconds = result.scans.back().timestamp - result.scans.front().timestamp;
   return result;
+}
+
+}  // namespace
+
+std::string mirrored_description(const FrontEndStats& s) {
+  if (!s.mirrored) return {};
+  char what[300];
+  std::snprintf(what, sizeof what,
+                "the scans turned against the odometry (slope %.2f over %zu turning steps); read mirrored, as a laser "
+                "mounted upside down (slope %.2f): the poses, maps and logs written are of the mirrored scans",
+                s.unmirrored_turn_slope, s.turning_steps, s.turn_slope());
+  return what;
+}
+
+FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config, const Progress& progress) {
+  validate(config);
+  FrontEndResult result = match_log(raw, config, progress);
+  if (!config.mirror_check || !result.stats.turns_against_odometry()) return result;
+  FrontEndResult again = match_log(mirrored(raw), config, progress);
+  if (again.stats.turns_against_odometry()) return result;  // not a mirror either: the verdict says so
+  again.stats.mirrored = true;
+  again.stats.unmirrored_turn_slope = result.stats.turn_slope();
+  again.stats.seconds += result.stats.seconds;
+  return again;
 }
 
 }  // namespace partslam

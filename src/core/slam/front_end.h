@@ -9,10 +9,12 @@
 // (FrontEndConfig::second_prediction, second_margin). A match scoring below
 // min_score is rejected and the prediction kept (counted); a scan whose surfaces leave one direction of translation
 // unconstrained (a bare corridor) keeps the prediction along it (counted). Scans whose timestamp goes backwards are dropped
-// (counted). The first scan keeps its odometry pose, so the trajectory lives in the odometry frame.
+// (counted). The first scan keeps its odometry pose, so the trajectory lives in the odometry frame. Scans that turn
+// against the odometry (a laser mounted upside down) are matched again mirrored (FrontEndConfig::mirror_check).
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "core/maps/scan.h"
@@ -21,6 +23,11 @@
 #include "core/matching/scan_matcher.h"
 
 namespace partslam {
+
+/// A step on which the odometry turns at least this much counts towards FrontEndStats::turn_slope [rad].
+inline constexpr double kTurningStep = 0.02;
+/// Fewer turning steps than this say nothing about which way the scans turn (FrontEndStats::turns_against_odometry).
+inline constexpr std::size_t kMinTurningSteps = 20;
 
 struct FrontEndStats {
   std::size_t scans = 0;            ///< scans in the result
@@ -32,15 +39,34 @@ struct FrontEndStats {
   std::size_t second_predictions = 0;  ///< scans also matched from the constant-velocity prediction
   std::size_t velocity_kept = 0;    ///< of those, scans whose constant-velocity match scored better (kept)
   bool odometry_moves = false;      ///< false when the odometry never moves (no odometry in the log)
+  /// Steps between consecutive scans on which the odometry turns at least kTurningStep, and over them the sums
+  /// of the front end's turn times the odometry's and of the odometry's squared: turn_slope() is the least-squares
+  /// slope of the scans' turns on the wheels'. About 1 when they agree; negative when the scans turn against the
+  /// wheels (a laser mounted upside down, read as upright: its scans are a mirror image).
+  std::size_t turning_steps = 0;
+  double turn_products = 0.0, odometry_turn_squares = 0.0;
+  double turn_slope() const { return odometry_turn_squares > 0 ? turn_products / odometry_turn_squares : 0.0; }
+  /// The scans turn against the wheels: a negative turn_slope over at least kMinTurningSteps.
+  bool turns_against_odometry() const { return turning_steps >= kMinTurningSteps && turn_slope() < 0; }
+  /// The scans were matched mirrored (FrontEndConfig::mirror_check): the result's points are the mirror images of
+  /// the log's, and unmirrored_turn_slope is the slope of the first run, as read.
+  bool mirrored = false;
+  double unmirrored_turn_slope = 0.0;
   double mean_score = 0.0;          ///< over matched scans
   double seconds = 0.0;             ///< time spent
   double log_seconds = 0.0;         ///< time the log covers (last - first timestamp)
 };
 
 struct FrontEndResult {
-  Scans scans;  ///< the input scans in order, minus dropped ones, T_world_laser = the scan-matched pose
+  /// The input scans in order, minus dropped ones, T_world_laser = the scan-matched pose (points mirrored when
+  /// stats.mirrored)
+  Scans scans;
   FrontEndStats stats;
 };
+
+/// What a mirrored run did, for a warning ("the scans turned against the odometry (slope ...); read mirrored, ...");
+/// empty when the scans were not mirrored.
+std::string mirrored_description(const FrontEndStats& stats);
 
 /// Runs the front end over a log's scans (serial: each scan depends on the previous ones).
 FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config = {},

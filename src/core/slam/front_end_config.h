@@ -33,6 +33,11 @@ struct FrontEndConfig {
   /// it scores at least second_margin higher (counted). 0 turns it off.
   double second_prediction = 0.25;
   double second_margin = 0.2;
+  /// A laser mounted upside down and read as upright gives scans that are a mirror image of the place: they turn
+  /// against the wheels (FrontEndStats::turn_slope is about -1 where real logs give 0.85-1.01). When the slope
+  /// over at least kMinTurningSteps turning steps is negative, the log is matched again with every scan's points
+  /// mirrored (y -> -y), and that run is kept when its scans turn with the wheels (FrontEndStats::mirrored).
+  bool mirror_check = true;
 };
 
 /// Throws InputError naming the offending field when a value is out of range.

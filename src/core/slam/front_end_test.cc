@@ -158,6 +158,41 @@ TEST(FrontEnd, FollowsOdometryThatStallsAndCatchesUp) {
   EXPECT_LT(clean.stats.velocity_kept, 40u);
 }
 
+// A laser mounted upside down and read as upright (a bag without its mount's transform, a log that stores the
+// beams left to right): every scan is the mirror image of the room. The front end follows the scans and turns
+// against the wheels; with the mirror check it notices and matches the scans mirrored back.
+TEST(FrontEnd, MatchesTheScansOfALaserMountedUpsideDownMirroredBack) {
+  const RawLog log = simulated_raw_log(1.0);
+  const Scans raw(log.raw.begin(), log.raw.begin() + 400), truth(log.truth.begin(), log.truth.begin() + 400);
+  Scans upside_down = raw;
+  for (Scan& s : upside_down)
+    for (Vec2& p : s.points_laser) p.y() = -p.y();
+  FrontEndConfig off;
+  off.mirror_check = false;
+  const FrontEndResult upright = scan_match_log(raw), as_read = scan_match_log(upside_down, off),
+                       checked = scan_match_log(upside_down);
+  EXPECT_FALSE(upright.stats.mirrored);
+  EXPECT_GE(upright.stats.turning_steps, kMinTurningSteps);
+  EXPECT_GT(upright.stats.turn_slope(), 0.8);
+  EXPECT_TRUE(mirrored_description(upright.stats).empty());
+  EXPECT_FALSE(as_read.stats.mirrored);
+  EXPECT_TRUE(as_read.stats.turns_against_odometry());
+  EXPECT_LT(as_read.stats.turn_slope(), -0.5);
+  ASSERT_TRUE(checked.stats.mirrored);
+  EXPECT_FALSE(checked.stats.turns_against_odometry());
+  EXPECT_GT(checked.stats.turn_slope(), 0.8);
+  EXPECT_NEAR(checked.stats.unmirrored_turn_slope, as_read.stats.turn_slope(), 1e-12);
+  EXPECT_NE(mirrored_description(checked.stats).find("read mirrored"), std::string::npos);
+  ASSERT_EQ(checked.scans.size(), raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i) {  // the points mirrored back are the upright laser's
+    ASSERT_EQ(checked.scans[i].points_laser.size(), raw[i].points_laser.size());
+    for (std::size_t k = 0; k < raw[i].points_laser.size(); ++k)
+      EXPECT_EQ(checked.scans[i].points_laser[k], raw[i].points_laser[k]);
+  }
+  const auto index = testing::identity_index(raw.size());
+  EXPECT_LT(local_consistency(checked.scans, truth, index).median, 0.03);
+}
+
 TEST(FrontEnd, RefusesAbsurdConfigs) {
   FrontEndConfig c;
   c.local_map_scans = 0;

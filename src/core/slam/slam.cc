@@ -116,6 +116,14 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
   }
+  if (r.front_end.turns_against_odometry() && r.back_end.trusted()) {
+    std::ostringstream why;
+    why << std::fixed << std::setprecision(2) << "the scans turn against the odometry (slope "
+        << r.front_end.turn_slope() << " over " << r.front_end.turning_steps
+        << " turning steps), mirrored or not: the laser's mounting or the odometry's heading is wrong";
+    r.back_end.verdict = "doubtful";
+    r.back_end.reason = why.str();
+  }
   return r;
 }
 
@@ -131,7 +139,9 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
       << " % of the beams that revisit a place cross a wall another visit saw (limit " << std::setprecision(0)
       << 100 * c.map_check.max_crossing_share << " %" << (r.map_check.judged ? "" : ", too few beams to judge")
       << "); " << 100 * degenerate_share(r.front_end) << " % of the scans fix no position along a bare corridor (limit "
-      << 100 * c.max_degenerate_share << " %)";
+      << 100 * c.max_degenerate_share << " %); the scans turn with the odometry at a slope of " << std::setprecision(2)
+      << r.front_end.turn_slope() << " over " << r.front_end.turning_steps << " turning steps (at least 0 over "
+      << kMinTurningSteps << (r.front_end.mirrored ? "; read mirrored: a laser mounted upside down)" : ")");
   return out.str();
 }
 

@@ -56,6 +56,37 @@ TEST(Slam, ClosingTheLoopsUndoesTheDriftOfARawLog) {
   EXPECT_NE(checks.find("(limit 30 %"), std::string::npos) << checks;
   EXPECT_NE(checks.find("of the scans fix no position along a bare corridor (limit 40 %)"), std::string::npos) << checks;
   EXPECT_LT(degenerate_share(r.front_end), config.max_degenerate_share);
+  EXPECT_NE(checks.find("the scans turn with the odometry at a slope of"), std::string::npos) << checks;
+  EXPECT_FALSE(r.front_end.mirrored);
+}
+
+// Scans that turn against the wheels (a laser mounted upside down, read as upright) make a mirror image of the
+// place, whose loops close as well as the right one's: with the front end's mirror check off, the verdict does
+// not vouch for it; with it on (the default), the scans are read mirrored and the verdict judges the map as usual.
+TEST(Slam, ScansThatTurnAgainstTheOdometryAreDoubtful) {
+  SimulatorConfig sim;
+  sim.building.width = 60, sim.building.height = 24;
+  sim.route.room_visits = 0;
+  sim.route.scan_spacing = 0.2;
+  Scans raw = simulate(sim).scans;
+  for (Scan& s : raw) {
+    s.T_world_laser = s.T_world_odom;
+    for (Vec2& p : s.points_laser) p.y() = -p.y();
+  }
+  SlamConfig config;
+  config.loops.num_threads = 2;
+  config.max_degenerate_share = 1;
+  config.front_end.mirror_check = false;
+  const SlamResult as_read = run_slam(raw, config);
+  EXPECT_TRUE(as_read.front_end.turns_against_odometry());
+  EXPECT_EQ(as_read.back_end.verdict, "doubtful");
+  EXPECT_NE(as_read.back_end.reason.find("the scans turn against the odometry"), std::string::npos)
+      << as_read.back_end.reason;
+  config.front_end.mirror_check = true;
+  const SlamResult mirrored = run_slam(raw, config);
+  EXPECT_TRUE(mirrored.front_end.mirrored);
+  EXPECT_EQ(mirrored.back_end.reason.find("against the odometry"), std::string::npos) << mirrored.back_end.reason;
+  EXPECT_NE(verdict_checks(mirrored, config).find("read mirrored"), std::string::npos);
 }
 
 // A ring of bare corridors: the scans fix no position along them, so the map's lengths there are the odometry's
