@@ -17,6 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::CliRun;
 using testing::quoted;
 using testing::run_partslam;
@@ -63,6 +64,10 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_LE(j["closures"]["at_odds_with_graph"].get<int>(), j["closures"]["hypotheses"].get<int>());
   EXPECT_EQ(j["relations"]["slam"]["relations"].get<int>(), 0);
   EXPECT_FALSE(j["relations"]["slam"].contains("translation_m"));
+  EXPECT_GT(j["front_end"]["turn_slope"].get<double>(), 0.8);  // the scans turn with the wheels
+  EXPECT_GT(j["front_end"]["turning_steps"].get<int>(), 20);
+  EXPECT_FALSE(j["front_end"]["mirrored"].get<bool>());
+  EXPECT_THAT(run.output, Not(HasSubstr("read mirrored")));
   const CliRun located = run_partslam("locate --map " + quoted(out / "map.yaml") + " --query-log " +
                                       quoted(out / "corrected.log") + " --from 30 --to 32");
   EXPECT_EQ(located.exit_code, 0) << located.output;

@@ -92,6 +92,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
            {{"rejected_matches", r.front_end.rejected},
             {"degenerate_scans", r.front_end.degenerate},
             {"heading_jumps", r.front_end.heading_jumps},
+            {"time_reversals", r.front_end.time_reversals},
             {"turning_steps", r.front_end.turning_steps},
             {"turn_slope", r.front_end.turn_slope()},
             {"mirrored", r.front_end.mirrored},
