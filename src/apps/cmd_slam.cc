@@ -116,6 +116,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
           {"front_end_map_check", map_check_json(r.front_end_map_check, o.config.map_check)},
           {"verdict", b.verdict},
           {"trusted", b.trusted()},
+          {"front_end_written", b.front_end_written},
           {"reason", b.reason},
           {"verdict_checks", verdict_checks(r, o.config)},
           {"seconds",
@@ -212,7 +213,7 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << verdict_checks(r, o.config) << "\n";
   if (!b.trusted())
     std::cerr << "partslam: warning: " << o.log << ": the corrected map may be worse than the front end's ("
-              << b.reason << ")" << (b.verdict == "front end" ? "; the front end's trajectory is written" : "")
+              << b.reason << ")" << (b.front_end_written ? "; the front end's trajectory is written" : "")
               << "\n";
   if (fe.time_reversals > 0)
     std::cerr << "partslam: warning: " << o.log << ": " << fe.time_reversals << " scans dropped (time goes backwards)\n";

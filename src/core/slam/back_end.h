@@ -11,7 +11,8 @@
 //   "closed"     closures were used and the chain bends nowhere beyond the limits;
 //   "open"       no closure was accepted: the front end's trajectory as it is (nothing to correct it with);
 //   "doubtful"   more than max_rejected_share of the closures disagreed, or the chain had to bend beyond the
-//                limits somewhere: the result may be worse than the front end's, and `slam` warns.
+//                limits somewhere: the closures' solution may be worse than the front end's, so the front end's
+//                chain is kept (front_end_written) and `slam` warns.
 //   "front end"  the closures could not be made to agree: the front end's chain is kept untouched (closures
 //                unused) and `slam` warns.
 #pragma once
@@ -51,6 +52,9 @@ struct BackEndResult {
   std::string verdict;        ///< "closed", "open", "doubtful" or "front end" (see above)
   std::string reason;         ///< why, in words, for a verdict other than "closed" and "open"
   bool trusted() const { return verdict == "closed" || verdict == "open"; }
+  /// frames are the front end's, not the closures' solution (verdict "front end", or "doubtful" from here: the
+  /// closures are what is doubted); the used flags, residuals and bends above are of the solution.
+  bool front_end_written = false;
 };
 
 BackEndResult solve_back_end(const Submaps& maps, const std::vector<LoopClosure>& closures,

@@ -74,6 +74,16 @@ TEST(BackEnd, ClosuresThatOutvoteTheTruthMakeTheVerdictDoubtful) {
   const BackEndResult r = solve_back_end(l.maps, closures);
   EXPECT_FALSE(r.trusted()) << r.verdict;
   EXPECT_FALSE(r.reason.empty());
+  // The closures are what is doubted: the front end's chain is the map written, untouched.
+  EXPECT_TRUE(r.front_end_written);
+  for (std::size_t i = 0; i < l.maps.size(); ++i) {
+    EXPECT_EQ(r.frames[i].x, l.maps[i].T_world_map.x);
+    EXPECT_EQ(r.frames[i].y, l.maps[i].T_world_map.y);
+    EXPECT_EQ(r.frames[i].theta, l.maps[i].T_world_map.theta);
+  }
+  const BackEndResult right = solve_back_end(l.maps, true_closures(l));
+  EXPECT_TRUE(right.trusted());
+  EXPECT_FALSE(right.front_end_written);
 }
 
 TEST(BackEnd, RefusesSettingsOutOfRangeByName) {
