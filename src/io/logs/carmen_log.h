@@ -135,9 +135,15 @@ struct CarmenLog {
   std::vector<OdomReading> odometry;  ///< ODOM messages in file order
   CarmenLogStats stats;
   std::vector<std::string> warnings;  ///< CarmenReader::warnings(): a cut-off end, damage skipped
+  /// The laser's mount on the robot when every scan's laser pose is its odometry pose times one fixed transform
+  /// (a raw log with an offset laser: ROBOTLASER1's laser_pose and robot_pose, FLASER's laser and odometry poses,
+  /// to 1 mm / 1 mrad); the scans' T_world_odom then carry it (the odometry pose of the laser, as everywhere
+  /// else). nullopt when the two are the same, or differ from scan to scan (a corrected log).
+  std::optional<Pose2> T_base_laser;
 };
 
-/// Reads a whole log, then drops its scanner's no-return codes (io/logs/no_return_codes.h; CarmenReader::next does
+/// Reads a whole log, carries the odometry poses onto the laser when the log's two poses differ by a fixed mount
+/// (CarmenLog::T_base_laser), then drops its scanner's no-return codes (io/logs/no_return_codes.h; CarmenReader::next does
 /// not: a code is known only once the whole log is read); same errors as CarmenReader.
 CarmenLog read_carmen_log(const std::filesystem::path& path, const LogReadOptions& options = {});
 

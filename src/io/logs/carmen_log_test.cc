@@ -96,6 +96,55 @@ TEST(CarmenLog, ParsesTinyLogWithKnownAnswers) {
   }
 }
 
+// A raw log of a laser mounted 0.22 m ahead of the robot's axis: the laser pose fields are the robot's odometry
+// times the mount. The robot's increments are not the laser's (turning on the spot, the laser swings sideways),
+// so the odometry poses are carried onto the laser; a log whose two poses differ by varying amounts (a corrected
+// log) is left as it is.
+TEST(CarmenLog, CarriesTheOdometryOntoALaserMountedOffTheAxis) {
+  const Pose2 mount{0.22, 0.0, 0.0};
+  std::string flaser, robotlaser, varying;
+  char line[400];
+  for (int k = 0; k < 6; ++k) {
+    const Pose2 robot{1.0 + 0.1 * k, 2.0, 0.3 * k};  // driving and turning
+    const Pose2 laser = robot * mount;
+    std::snprintf(line, sizeof line, "FLASER 3 1.0 2.0 3.0 %.6f %.6f %.6f %.6f %.6f %.6f %.3f host %.3f\n", laser.x,
+                  laser.y, laser.theta, robot.x, robot.y, robot.theta, 10.0 + k, 10.0 + k);
+    flaser += line;
+    std::snprintf(line, sizeof line,
+                  "ROBOTLASER1 0 -1.5707963267948966 3.14159 1.5707963 50.0 0.1 0 3 1.0 2.0 3.0 0 %.6f %.6f %.6f "
+                  "%.6f %.6f %.6f 0 0 0 0 0 %.3f host %.3f\n",
+                  laser.x, laser.y, laser.theta, robot.x, robot.y, robot.theta, 10.0 + k, 10.0 + k);
+    robotlaser += line;
+    const Pose2 corrected = laser * Pose2{0.01 * k, 0.0, 0.02 * k};  // laser poses that are not the odometry's
+    std::snprintf(line, sizeof line, "FLASER 3 1.0 2.0 3.0 %.6f %.6f %.6f %.6f %.6f %.6f %.3f host %.3f\n",
+                  corrected.x, corrected.y, corrected.theta, robot.x, robot.y, robot.theta, 10.0 + k, 10.0 + k);
+    varying += line;
+  }
+  TempDir dir;
+  for (const std::string& text : {flaser, robotlaser}) {
+    write_text(dir / "mounted.log", text, false);
+    const CarmenLog log = read_carmen_log(dir / "mounted.log");
+    ASSERT_TRUE(log.T_base_laser.has_value());
+    EXPECT_NEAR(log.T_base_laser->x, 0.22, 1e-5);
+    EXPECT_NEAR(log.T_base_laser->y, 0.0, 1e-5);
+    EXPECT_NEAR(log.T_base_laser->theta, 0.0, 1e-5);
+    ASSERT_EQ(log.scans.size(), 6u);
+    for (std::size_t k = 1; k < 6; ++k) {
+      // The odometry's increment is the laser's: 0.3 rad of turn moves it 0.22 sin(0.3) m sideways too.
+      const Pose2 odometry_step = log.scans[k - 1].T_world_odom.inverse() * log.scans[k].T_world_odom;
+      const Pose2 laser_step = log.scans[k - 1].T_world_laser.inverse() * log.scans[k].T_world_laser;
+      EXPECT_NEAR(odometry_step.x, laser_step.x, 1e-5);
+      EXPECT_NEAR(odometry_step.y, laser_step.y, 1e-5);
+      EXPECT_NEAR(odometry_step.theta, laser_step.theta, 1e-5);
+    }
+  }
+  write_text(dir / "varying.log", varying, false);
+  const CarmenLog log = read_carmen_log(dir / "varying.log");
+  EXPECT_FALSE(log.T_base_laser.has_value());
+  EXPECT_NEAR(log.scans[3].T_world_odom.x, 1.3, 1e-6);  // the robot's pose fields, as written
+  EXPECT_NEAR(log.scans[3].T_world_odom.theta, 0.9, 1e-6);
+}
+
 TEST(CarmenLog, StreamingReaderReportsLinesAndOdometry) {
   TempDir dir;
   write_text(dir / "tiny.log", kTinyLog, false);
