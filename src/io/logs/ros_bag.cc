@@ -88,7 +88,8 @@ std::optional<LaserMount> laser_mount(const rosbag_messages::BagMessages& m, con
   std::vector<std::optional<Eigen::Isometry3d>> edges;  // each transform, checked once
   for (const rosbag_messages::FrameTransform& f : m.transforms) {
     const Eigen::Vector4d q(f.qx, f.qy, f.qz, f.qw);
-    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !q.allFinite() || std::abs(f.x) > 100 || std::abs(f.y) > 100)
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(q.norm()) || std::abs(f.x) > 100 ||
+        std::abs(f.y) > 100)
       throw InputError(where + ": transform " + f.parent + " -> " + f.child + " is not finite or not on a robot");
     if (q.norm() < 1e-6) {  // no rotation at all (tf2 discards such a transform too)
       warnings.push_back(where + ": transform " + f.parent + " -> " + f.child +
