@@ -273,10 +273,14 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   print_summary(o, source, r);
   const BackEndResult& b = r.back_end;
   io::write_carmen_log(dir / "corrected.log", r.scans, "partslam slam " + o.log + ": corrected poses");
-  write_maps(dir, r, source.scans,
-             source.name + ": corrected map (" + std::to_string(b.used_count) + " loop closures, orange; verdict " +
-                 b.verdict + (b.reason.empty() ? "" : ": " + b.reason) + ")",
-             o.compare, o.picture_side);
+  const std::string title =
+      source.name + (b.front_end_written ? ": the front end's map (" + std::to_string(b.used_count) +
+                                               " loop closures, orange, not applied; verdict "
+                                         : ": corrected map (" + std::to_string(b.used_count) +
+                                               " loop closures, orange; verdict ") +
+      b.verdict + (b.reason.empty() ? "" : ": " + b.reason) + (r.front_end.mirrored ? "; scans read mirrored" : "") +
+      ")";
+  write_maps(dir, r, source.scans, title, o.compare, o.picture_side);
   io::write_atomically(dir / "loops.json", [&](std::ostream& out) { out << json_text(loops_json(o, r)); });
   nlohmann::json summary = slam_json(o, r);
   summary["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
