@@ -113,9 +113,10 @@ double Localizer::score_at(const Points2& query_points, const Pose2& T_map_query
 }
 
 Localizer::VerifyQuery Localizer::verify_query(const Points2& query_points, const Points2& query_origins) const {
-  VerifyQuery q{VerifyMap(query_points, query_origins, config_.verify), query_points.front(), query_points.front()};
+  VerifyQuery q{VerifyMap(query_points, query_origins, config_.verify), query_points.front(), query_points.front(), {}};
   for (const Points2* set : {&query_points, &query_origins})
     for (const Vec2& p : *set) q.lo = q.lo.cwiseMin(p), q.hi = q.hi.cwiseMax(p);
+  q.field = verify_field(q.map);
   return q;
 }
 
@@ -129,7 +130,7 @@ Verified Localizer::verify(const VerifyQuery& query, const Pose2& T_map_query, c
   for (const Vec2& c : {query.lo, Vec2(query.hi.x(), query.lo.y()), query.hi, Vec2(query.lo.x(), query.hi.y())})
     a = a.cwiseMin(T_map_query * c), b = b.cwiseMax(T_map_query * c);
   const VerifyMap around = verify_.cropped(a.array() - config_.neighbourhood, b.array() + config_.neighbourhood);
-  return verify_match(query.map, around, T_map_query, config, at_pose);
+  return verify_match(query.map, query.field, around, T_map_query, config, at_pose);
 }
 
 Verified Localizer::verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const {

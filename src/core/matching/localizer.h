@@ -140,10 +140,11 @@ class Localizer {
   Verified verify(const Points2& query_points, const Points2& query_origins, const Pose2& T_map_query) const;
 
   /// A local map prepared for verification once, however many poses are verified: its grid (beams cast from
-  /// its laser origins) and the box of its points and origins.
+  /// its laser origins), the box of its points and origins, and its likelihood field.
   struct VerifyQuery {
     VerifyMap map;
     Vec2 lo, hi;
+    LikelihoodField field;  ///< verify_field(map): built once, read by every verification of this query
   };
   /// query_points must not be empty.
   VerifyQuery verify_query(const Points2& query_points, const Points2& query_origins) const;

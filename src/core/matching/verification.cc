@@ -242,11 +242,16 @@ std::size_t VerifyMap::free_cells() const {
   return static_cast<std::size_t>(std::count(cells_.begin(), cells_.end(), kFree));
 }
 
-PairFields::PairFields(const VerifyMap& query_map, const VerifyMap& map_map) {
+LikelihoodField verify_field(const VerifyMap& map) {
   const ScanMatcherConfig matcher;  // the front end's field: 0.05 m cells, sigma 0.1 m
-  query = LikelihoodField(query_map.points(), matcher.resolution, matcher.sigma);
-  map = LikelihoodField(map_map.points(), matcher.resolution, matcher.sigma);
+  return LikelihoodField(map.points(), matcher.resolution, matcher.sigma);
 }
+
+PairFields::PairFields(const VerifyMap& query_map, const VerifyMap& map_map)
+    : query(verify_field(query_map)), map(verify_field(map_map)) {}
+
+PairFields::PairFields(LikelihoodField query_field, const VerifyMap& map_map)
+    : query(std::move(query_field)), map(verify_field(map_map)) {}
 
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
                        const Pose2& T_map_query) {
@@ -310,12 +315,25 @@ Pose2 refine_match(const VerifyMap& query, const PairFields& fields, const Pose2
   return weak ? keep_along(matched, T_map_query, *weak, config.keep_along_slack) : matched;
 }
 
-Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
-                      const VerifyConfig& config, Verified* at_pose) {
-  const PairFields fields(query, map);
+namespace {
+
+Verified verify_match_with(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
+                           const Pose2& T_map_query, const VerifyConfig& config, Verified* at_pose) {
   const Verified at = verify_at(query, map, fields, T_map_query);
   if (at_pose != nullptr) *at_pose = at;
   return refined(query, map, fields, at, config);
+}
+
+}  // namespace
+
+Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
+                      const VerifyConfig& config, Verified* at_pose) {
+  return verify_match_with(query, map, PairFields(query, map), T_map_query, config, at_pose);
+}
+
+Verified verify_match(const VerifyMap& query, const LikelihoodField& query_field, const VerifyMap& map,
+                      const Pose2& T_map_query, const VerifyConfig& config, Verified* at_pose) {
+  return verify_match_with(query, map, PairFields(query_field, map), T_map_query, config, at_pose);
 }
 
 std::vector<DmmResult> dmm_poses(const PreparedQuery& query, const PreparedMap& map,

@@ -150,8 +150,14 @@ struct MatchTerms {
 /// terms and refine_match read them.
 struct PairFields {
   PairFields(const VerifyMap& query, const VerifyMap& map);
+  /// With the query's field built before (verify_field of the same query): one query verified at many places
+  /// builds it once.
+  PairFields(LikelihoodField query_field, const VerifyMap& map);
   LikelihoodField query, map;
 };
+
+/// A map's field as PairFields builds it.
+LikelihoodField verify_field(const VerifyMap& map);
 
 /// The terms at T_map_query (maps query-frame points into the map frame). Empty maps give zero terms.
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
@@ -183,6 +189,9 @@ Verified verify_at(const VerifyMap& query, const VerifyMap& map, const PairField
 /// lowers the probability). at_pose (when given): the terms and probability at T_map_query itself.
 Verified verify_match(const VerifyMap& query, const VerifyMap& map, const Pose2& T_map_query,
                       const VerifyConfig& config = {}, Verified* at_pose = nullptr);
+/// The same with the query's field built before (verify_field(query)): the same answer.
+Verified verify_match(const VerifyMap& query, const LikelihoodField& query_field, const VerifyMap& map,
+                      const Pose2& T_map_query, const VerifyConfig& config = {}, Verified* at_pose = nullptr);
 
 /// The poses verify_dmm verifies: Eq. 1's exact optimum first, then up to config.alternatives next-best
 /// distinct poses scoring at least alternative_bar of it (one DmmSearch).

@@ -170,6 +170,22 @@ TEST(RefineMatch, MovesALatticePoseBelowTheLattice) {
   EXPECT_LT(std::abs(refined.theta), 0.005);
 }
 
+// One query verified at many places (locate's candidates) builds its field once: the same answer, bit for bit.
+TEST(VerifyMatch, AQueryFieldBuiltOnceGivesTheSameAnswer) {
+  const VerifyMap a(corridor(), axis_origins());
+  const LikelihoodField field = verify_field(a);
+  for (const Pose2 pose : {Pose2{0.07, -0.06, 0.014}, Pose2{-0.2, 0.1, -0.05}, Pose2{1.0, 0.0, 0.3}}) {
+    Verified at_each, at_once;
+    const Verified each = verify_match(a, a, pose, {}, &at_each), once = verify_match(a, field, a, pose, {}, &at_once);
+    EXPECT_EQ(each.T_map_query.x, once.T_map_query.x);
+    EXPECT_EQ(each.T_map_query.y, once.T_map_query.y);
+    EXPECT_EQ(each.T_map_query.theta, once.T_map_query.theta);
+    EXPECT_EQ(each.probability, once.probability);
+    EXPECT_EQ(each.terms.map_fit, once.terms.map_fit);
+    EXPECT_EQ(at_each.probability, at_once.probability);
+  }
+}
+
 TEST(RefineMatch, KeepsTheTranslationAlongABareCorridorWhenAsked) {
   // A corridor without a cross wall (nothing but its walls' ends and a doorway fixes x): the map's doorway in
   // the upper wall lies 0.3 m further along than the query's, so the match, left free, slides the query 0.3 m
