@@ -120,7 +120,10 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
     std::ostringstream why;
     why << std::fixed << std::setprecision(2) << "the scans turn against the odometry (slope "
         << r.front_end.turn_slope() << " over " << r.front_end.turning_steps
-        << " turning steps), mirrored or not: the laser's mounting or the odometry's heading is wrong";
+        << " turning steps)"
+        << (config.front_end.mirror_check ? ", mirrored or not: the laser's mounting or the odometry's heading is wrong"
+                                          : ": a laser mounted upside down (front_end.mirror_check, off here, reads "
+                                            "it mirrored), or the odometry's heading is wrong");
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
   }

@@ -82,6 +82,7 @@ TEST(Slam, ScansThatTurnAgainstTheOdometryAreDoubtful) {
   EXPECT_EQ(as_read.back_end.verdict, "doubtful");
   EXPECT_NE(as_read.back_end.reason.find("the scans turn against the odometry"), std::string::npos)
       << as_read.back_end.reason;
+  EXPECT_NE(as_read.back_end.reason.find("mirror_check, off here"), std::string::npos) << as_read.back_end.reason;
   config.front_end.mirror_check = true;
   const SlamResult mirrored = run_slam(raw, config);
   EXPECT_TRUE(mirrored.front_end.mirrored);
