@@ -357,11 +357,22 @@ namespace {
 // The laser's mount when every scan's laser pose is its odometry pose carried by one fixed transform (a raw log
 // whose laser pose fields are the robot's odometry times the mount: ROBOTLASER1's laser_pose and robot_pose,
 // FLASER's x y theta and odom_x ..; to 1 mm and 1 mrad, CARMEN's six decimals), nullopt for none or when it
-// varies (a corrected log: its laser poses are not the odometry's).
+// varies (a corrected log: its laser poses are not the odometry's). Only a robot that turned tells a mount from
+// an offset between two frames (kMountEvidence): a few scans, or a robot that drove straight, say nothing.
+struct MountEvidence {
+  std::size_t scans = 5;
+  double turn = 0.5;  // [rad] between the odometry's headings, at least
+};
+constexpr MountEvidence kMountEvidence;
+
 std::optional<Pose2> constant_mount(const Scans& scans) {
-  if (scans.empty()) return std::nullopt;
+  if (scans.size() < kMountEvidence.scans) return std::nullopt;
   const Pose2 first = scans.front().T_world_odom.inverse() * scans.front().T_world_laser;
   if (first.translation().norm() < 1e-3 && std::abs(first.theta) < 1e-3) return std::nullopt;
+  double turned = 0;
+  for (const Scan& s : scans)
+    turned = std::max(turned, std::abs(wrap_angle(s.T_world_odom.theta - scans.front().T_world_odom.theta)));
+  if (turned < kMountEvidence.turn) return std::nullopt;
   for (const Scan& s : scans) {
     const Pose2 m = s.T_world_odom.inverse() * s.T_world_laser;
     if ((m.translation() - first.translation()).norm() > 1e-3 || std::abs(wrap_angle(m.theta - first.theta)) > 1e-3)

@@ -137,8 +137,9 @@ struct CarmenLog {
   std::vector<std::string> warnings;  ///< CarmenReader::warnings(): a cut-off end, damage skipped
   /// The laser's mount on the robot when every scan's laser pose is its odometry pose times one fixed transform
   /// (a raw log with an offset laser: ROBOTLASER1's laser_pose and robot_pose, FLASER's laser and odometry poses,
-  /// to 1 mm / 1 mrad); the scans' T_world_odom then carry it (the odometry pose of the laser, as everywhere
-  /// else). nullopt when the two are the same, or differ from scan to scan (a corrected log).
+  /// to 1 mm / 1 mrad, over at least 5 scans of a robot that turned by 0.5 rad or more); the scans' T_world_odom
+  /// then carry it (the odometry pose of the laser, as everywhere else). nullopt when the two are the same, differ
+  /// from scan to scan (a corrected log), or the log is too short or too straight to tell.
   std::optional<Pose2> T_base_laser;
 };
 

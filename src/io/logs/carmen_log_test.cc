@@ -138,6 +138,25 @@ TEST(CarmenLog, CarriesTheOdometryOntoALaserMountedOffTheAxis) {
       EXPECT_NEAR(odometry_step.theta, laser_step.theta, 1e-5);
     }
   }
+  // Too few scans, or a robot that never turned, cannot tell a mount from an offset between two frames.
+  const auto first_lines = [](const std::string& text, int n) {
+    std::size_t end = 0;
+    for (int k = 0; k < n; ++k) end = text.find('\n', end) + 1;
+    return text.substr(0, end);
+  };
+  write_text(dir / "short.log", first_lines(flaser, 2), false);
+  EXPECT_FALSE(read_carmen_log(dir / "short.log").T_base_laser.has_value());
+  std::string straight;
+  for (int k = 0; k < 6; ++k) {
+    const Pose2 robot{1.0 + 0.1 * k, 2.0, 0.2}, laser = robot * mount;
+    std::snprintf(line, sizeof line, "FLASER 3 1.0 2.0 3.0 %.6f %.6f %.6f %.6f %.6f %.6f %.3f host %.3f\n", laser.x,
+                  laser.y, laser.theta, robot.x, robot.y, robot.theta, 10.0 + k, 10.0 + k);
+    straight += line;
+  }
+  write_text(dir / "straight.log", straight, false);
+  const CarmenLog straight_log = read_carmen_log(dir / "straight.log");
+  EXPECT_FALSE(straight_log.T_base_laser.has_value());
+  EXPECT_NEAR(straight_log.scans[2].T_world_odom.x, 1.2, 1e-6);
   write_text(dir / "varying.log", varying, false);
   const CarmenLog log = read_carmen_log(dir / "varying.log");
   EXPECT_FALSE(log.T_base_laser.has_value());
