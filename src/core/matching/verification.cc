@@ -248,15 +248,15 @@ LikelihoodField verify_field(const VerifyMap& map) {
 }
 
 PairFields::PairFields(const VerifyMap& query_map, const VerifyMap& map_map)
-    : query(verify_field(query_map)), map(verify_field(map_map)) {}
+    : map(verify_field(map_map)), own_query_(verify_field(query_map)), query_(&own_query_) {}
 
-PairFields::PairFields(LikelihoodField query_field, const VerifyMap& map_map)
-    : query(std::move(query_field)), map(verify_field(map_map)) {}
+PairFields::PairFields(const LikelihoodField& query_field, const VerifyMap& map_map)
+    : map(verify_field(map_map)), query_(&query_field) {}
 
 MatchTerms match_terms(const VerifyMap& query, const VerifyMap& map, const PairFields& fields,
                        const Pose2& T_map_query) {
   const SideReading q = read_side(query, map, fields.map, T_map_query);
-  const SideReading m = read_side(map, query, fields.query, T_map_query.inverse());
+  const SideReading m = read_side(map, query, fields.query(), T_map_query.inverse());
   MatchTerms t;
   t.query = q.terms, t.map = m.terms;
   t.query_fit = q.fit, t.map_fit = m.fit;

@@ -148,12 +148,21 @@ struct MatchTerms {
 
 /// The two maps' likelihood fields (the front end's: 0.05 m cells, sigma 0.1 m), built once per pair: the fit
 /// terms and refine_match read them.
-struct PairFields {
+class PairFields {
+ public:
   PairFields(const VerifyMap& query, const VerifyMap& map);
-  /// With the query's field built before (verify_field of the same query): one query verified at many places
-  /// builds it once.
-  PairFields(LikelihoodField query_field, const VerifyMap& map);
-  LikelihoodField query, map;
+  /// With the query's field built before (verify_field of the same query), borrowed, not copied: it must outlive
+  /// this. One query verified at many places builds it once.
+  PairFields(const LikelihoodField& query_field, const VerifyMap& map);
+  PairFields(const PairFields&) = delete;  // query() may point into own_query_
+  PairFields& operator=(const PairFields&) = delete;
+
+  const LikelihoodField& query() const { return *query_; }
+  LikelihoodField map;
+
+ private:
+  LikelihoodField own_query_;  // empty when borrowed
+  const LikelihoodField* query_;
 };
 
 /// A map's field as PairFields builds it.

@@ -77,7 +77,6 @@ Stamped to_pose(const OdometryMessage& m, const std::string& where) {
 struct LaserMount {
   Pose2 T_base_laser;
   bool upside_down = false;
-  double tilt = 0.0;  // [rad] between the scan plane and the base's plane (0 or pi when they are parallel)
 };
 
 std::optional<LaserMount> laser_mount(const rosbag_messages::BagMessages& m, const std::string& where,
@@ -120,13 +119,14 @@ std::optional<LaserMount> laser_mount(const rosbag_messages::BagMessages& m, con
         mount.T_base_laser = {T_base_next.translation().x(), T_base_next.translation().y(),
                               std::atan2(R(1, 0), R(0, 0))};
         mount.upside_down = R(2, 2) < 0;
-        mount.tilt = std::acos(std::clamp(std::abs(R(2, 2)), 0.0, 1.0));
-        if (mount.tilt > 5.0 * std::numbers::pi / 180) {
+        // Between the scan plane and the base's plane, up to pi / 2 (a plane turned over is parallel).
+        const double tilt = std::acos(std::clamp(std::abs(R(2, 2)), 0.0, 1.0));
+        if (tilt > 5.0 * std::numbers::pi / 180) {
           char what[200];
           std::snprintf(what, sizeof what,
                         "the laser frame %s is tilted %.1f degrees from %s's plane; its beams are projected onto "
                         "that plane as they are",
-                        laser.c_str(), mount.tilt * 180 / std::numbers::pi, base.c_str());
+                        laser.c_str(), tilt * 180 / std::numbers::pi, base.c_str());
           warnings.push_back(where + ": " + what);
         }
         return mount;
