@@ -7,7 +7,8 @@
 # relocalisation markers, and the in-map queries by true overlap.
 # Then the tracking bench (build/tracking_check, core/evaluation/tracking.h): the same first-visit map, runs of the
 # tracker from every 10 m after it with a drifted twin's odometry (mild and harsh) and one kidnapping each ->
-# docs/results/tracking_LOG_NOISE.txt, and its table (scripts/tracking_table.py) into docs/USAGE.md.
+# docs/results/tracking_LOG_NOISE.txt, and its table (scripts/tracking_table.py) into docs/USAGE.md. Last, the same run
+# tracked from another file (scripts/track-other-recording.sh).
 # Usage: scripts/make-relocalisation.sh. Needs ../shared/data, build/relocalisation_check and build/tracking_check
 # (about 6 min for relocalisation, 20 min for tracking).
 set -euo pipefail
@@ -38,3 +39,4 @@ for log in "${logs[@]}"; do
   done
 done
 /usr/bin/python3 scripts/tracking_table.py --readme docs/USAGE.md "${tracking[@]}"
+bash scripts/track-other-recording.sh

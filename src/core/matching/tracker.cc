@@ -69,6 +69,7 @@ void Tracker::reset() {
   blind_ = false;
   steps_since_search_ = 0;
   previous_.clear();
+  lost_pose_.reset();
   pending_.reset();
   steps_ = 0;
 }
@@ -158,6 +159,7 @@ bool Tracker::update_status(bool evidence) {
       weak_steps_ = declared->probability < config_.lost_probability ? weak_steps_ + 1 : 0;
       if (weak_steps_ >= config_.lost_steps) {
         status_ = TrackStatus::kLost;
+        lost_pose_ = declared->T_map_query, lost_step_ = steps_;
         hypotheses_.clear();
         previous_.clear();  // the local maps before are of where the robot was carried from
         none_log_weight_ = 0;
@@ -216,6 +218,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   const Pose2 motion = has_last_ ? T_odom_last_.inverse() * T_odom_map : Pose2{};
   T_odom_last_ = T_odom_map, has_last_ = true;
   if (!previous_.empty()) previous_.back().motion = motion;
+  if (lost_pose_) *lost_pose_ = *lost_pose_ * motion;
   // The local map's beams cast once for every verification of this step (and the newborn's of later steps).
   Localizer::VerifyQuery prepared = localizer_.verify_query(points, origins);
 
@@ -241,34 +244,9 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     normalise();
   }
 
-  // 3. The global search: new hypotheses out of the none weight, each weighed by its probability; the none
-  // weight weighed too if no carried hypothesis did it this step.
-  // A search runs in slices of search_budget (tracker.h, 5): it starts on this step's local map, goes on over
-  // the next steps, and its hypotheses, found for the local map it started on, are carried by the odometry
-  // since then and weighed here as the carried ones are.
-  bool searched = false;
-  const auto begin_search = [&] {
-    pending_ = std::make_unique<Localizer::HypothesisSearch>(localizer_, points, prepared, config_.hypotheses,
-                                                            config_.search_verified, config_.search_min_share);
-    pending_step_ = steps_;
-    T_odom_pending_ = T_odom_map;
-  };
-  const auto search = [&] {
-    searched = true;
-    if (pending_ == nullptr) begin_search();
-    if (!pending_->advance(config_.search_budget)) {
-      merge_and_drop(), normalise();
-      return;
-    }
-    std::vector<Verified> found = pending_->result();
-    if (pending_step_ != steps_) {
-      const Pose2 since = T_odom_pending_.inverse() * T_odom_map;
-      std::vector<Pose2> carried;
-      for (const Verified& v : found) carried.push_back(v.T_map_query * since);
-      found = verify_carried(prepared, carried, true);
-    }
-    pending_.reset();
-    steps_since_search_ = 0;
+  // New hypotheses (the search's, or the pose the robot was lost at): each out of the none weight, weighed by
+  // its probability; the none weight weighed too if no carried hypothesis did it this step.
+  const auto adopt = [&](const std::vector<Verified>& found) {
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
     const std::size_t rivals = hypotheses_.size();
@@ -313,10 +291,46 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
     merge_and_drop();
     normalise();
   };
+  // 3. The global search, its poses adopted as new hypotheses.
+  // A search runs in slices of search_budget (tracker.h, 5): it starts on this step's local map, goes on over
+  // the next steps, and its hypotheses, found for the local map it started on, are carried by the odometry
+  // since then and weighed here as the carried ones are.
+  bool searched = false;
+  const auto begin_search = [&] {
+    pending_ = std::make_unique<Localizer::HypothesisSearch>(localizer_, points, prepared, config_.hypotheses,
+                                                            config_.search_verified, config_.search_min_share);
+    pending_step_ = steps_;
+    T_odom_pending_ = T_odom_map;
+  };
+  const auto search = [&] {
+    searched = true;
+    if (pending_ == nullptr) begin_search();
+    if (!pending_->advance(config_.search_budget)) {
+      merge_and_drop(), normalise();
+      return;
+    }
+    std::vector<Verified> found = pending_->result();
+    if (pending_step_ != steps_) {
+      const Pose2 since = T_odom_pending_.inverse() * T_odom_map;
+      std::vector<Pose2> carried;
+      for (const Verified& v : found) carried.push_back(v.T_map_query * since);
+      found = verify_carried(prepared, carried, true);
+    }
+    pending_.reset();
+    steps_since_search_ = 0;
+    adopt(found);
+  };
+  // The pose the robot was lost at, carried on by the odometry, joins as soon as it fits a later local map well
+  // enough to count towards a declaration (tracker.h, 4).
+  if (lost_pose_ && steps_ > lost_step_ && status_ != TrackStatus::kLocalised) {
+    const Verified v = verify_carried(prepared, {*lost_pose_}, true).front();
+    if (v.terms.query.seen >= config_.min_seen && v.probability >= config_.declare_probability)
+      adopt({v}), lost_pose_.reset();
+  }
   // While not localised: a search when there is no hypothesis, else every search_every steps (a global search
   // costs ten to a hundred times a carried step; in between, the carried hypotheses gather evidence).
   ++steps_since_search_;
-  if (status_ == TrackStatus::kLocalised) pending_.reset();  // no search while localised
+  if (status_ == TrackStatus::kLocalised) pending_.reset(), lost_pose_.reset();  // no search while localised
   if (pending_ != nullptr ||
       (status_ != TrackStatus::kLocalised && (hypotheses_.empty() || steps_since_search_ >= config_.search_every)))
     search();

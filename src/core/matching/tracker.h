@@ -29,7 +29,10 @@
 //      found, not that it fits worse (docs/NOTES.md, "Rivals found later"); the others are still carried
 //      (they may win back); when the declared one's probability stays below lost_probability for lost_steps
 //      steps in a row the robot was carried elsewhere (kidnapped) or the map no longer holds the place:
-//      "lost", every hypothesis is dropped and the search starts again at once.
+//      "lost", every hypothesis is dropped and the search starts again at once; the pose it was lost at, carried
+//      on by the odometry, joins as a newborn on the first later step where it fits with declare_probability (a
+//      robot that was not carried anywhere, whose local maps a crowd or turning on the spot spoiled for two
+//      steps, is found where it was without waiting for a search begun on a spoiled local map).
 // Nothing is claimed (the status reads "searching", the declared hypothesis is kept and declared again at
 // once when it fits again with declare_share, ahead of its rivals) on a step where the declared pose fits
 // below lost_probability, lies where the building map saw little of the local map (query seen share below
@@ -48,6 +51,7 @@
 #include <cstdint>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -197,6 +201,10 @@ class Tracker {
   /// infinite-corridor; docs/NOTES.md, "Rivals found later").
   static constexpr std::size_t kWeighedBack = 2;
   std::vector<Previous> previous_;  ///< the last kWeighedBack steps' local maps, oldest first
+  /// Where the declared hypothesis was when the robot was lost, carried on by the odometry since, until it fits a
+  /// later local map or a pose is declared (docs/NOTES.md, "Lost without being carried").
+  std::optional<Pose2> lost_pose_;
+  std::size_t lost_step_ = 0;  ///< ... lost on this step
   std::unique_ptr<Localizer::HypothesisSearch> pending_;  ///< a global search under way (search_budget)
   std::size_t pending_step_ = 0;  ///< the step whose local map it searches ...
   Pose2 T_odom_pending_;          ///< ... and that step's T_odom_map

@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""Tracking a run recorded in another format (docs/NOTES.md, "Tracking the same run from another file"): the map is
+`partslam slam` of a CARMEN log, the tracked log the same run as a ROS bag (`locate --track --scan-match --json`), and
+the reference is slam's own corrected pose of the same scan (the bags are re-timed, so scans are paired by their
+order: both files are read with the `partslam` Python module and must hold as many scans). Per recording: the steps,
+those localised, those localised more than 0.3 m / 3 deg from the reference (the issue's "declared wrong"), the
+position error's median and largest, the travel to the first localised step, how often it said "lost" (never
+right here: the robot is not carried anywhere), the steps not localised after the first localised one, and the
+time per step. Writes one JSON line per recording with --out, and the table into FILE's markers with --readme.
+Usage: /usr/bin/python3 scripts/track_other_recording.py [--readme FILE] [--out JSONL] NAME:LOG:BAG:SLAM_DIR:TRACK_JSON...
+"""
+import bisect
+import json
+import math
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
+import partslam  # noqa: E402
+
+import readme_block  # noqa: E402
+
+WRONG_M, WRONG_RAD = 0.3, math.radians(3.0)
+
+
+def corrected_poses(path):
+    poses = []
+    try:
+        with open(path) as f:
+            for n, line in enumerate(f, 1):
+                if not line.startswith("FLASER"):
+                    continue
+                v = line.split()
+                k = int(v[1])
+                poses.append(tuple(float(x) for x in v[2 + k:5 + k]))
+    except (OSError, ValueError, IndexError) as e:
+        sys.exit(f"{path}: cannot read a FLASER line ({e})")
+    return poses
+
+
+def angle(a):
+    return (a + math.pi) % (2 * math.pi) - math.pi
+
+
+def check(name, log, bag, slam_dir, track_json):
+    n_log = len(partslam.load_scan_source(log).scans)
+    bag_times = [s.timestamp for s in partslam.load_scan_source(bag).scans]
+    ref = corrected_poses(os.path.join(slam_dir, "corrected.log"))
+    if not (n_log == len(bag_times) == len(ref)):
+        sys.exit(f"{name}: {log} has {n_log} scans, {bag} {len(bag_times)}, slam's corrected.log {len(ref)}: "
+                 "the scans cannot be paired")
+    try:
+        tracked = json.load(open(track_json))["tracked"]
+    except (OSError, ValueError, KeyError) as e:
+        sys.exit(f"{track_json}: not locate --track's JSON ({e})")
+    slam = json.load(open(os.path.join(slam_dir, "slam.json")))
+    errors, wrong, lost, unlocalised_after, first = [], 0, 0, 0, None
+    for k, t in enumerate(tracked):
+        status = t["status"]
+        if status == "lost" and (k == 0 or tracked[k - 1]["status"] != "lost"):
+            lost += 1
+        if status != "localised":
+            if first is not None:
+                unlocalised_after += 1
+            continue
+        if first is None:
+            first = k
+        i = bisect.bisect_left(bag_times, t["log_time"]["from"] - 1e-6)  # the anchor scan (robot_pose's)
+        x, y, th = ref[min(i, len(ref) - 1)]
+        r = t["robot_pose"]
+        e, a = math.hypot(r["x"] - x, r["y"] - y), abs(angle(r["theta"] - th))
+        errors.append(e)
+        wrong += e > WRONG_M or a > WRONG_RAD
+    times = sorted(t["time_ms"] for t in tracked)
+    every = json.load(open(track_json)).get("every", 2.0)
+    return {
+        "name": name, "log": os.path.basename(log), "bag": os.path.basename(bag),
+        "slam_verdict": slam.get("verdict"), "steps": len(tracked), "localised": len(errors),
+        "declared_wrong": wrong,
+        "error_median_m": statistics.median(errors) if errors else None,
+        "error_max_m": max(errors) if errors else None,
+        "first_localised_travel_m": None if first is None else (first + 1) * every,
+        "lost": lost, "not_localised_after_first": unlocalised_after,
+        "step_median_ms": statistics.median(times) if times else None,
+        "step_p95_ms": times[min(len(times) - 1, int(math.ceil(0.95 * len(times))) - 1)] if times else None,
+    }
+
+
+def table(rows):
+    lines = ["| run (map from / tracked) | slam's verdict | steps | localised | declared wrong (> 0.3 m / 3 deg) | "
+             "error median / max m | first localised after | said lost | steps not localised after the first | "
+             "step median / p95 ms |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        err = "-" if r["error_median_m"] is None else f"{r['error_median_m']:.3f} / {r['error_max_m']:.3f}"
+        first = "never" if r["first_localised_travel_m"] is None else f"{r['first_localised_travel_m']:g} m"
+        lines.append(f"| {r['name']} ({r['log']} / {r['bag']}) | {r['slam_verdict']} | {r['steps']} | "
+                     f"{r['localised']} ({100.0 * r['localised'] / max(r['steps'], 1):.1f} %) | {r['declared_wrong']} | "
+                     f"{err} | {first} | {r['lost']} | {r['not_localised_after_first']} | "
+                     f"{r['step_median_ms']:.1f} / {r['step_p95_ms']:.1f} |")
+    return "\n".join(lines)
+
+
+def main(argv):
+    readme = out = None
+    specs = []
+    it = iter(argv)
+    for a in it:
+        if a == "--readme":
+            readme = next(it, None)
+        elif a == "--out":
+            out = next(it, None)
+        else:
+            specs.append(a)
+    if not specs or any(len(s.split(":")) != 5 for s in specs):
+        sys.exit(__doc__.strip().splitlines()[-1])
+    rows = [check(*s.split(":")) for s in specs]
+    text = table(rows)
+    print(text)
+    if out:
+        tmp = out + ".tmp"
+        with open(tmp, "w") as f:
+            for r in rows:
+                f.write(json.dumps(r, sort_keys=True) + "\n")
+        os.replace(tmp, out)
+    if readme:
+        readme_block.replace(readme, "other-recording", text + "\n")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
