@@ -7,7 +7,9 @@ those localised, those localised more than 0.3 m / 3 deg from the reference (the
 position error's median and largest, the travel to the first localised step, how often it said "lost" (never
 right here: the robot is not carried anywhere), the steps not localised after the first localised one, and the
 time per step. Writes one JSON line per recording with --out, and the table into FILE's markers with --readme.
+--check FILE --from JSONL prints nothing and exits 1 when FILE's table is not the one the committed results give.
 Usage: /usr/bin/python3 scripts/track_other_recording.py [--readme FILE] [--out JSONL] NAME:LOG:BAG:SLAM_DIR:TRACK_JSON...
+       /usr/bin/python3 scripts/track_other_recording.py --check FILE --from JSONL
 """
 import bisect
 import json
@@ -16,10 +18,7 @@ import os
 import statistics
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
-import partslam  # noqa: E402
-
-import readme_block  # noqa: E402
+import readme_block
 
 WRONG_M, WRONG_RAD = 0.3, math.radians(3.0)
 
@@ -44,6 +43,8 @@ def angle(a):
 
 
 def check(name, log, bag, slam_dir, track_json):
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
+    import partslam
     n_log = len(partslam.load_scan_source(log).scans)
     bag_times = [s.timestamp for s in partslam.load_scan_source(bag).scans]
     ref = corrected_poses(os.path.join(slam_dir, "corrected.log"))
@@ -103,7 +104,7 @@ def table(rows):
 
 
 def main(argv):
-    readme = out = None
+    readme = out = check = source = None
     specs = []
     it = iter(argv)
     for a in it:
@@ -111,8 +112,23 @@ def main(argv):
             readme = next(it, None)
         elif a == "--out":
             out = next(it, None)
+        elif a == "--check":
+            check = next(it, None)
+        elif a == "--from":
+            source = next(it, None)
         else:
             specs.append(a)
+    if check or source:
+        if not (check and source) or specs:
+            sys.exit(__doc__.strip().splitlines()[-1])
+        try:
+            rows = [json.loads(line) for line in open(source) if line.strip()]
+        except (OSError, ValueError) as e:
+            sys.exit(f"{source}: cannot read it ({e})")
+        if not readme_block.is_current(check, "other-recording", table(rows) + "\n"):
+            sys.exit(f"{check}: the other-recording table is not the one {source} gives "
+                     "(scripts/track-other-recording.sh rewrites both)")
+        return
     if not specs or any(len(s.split(":")) != 5 for s in specs):
         sys.exit(__doc__.strip().splitlines()[-1])
     rows = [check(*s.split(":")) for s in specs]
