@@ -203,6 +203,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_KEY")) config.front_end.key_translation = std::atof(v);
     if (const char* v = std::getenv("FE_SECOND")) config.front_end.second_prediction = std::atof(v);
     if (const char* v = std::getenv("FE_MARGIN")) config.front_end.second_margin = std::atof(v);
+    if (const char* v = std::getenv("FE_WIDE")) config.front_end.wide_score = std::atof(v);
     if (const char* v = std::getenv("LOOPS_VERIFY_DMM")) config.loops.verify_dmm = std::atoi(v) != 0;
     if (const char* v = std::getenv("LOOPS_GATE_CANDIDATES")) config.loops.gate_candidates = std::atoi(v) != 0;
     if (const char* v = std::getenv("LOOPS_CONSISTENCY")) config.loops.consistency.enabled = std::atoi(v) != 0;

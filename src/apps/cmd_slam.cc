@@ -94,6 +94,8 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"heading_jumps", r.front_end.heading_jumps},
             {"time_reversals", r.front_end.time_reversals},
             {"turning_steps", r.front_end.turning_steps},
+            {"wide_searches", r.front_end.wide_searches},
+            {"wide_kept", r.front_end.wide_kept},
             {"turn_slope", r.front_end.turn_slope()},
             {"mirrored", r.front_end.mirrored},
             {"seconds", r.front_end_s}}},
@@ -223,7 +225,10 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
               << " rad away from the odometry (the scans overruled the wheels' heading: many where the odometry is "
                  "poor; first at "
               << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel), " << fe.degenerate
-              << " kept the odometry along a bare corridor (too few walls across it to match)\n";
+              << " kept the odometry along a bare corridor (too few walls across it to match)";
+    if (fe.wide_kept > 0)
+      std::cout << ", " << fe.wide_kept << " found again over every heading (the odometry's turn was far off)";
+    std::cout << "\n";
   }
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -102,6 +103,20 @@ ScanMatch match_predicted(const LocalMap& local, const Points2& points, const Sc
       }
     }
   }
+  if (config.wide_score > 0 && m.score < config.wide_score) {
+    // Every heading: four windows of a quarter turn each (the matcher's window is at most 1 rad).
+    ++stats.wide_searches;
+    ScanMatcherConfig wide = config.matcher;
+    wide.linear_window = config.wide_window;
+    wide.angular_window = std::numbers::pi / 4 + 0.01;
+    ScanMatch best = m;
+    for (int k = 0; k < 4; ++k) {
+      const Pose2 turned{prediction.x, prediction.y, wrap_angle(prediction.theta + k * std::numbers::pi / 2)};
+      const ScanMatch w = match_scan(local.field(), points, turned, wide);
+      if (w.score > best.score) best = w;
+    }
+    if (best.score > m.score + config.second_margin) m = best, ++stats.wide_kept;
+  }
   return m;
 }
 
@@ -165,6 +180,9 @@ void validate(const FrontEndConfig& c) {
     throw InputError("front end config: second_prediction must be in [0, 10]");
   if (!(c.second_margin >= 0.0 && c.second_margin <= 1.0))
     throw InputError("front end config: second_margin must be in [0, 1]");
+  if (!(c.wide_score >= 0.0 && c.wide_score <= 1.0)) throw InputError("front end config: wide_score must be in [0, 1]");
+  if (!(c.wide_window >= 0.0 && c.wide_window <= 5.0))
+    throw InputError("front end config: wide_window must be in [0, 5] m");
 }
 
 namespace {

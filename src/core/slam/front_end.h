@@ -6,7 +6,8 @@
 // key_rotation of turn since the last key scan, as Cartographer's motion filter does. Where the front end's own
 // last step, continued at the same velocity, predicts a pose far from the odometry's (odometry that stalls and
 // catches up), the scan is matched from that prediction too, and that match kept when it scores clearly better
-// (FrontEndConfig::second_prediction, second_margin). A match scoring below
+// (FrontEndConfig::second_prediction, second_margin); a match that still scores poorly is searched for again over
+// every heading (FrontEndConfig::wide_score: a heading lost between two scans). A match scoring below
 // min_score is rejected and the prediction kept (counted); a scan whose surfaces leave one direction of translation
 // unconstrained (a bare corridor) keeps the prediction along it (counted). Scans whose timestamp goes backwards are dropped
 // (counted). The first scan keeps its odometry pose, so the trajectory lives in the odometry frame. Scans that turn
@@ -38,6 +39,8 @@ struct FrontEndStats {
   std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards
   std::size_t second_predictions = 0;  ///< scans also matched from the constant-velocity prediction
   std::size_t velocity_kept = 0;    ///< of those, scans whose constant-velocity match scored better (kept)
+  std::size_t wide_searches = 0;    ///< scans matched again over every heading (their match scored below wide_score)
+  std::size_t wide_kept = 0;        ///< of those, scans whose wide match scored better (kept)
   bool odometry_moves = false;      ///< false when the odometry never moves (no odometry in the log)
   /// Steps between consecutive scans on which the odometry turns at least kTurningStep, and over them the sums
   /// of the front end's turn times the odometry's and of the odometry's squared: turn_slope() is the least-squares

@@ -33,6 +33,13 @@ struct FrontEndConfig {
   /// it scores at least second_margin higher (counted). 0 turns it off.
   double second_prediction = 0.25;
   double second_margin = 0.2;
+  /// A lost heading: where the best match from either prediction scores below wide_score (a prediction a turn
+  /// outside the search window: odometry stamped out of step with the scans, a gap in the log), the scan is matched
+  /// again over every heading and +- wide_window of translation around the odometry's prediction, and that match
+  /// kept when it scores at least second_margin higher (counted; docs/NOTES.md, "A heading lost between two
+  /// scans"). 0 turns it off.
+  double wide_score = 0.5;
+  double wide_window = 0.5;  ///< [m]
   /// A laser mounted upside down and read as upright gives scans that are a mirror image of the place: they turn
   /// against the wheels (FrontEndStats::turn_slope is about -1 where real logs give 0.85-1.01). When the slope
   /// over at least kMinTurningSteps turning steps is negative, the log is matched again with every scan's points

@@ -144,6 +144,7 @@ TEST(FrontEnd, FollowsOdometryThatStallsAndCatchesUp) {
   for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
   FrontEndConfig off;
   off.second_prediction = 0;
+  off.wide_score = 0;  // the wide search would find these scans too
   const FrontEndResult with = scan_match_log(raw), without = scan_match_log(raw, off);
   const auto index = testing::identity_index(raw.size());
   const Consistency c_with = local_consistency(with.scans, truth, index);
@@ -156,6 +157,34 @@ TEST(FrontEnd, FollowsOdometryThatStallsAndCatchesUp) {
   // A log whose odometry never stalls hardly needs it: the same answer as without on most scans.
   const FrontEndResult clean = scan_match_log(Scans(log.raw.begin(), log.raw.begin() + 400));
   EXPECT_LT(clean.stats.velocity_kept, 40u);
+}
+
+// A heading lost between two scans (aces's ROS bag: its odometry stamped out of step with the scans, a gap of 3 s
+// in the log, the odometry's turn 0.84 rad off at one scan): from scan 150 on the odometry is turned by 1 rad, far
+// outside the search window. The match from the prediction scores poorly, the scan is matched again over every
+// heading, and the front end stays right; without it the rest of the log is turned. (The constant-velocity
+// prediction, off here, catches such a slip on a steady stretch; after aces's gap it predicted no better.)
+TEST(FrontEnd, FindsAHeadingLostBetweenTwoScans) {
+  const RawLog log = simulated_raw_log(1.0);
+  Scans raw(log.raw.begin(), log.raw.begin() + 300);
+  const Scans truth(log.truth.begin(), log.truth.begin() + 300);
+  const Pose2 slip{0.0, 0.0, 1.0};
+  for (std::size_t i = 150; i < raw.size(); ++i)
+    raw[i].T_world_odom = raw[149].T_world_odom * slip * (raw[149].T_world_odom.inverse() * raw[i].T_world_odom);
+  for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
+  FrontEndConfig on, off;
+  on.second_prediction = off.second_prediction = 0;
+  off.wide_score = 0;
+  const FrontEndResult with = scan_match_log(raw, on), without = scan_match_log(raw, off);
+  const auto index = testing::identity_index(raw.size());
+  const Consistency c_with = local_consistency(with.scans, truth, index);
+  const Consistency c_without = local_consistency(without.scans, truth, index);
+  EXPECT_GT(c_without.max, 0.5) << c_without.max;  // the premise: the lost heading breaks the front end without it
+  EXPECT_LT(c_with.max, 0.15) << c_with.max;
+  EXPECT_GE(with.stats.wide_kept, 1u);
+  EXPECT_EQ(without.stats.wide_searches, 0u);
+  // The clean log's matches all score well: nothing searched again.
+  EXPECT_EQ(scan_match_log(Scans(log.raw.begin(), log.raw.begin() + 300)).stats.wide_searches, 0u);
 }
 
 // A laser mounted upside down and read as upright (a bag without its mount's transform, a log that stores the

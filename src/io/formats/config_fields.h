@@ -74,6 +74,8 @@ void config_fields(V& v, std::type_identity<FrontEndConfig>) {
   v.field("jump_turn", &C::jump_turn, "");
   v.field("second_prediction", &C::second_prediction, "");
   v.field("second_margin", &C::second_margin, "");
+  v.field("wide_score", &C::wide_score, "a match scoring below this is searched again over every heading (0: off)");
+  v.field("wide_window", &C::wide_window, "... and +- this translation [m]");
   v.field("mirror_check", &C::mirror_check,
           "scans that turn against the odometry are matched again mirrored (a laser mounted upside down)");
 }
