@@ -2,7 +2,8 @@
 # The SLAM generalisation bench (docs/NOTES.md "SLAM bench"; build/slam_bench runs one input): `slam` with its
 # defaults on
 #   - the raw fr079, intel and aces logs against their relations files, and fr101's raw log against relations
-#     built from its corrected twin (the twins also judge the accepted closures);
+#     built from its corrected twin (the twins also judge the accepted closures); then fr079, intel and aces read
+#     from their ROS 1 bags (BAGS), judged by the same relations;
 #   - drifted twins of every corrected log in ../shared (the eight of data/corrected and fr079, fr101, intel,
 #     aces): the real scans with synthetic odometry, at each LEVEL and SEED;
 #   - simulated buildings that stress the front end (SIMS: long bare corridors, a large open hall, a 60 m laser),
@@ -15,6 +16,7 @@
 # The raw logs come first: mit-csail (a building nothing here was tuned on, judged by its relations alone: its
 # twin is kept elsewhere), fr079, intel, aces, fr101.
 # Usage: scripts/slam-bench.sh; LEVELS="mild harsh" SEEDS="1 2 3" INJECT="0.1 0.3 0.5" FORCE="0.3f" LOGS="..." RAW="..."
+# BAGS="..."
 # SIMS="..." PEERS="rbpf-slam icp-slam" (or "" to skip MRPT) narrow it
 # (LOGS: names of corrected logs, e.g. "orebro fr079"). Needs ../shared/data and build/slam_bench.
 set -euo pipefail
@@ -37,6 +39,7 @@ corrected() {  # name -> corrected log
 ALL_LOGS="acapulco belgioioso edmonton fhw freiburg-campus infinite-corridor orebro seattle fr079 fr101 intel aces"
 LOGS=${LOGS-$ALL_LOGS}
 RAW=${RAW-mit-csail fr079 intel aces fr101}
+BAGS=${BAGS-fr079 intel aces}
 SIMS=${SIMS-corridors hall long-range}
 mkdir -p "$OUT"
 TMP=$(mktemp)
@@ -60,6 +63,15 @@ for log in $RAW; do
   raw="$dir/$log.clf.gz"
   run raw "$raw" "$twin" $rel
   for f in $INJECT $FORCE; do run raw "$raw" "$twin" ${rel:-} "$f"; done
+done
+# The same runs read from their ROS bags (BAGS): re-timed, their odometry one message per scan; judged by the
+# logs' relations carried onto the bags' clock (scripts/bag_relations.py pairs the scans by their order).
+for log in $BAGS; do
+  bag=$DATA/bags/$log.clf2bag.bag rel=$TMP.$log.relations
+  /usr/bin/python3 scripts/bag_relations.py "$DATA/$log/$log.clf.gz" "$bag" "$DATA/$log/$log.relations" "$rel"
+  run raw "$bag" - "$rel"
+  for f in $INJECT $FORCE; do run raw "$bag" - "$rel" "$f"; done
+  rm -f "$rel"
 done
 for log in $LOGS; do
   for level in $LEVELS; do

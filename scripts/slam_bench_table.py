@@ -50,6 +50,11 @@ def label(r):
 CARTOGRAPHER = {"mit-csail": 0.032, "fr079": 0.0452, "intel": 0.0229, "aces": 0.0375}
 
 
+def is_bag(r):
+    """A raw run read from a ROS bag (the same run as a CARMEN log's, re-timed)."""
+    return r["kind"] == "raw" and os.path.basename(r["log"]).endswith((".bag", ".mcap"))
+
+
 def peers_table(rows, path):
     """The raw logs first: slam's clean run beside MRPT's peers (scripts/mrpt-peers.sh, mrpt_peers.jsonl beside
     the runs) and Cartographer's published figure."""
@@ -66,10 +71,11 @@ def peers_table(rows, path):
         if r["kind"] != "raw" or r["inject"] != 0:
             continue
         log = os.path.basename(r["log"]).split(".")[0]
+        bag = is_bag(r)
         slam, _ = err(r["slam"])
         cells = []
         for peer in ("rbpf-slam", "icp-slam"):
-            p = peers.get((log, peer))
+            p = None if bag else peers.get((log, peer))
             if p is None:
                 cells += ["not run", "-"]
             elif p["status"] != "ok":
@@ -79,8 +85,8 @@ def peers_table(rows, path):
             else:
                 cells += [f'{p["trans_mean_m"]:.3f} ± {p["trans_std_m"]:.3f} m, {p["rot_mean_deg"]:.2f}°',
                           f'{p["wall_s"]:.0f} s']
-        carto = f'{CARTOGRAPHER[log]} m' if log in CARTOGRAPHER else "-"
-        print(f'| {log} | {slam}, {r.get("verdict", "-")} | {r["seconds"]:.1f} s | {" | ".join(cells)} | {carto} |')
+        carto = f'{CARTOGRAPHER[log]} m' if log in CARTOGRAPHER and not bag else "-"
+        print(f'| {log}{" (ROS 1 bag)" if bag else ""} | {slam}, {r.get("verdict", "-")} | {r["seconds"]:.1f} s | {" | ".join(cells)} | {carto} |')
     print("\n(slam: one thread, its whole run; the peers: the whole process under `nice`, one at a time, beside "
           "other work. fr101 has no relations file: slam's figure uses relations built from its corrected twin.)\n")
 
@@ -95,7 +101,7 @@ def main(path):
     for j in rows:
         name = os.path.basename(j["log"]).split(".")[0].replace("-corrected", "")
         if j["kind"] == "raw":
-            name += " (raw)"
+            name += " (ROS 1 bag)" if is_bag(j) else " (raw)"
         odo = "real" if j["kind"] == "raw" else f'{j["level"]} seed {j["seed"]}'
         slam, s = err(j["slam"])
         odom, o = err(j["odometry"])

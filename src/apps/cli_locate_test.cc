@@ -192,6 +192,14 @@ TEST_F(CliLocateTest, TrackFollowsTheLogThroughItsMap) {
     EXPECT_NEAR(t["robot_pose"]["x"].get<double>(), truth.x, 0.3) << t["query"];
     EXPECT_NEAR(t["robot_pose"]["y"].get<double>(), truth.y, 0.3) << t["query"];
     EXPECT_NEAR(wrap_angle(t["robot_pose"]["theta"].get<double>() - truth.theta), 0.0, 3 * kDegree) << t["query"];
+    EXPECT_NEAR(t["robot_pose_time"].get<double>(), scans[i].timestamp, 1e-6);
+    // Where it is at the end of the step: the local map's last scan.
+    const double to = t["log_time"]["to"].get<double>();
+    std::size_t k = i;
+    while (k + 1 < scans.size() && scans[k].timestamp < to - 1e-6) ++k;
+    EXPECT_NEAR(t["robot_pose_now_time"].get<double>(), to, 1e-6);
+    EXPECT_NEAR(t["robot_pose_now"]["x"].get<double>(), scans[k].T_world_laser.x, 0.3) << t["query"];
+    EXPECT_NEAR(t["robot_pose_now"]["y"].get<double>(), scans[k].T_world_laser.y, 0.3) << t["query"];
     EXPECT_GE(t["probability"].get<double>(), 0.5);
     EXPECT_GE(t["hypotheses"].size(), 1u);
   }

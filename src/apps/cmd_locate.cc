@@ -229,6 +229,8 @@ struct Tracked {
   double from_time = 0, to_time = 0;  // the local map's log time span [s]
   TrackStep step;
   std::optional<Pose2> T_map_source, robot;  // when the step has a pose (the declared or the heaviest)
+  std::optional<Pose2> robot_now;            // ... and the robot at the local map's last scan (where it is now)
+  double now_stamp = 0;                      // that scan's log time [s]
   std::vector<Pose2> hypothesis_robots;      // every hypothesis's robot pose, heaviest first
   double stamp = 0;                          // the anchor scan's log time [s]
   Pose2 robot_in_log;                        // the anchor scan's pose in the log's own frame
@@ -246,9 +248,13 @@ std::vector<Tracked> track_log(const LocateOptions& o, const Localizer& localize
     t.stamp = anchor.timestamp;
     t.robot_in_log = anchor.T_world_laser;
     const auto robot_of = [&](const Pose2& T_map_query) { return T_map_query * query.T_world_map.inverse() * anchor.T_world_laser; };
+    std::size_t last = static_cast<std::size_t>(query.anchor_scan);  // the local map's last scan
+    while (last + 1 < scans.size() && scans[last].timestamp < query.scan_timestamps.back()) ++last;
+    t.now_stamp = scans[last].timestamp;
     if (t.step.has_pose) {
       t.T_map_source = t.step.best.T_map_query * query.T_world_map.inverse();
       t.robot = robot_of(t.step.best.T_map_query);
+      t.robot_now = *t.T_map_source * scans[last].T_world_laser;
     }
     for (const TrackHypothesis& h : t.step.hypotheses) t.hypothesis_robots.push_back(robot_of(h.T_map_query));
     out.push_back(std::move(t));
@@ -302,6 +308,9 @@ nlohmann::json tracked_json(const Tracked& t) {
     j["T_map_query"] = pose_json(s.best.T_map_query);
     j["T_map_source"] = pose_json(*t.T_map_source);
     j["robot_pose"] = pose_json(*t.robot);
+    j["robot_pose_time"] = t.stamp;  // robot_pose is the local map's first scan's, as locate --every writes it
+    j["robot_pose_now"] = pose_json(*t.robot_now);
+    j["robot_pose_now_time"] = t.now_stamp;
     j["probability"] = s.best.share;  // the declared (or heaviest) hypothesis's share of the weight
     j["same_place_probability"] = s.best.probability;
   }

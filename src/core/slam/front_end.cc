@@ -115,7 +115,7 @@ ScanMatch match_predicted(const LocalMap& local, const Points2& points, const Sc
       const ScanMatch w = match_scan(local.field(), points, turned, wide);
       if (w.score > best.score) best = w;
     }
-    if (best.score > m.score + config.second_margin) m = best, ++stats.wide_kept;
+    if (best.score > m.score + config.wide_margin) m = best, ++stats.wide_kept;
   }
   return m;
 }
@@ -183,6 +183,8 @@ void validate(const FrontEndConfig& c) {
   if (!(c.wide_score >= 0.0 && c.wide_score <= 1.0)) throw InputError("front end config: wide_score must be in [0, 1]");
   if (!(c.wide_window >= 0.0 && c.wide_window <= 5.0))
     throw InputError("front end config: wide_window must be in [0, 5] m");
+  if (!(c.wide_margin >= 0.0 && c.wide_margin <= 1.0))
+    throw InputError("front end config: wide_margin must be in [0, 1]");
 }
 
 namespace {

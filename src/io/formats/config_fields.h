@@ -76,6 +76,7 @@ void config_fields(V& v, std::type_identity<FrontEndConfig>) {
   v.field("second_margin", &C::second_margin, "");
   v.field("wide_score", &C::wide_score, "a match scoring below this is searched again over every heading (0: off)");
   v.field("wide_window", &C::wide_window, "... and +- this translation [m]");
+  v.field("wide_margin", &C::wide_margin, "... and kept when it scores this much higher");
   v.field("mirror_check", &C::mirror_check,
           "scans that turn against the odometry are matched again mirrored (a laser mounted upside down)");
 }
