@@ -42,7 +42,7 @@ def angle(a):
     return (a + math.pi) % (2 * math.pi) - math.pi
 
 
-def check(name, log, bag, slam_dir, track_json):
+def judge(name, log, bag, slam_dir, track_json):
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
     import partslam
     n_log = len(partslam.load_scan_source(log).scans)
@@ -131,7 +131,7 @@ def main(argv):
         return
     if not specs or any(len(s.split(":")) != 5 for s in specs):
         sys.exit(__doc__.strip().splitlines()[-1])
-    rows = [check(*s.split(":")) for s in specs]
+    rows = [judge(*s.split(":")) for s in specs]
     text = table(rows)
     print(text)
     if out:
