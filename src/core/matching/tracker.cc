@@ -159,7 +159,7 @@ bool Tracker::update_status(bool evidence) {
       weak_steps_ = declared->probability < config_.lost_probability ? weak_steps_ + 1 : 0;
       if (weak_steps_ >= config_.lost_steps) {
         status_ = TrackStatus::kLost;
-        lost_pose_ = declared->T_map_query, lost_step_ = steps_;
+        lost_pose_ = declared->T_map_query;  // weighed from the next step on (step() sets it after its check)
         hypotheses_.clear();
         previous_.clear();  // the local maps before are of where the robot was carried from
         none_log_weight_ = 0;
@@ -322,7 +322,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   };
   // The pose the robot was lost at, carried on by the odometry, joins as soon as it fits a later local map well
   // enough to count towards a declaration (tracker.h, 4).
-  if (lost_pose_ && steps_ > lost_step_ && status_ != TrackStatus::kLocalised) {
+  if (lost_pose_ && status_ != TrackStatus::kLocalised) {
     const Verified v = verify_carried(prepared, {*lost_pose_}, true).front();
     if (v.terms.query.seen >= config_.min_seen && v.probability >= config_.declare_probability)
       adopt({v}), lost_pose_.reset();

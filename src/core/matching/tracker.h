@@ -204,7 +204,6 @@ class Tracker {
   /// Where the declared hypothesis was when the robot was lost, carried on by the odometry since, until it fits a
   /// later local map or a pose is declared (docs/NOTES.md, "Lost without being carried").
   std::optional<Pose2> lost_pose_;
-  std::size_t lost_step_ = 0;  ///< ... lost on this step
   std::unique_ptr<Localizer::HypothesisSearch> pending_;  ///< a global search under way (search_budget)
   std::size_t pending_step_ = 0;  ///< the step whose local map it searches ...
   Pose2 T_odom_pending_;          ///< ... and that step's T_odom_map
