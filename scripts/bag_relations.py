@@ -9,16 +9,30 @@ import os
 import sys
 
 
+def partslam_module():
+    """The project's Python module, from build/python."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
+    import partslam
+    return partslam
+
+
+def paired_scans(clf, bag):
+    """The scans of a CARMEN log and of a bag of the same run, read by the project's readers; exits naming both
+    files when they do not hold as many scans (scan i of one is scan i of the other)."""
+    partslam = partslam_module()
+    clf_scans, bag_scans = partslam.load_scan_source(clf).scans, partslam.load_scan_source(bag).scans
+    if len(clf_scans) != len(bag_scans):
+        sys.exit(f"{clf} holds {len(clf_scans)} scans, {bag} {len(bag_scans)}: they cannot be paired")
+    return clf_scans, bag_scans
+
+
 def main(argv):
     if len(argv) != 4:
         sys.exit(__doc__.strip().splitlines()[-1])
     clf, bag, relations, out = argv
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
-    import partslam
-    clf_times = [s.timestamp for s in partslam.load_scan_source(clf).scans]
-    bag_times = [s.timestamp for s in partslam.load_scan_source(bag).scans]
-    if len(clf_times) != len(bag_times):
-        sys.exit(f"{clf} holds {len(clf_times)} scans, {bag} {len(bag_times)}: they cannot be paired")
+    clf_scans, bag_scans = paired_scans(clf, bag)
+    clf_times = [s.timestamp for s in clf_scans]
+    bag_times = [s.timestamp for s in bag_scans]
     order = sorted(range(len(clf_times)), key=lambda i: clf_times[i])
     sorted_times = [clf_times[i] for i in order]
 

@@ -55,22 +55,23 @@ run() {
     exit "$status"
   fi
 }
+raw_runs() {  # RAW_LOG TWIN [RELATIONS]: the clean run, then each INJECT and FORCE
+  run raw "$@"
+  for f in $INJECT $FORCE; do run raw "$@" "$f"; done
+}
 for log in $RAW; do
   dir=$DATA/$log twin=$(corrected "$log")
   [ "$log" = mit-csail ] && dir=$DATA/csail twin=-
   rel=""
   [ -f "$dir/$log.relations" ] && rel="$dir/$log.relations"
-  raw="$dir/$log.clf.gz"
-  run raw "$raw" "$twin" $rel
-  for f in $INJECT $FORCE; do run raw "$raw" "$twin" ${rel:-} "$f"; done
+  raw_runs "$dir/$log.clf.gz" "$twin" $rel
 done
 # The same runs read from their ROS bags (BAGS): re-timed, their odometry one message per scan; judged by the
 # logs' relations carried onto the bags' clock (scripts/bag_relations.py pairs the scans by their order).
 for log in $BAGS; do
   bag=$DATA/bags/$log.clf2bag.bag rel=$TMP.$log.relations
   /usr/bin/python3 scripts/bag_relations.py "$DATA/$log/$log.clf.gz" "$bag" "$DATA/$log/$log.relations" "$rel"
-  run raw "$bag" - "$rel"
-  for f in $INJECT $FORCE; do run raw "$bag" - "$rel" "$f"; done
+  raw_runs "$bag" - "$rel"
   rm -f "$rel"
 done
 for log in $LOGS; do

@@ -19,23 +19,9 @@ import statistics
 import sys
 
 import readme_block
+from bag_relations import paired_scans, partslam_module
 
 WRONG_M, WRONG_RAD = 0.3, math.radians(3.0)
-
-
-def corrected_poses(path):
-    poses = []
-    try:
-        with open(path) as f:
-            for n, line in enumerate(f, 1):
-                if not line.startswith("FLASER"):
-                    continue
-                v = line.split()
-                k = int(v[1])
-                poses.append(tuple(float(x) for x in v[2 + k:5 + k]))
-    except (OSError, ValueError, IndexError) as e:
-        sys.exit(f"{path}: cannot read a FLASER line ({e})")
-    return poses
 
 
 def angle(a):
@@ -43,16 +29,15 @@ def angle(a):
 
 
 def judge(name, log, bag, slam_dir, track_json):
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
-    import partslam
-    n_log = len(partslam.load_scan_source(log).scans)
-    bag_times = [s.timestamp for s in partslam.load_scan_source(bag).scans]
-    ref = corrected_poses(os.path.join(slam_dir, "corrected.log"))
-    if not (n_log == len(bag_times) == len(ref)):
-        sys.exit(f"{name}: {log} has {n_log} scans, {bag} {len(bag_times)}, slam's corrected.log {len(ref)}: "
-                 "the scans cannot be paired")
+    _, bag_scans = paired_scans(log, bag)
+    bag_times = [s.timestamp for s in bag_scans]
+    corrected = os.path.join(slam_dir, "corrected.log")
+    ref = [s.T_world_laser for s in partslam_module().load_scan_source(corrected).scans]
+    if len(ref) != len(bag_times):
+        sys.exit(f"{name}: {bag} has {len(bag_times)} scans, {corrected} {len(ref)}: the scans cannot be paired")
     try:
-        tracked = json.load(open(track_json))["tracked"]
+        track = json.load(open(track_json))
+        tracked = track["tracked"]
     except (OSError, ValueError, KeyError) as e:
         sys.exit(f"{track_json}: not locate --track's JSON ({e})")
     slam = json.load(open(os.path.join(slam_dir, "slam.json")))
@@ -74,7 +59,7 @@ def judge(name, log, bag, slam_dir, track_json):
         errors.append(e)
         wrong += e > WRONG_M or a > WRONG_RAD
     times = sorted(t["time_ms"] for t in tracked)
-    every = json.load(open(track_json)).get("every", 2.0)
+    every = track.get("every", 2.0)
     return {
         "name": name, "log": os.path.basename(log), "bag": os.path.basename(bag),
         "slam_verdict": slam.get("verdict"), "steps": len(tracked), "localised": len(errors),
