@@ -17,23 +17,23 @@ TABLE_A="$MAIN,imm:1,imm:2,imm:4,imm:5,hmm:1,hmm:2,hmm:4,hmm:5,hmm:3:maxmax,hmm:
 [ -d "$DATA" ] || { echo "make-results: $DATA not found (the real data sets are needed)" >&2; exit 1; }
 mkdir -p "$OUT"
 rm -f "$OUT"/set*.json "$OUT"/val_*.json "$OUT"/fig_d_*.png  # its own outputs only (raw-logs and the SLAM bench write here too)
-eval_set() {  # name input dictionary methods radius [extra args]
+eval_set() {  # name input dictionary methods radii [extra args]
   local name=$1 input=$2 dict=$3 methods=$4 radius=$5
   shift 5
   echo "== $name: $input / dictionary $dict, R = $radius m"
   "$BIN" eval --input "$DATA/$input" --dict "$DATA/$dict" --methods "$methods" --tasks "$TASKS" \
     --threads "$THREADS" --radius "$radius" --quiet --json "$OUT/$name.json" "$@"
 }
+# Each set at R = 2 m and 4 m in one run (setN.json and setN_r4.json): the runs share their verified dMM pairs, and
+# every rerank reuses the pairs dmm verified (core/ranking/verified_pairs.h); each JSON is what its own run writes.
 tune() {  # id input dictionary
-  eval_set "set$1" "$2" "$3" "$TABLE_A" 2 --plot "$OUT/fig_d_set$1.png"
-  eval_set "set$1_r4" "$2" "$3" "$MAIN" 4
+  eval_set "set$1" "$2" "$3" "$TABLE_A" 2,4 --plot "$OUT/fig_d_set$1.png"
   # The paper's RANSAC baseline costs ~5 ms per pair: fewer tasks (same seed, so the same first tasks).
   "$BIN" eval --input "$DATA/$2" --dict "$DATA/$3" --methods dmm-ransac --tasks "$RANSAC_TASKS" \
     --threads "$THREADS" --quiet --json "$OUT/set$1_ransac.json"
 }
 held_out() {  # building dictionary
-  eval_set "val_$1" "corrected/$1-corrected.log.gz" "$2" "$MAIN" 2 --plot "$OUT/fig_d_val_$1.png"
-  eval_set "val_$1_r4" "corrected/$1-corrected.log.gz" "$2" "$MAIN" 4
+  eval_set "val_$1" "corrected/$1-corrected.log.gz" "$2" "$MAIN" 2,4 --plot "$OUT/fig_d_val_$1.png"
 }
 tune 1 fr101/fr101-corrected.log.gz fr079/fr079-corrected.log.gz
 tune 2 aces/aces-corrected.log.gz fr101/fr101-corrected.log.gz

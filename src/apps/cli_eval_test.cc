@@ -120,6 +120,28 @@ TEST_F(CliEvalTest, ThreadsDoNotChangeTheRanks) {
   }
 }
 
+// --radius 2,4: both radii in one run, each written as its own run writes it (timings apart), the second to
+// FILE_r4.json.
+TEST_F(CliEvalTest, SeveralRadiiWriteWhatSeparateRunsWrite) {
+  const std::string eval = kEval + "--methods dmm,rerank:3:succinct" + kNarrowDmm + " --json ";
+  const fs::path both = dir_ / "both.json", two = dir_ / "two.json", four = dir_ / "four.json";
+  const CliRun run = run_partslam(eval + quoted(both) + " --radius 2,4");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("== R = 2 m"));
+  EXPECT_THAT(run.output, HasSubstr("== R = 4 m"));
+  EXPECT_THAT(run.output, HasSubstr("wrote " + (dir_ / "both_r4.json").string()));
+  ASSERT_EQ(run_partslam(eval + quoted(two) + " --radius 2").exit_code, 0);
+  ASSERT_EQ(run_partslam(eval + quoted(four) + " --radius 4").exit_code, 0);
+  const auto without_times = [](nlohmann::json j) {
+    j.erase("seconds");
+    for (nlohmann::json& m : j["methods"]) m.erase("ms_per_pair"), m.erase("ms_per_query"), m.erase("ms_query_prep");
+    return j;
+  };
+  EXPECT_EQ(without_times(read_json(both)), without_times(read_json(two)));
+  EXPECT_EQ(without_times(read_json(dir_ / "both_r4.json")), without_times(read_json(four)));
+  EXPECT_EQ(read_json(dir_ / "both_r4.json")["parameters"]["radius"], 4.0);
+}
+
 TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
   const fs::path json = dir_ / "never.json";
   const std::pair<std::string, std::string> cases[] = {
@@ -130,6 +152,8 @@ TEST_F(CliEvalTest, BadOptionsExitNonZeroWithAMessageAndNoOutput) {
       {"--methods hmm:3 --cpd-box-sizes 0", "--cpd-box-sizes: must be in [0.2,100], got 0"},
       {"--methods hmm:3 --cpd-tsize nan", "--cpd-tsize: must be in [0,1], got nan"},
       {"--methods dmm --radius -1", "radius (R, --radius) must be a positive number of metres, got -1"},
+      {"--methods dmm --radius 2,-1", "radius (R, --radius) must be a positive number of metres, got -1"},
+      {"--methods dmm --radius 2,x", "--radius"},
       {"--methods dmm --dmm-turns 5", "canonical_turns must be 4 or 8"},
       {"--methods dmm --dmm-angular-window nan", "--dmm-angular-window must be in [0, 45] deg"},
   };

@@ -55,7 +55,7 @@ void run_demo(const DemoOptions& d) {
   o.config.tasks.num_tasks = d.tasks;
   o.config.num_threads = d.threads;
   std::filesystem::create_directories(d.out);
-  const EvalRun run = run_evaluation(o, std::cerr);
+  const EvalRun run = run_evaluation(o, std::cerr).front();  // one radius: the default
   print_table(run, std::cout);
   const std::filesystem::path json = std::filesystem::path(d.out) / "demo.json";
   const std::filesystem::path plot = std::filesystem::path(d.out) / "demo_fig_d.png";

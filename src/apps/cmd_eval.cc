@@ -25,17 +25,24 @@ namespace {
 
 void run_eval(const EvalOptions& o) {
   // Fail before hours of work, not after: output paths and parameters are checked first.
-  io::check_outputs({{"--json", o.json}, {"--plot", o.plot}},
-                    {{"--input", o.input}, {"--dict", o.dictionary}, {"--truth", o.truth}});
-  const EvalRun run = run_evaluation(o, std::cerr);
+  std::vector<io::NamedPath> outputs = {{"--plot", o.plot}};
+  for (std::size_t k = 0; k < o.radii.size(); ++k) outputs.push_back({"--json", radius_output(o.json, k, o.radii[k])});
+  io::check_outputs(outputs, {{"--input", o.input}, {"--dict", o.dictionary}, {"--truth", o.truth}});
+  const std::vector<EvalRun> runs = run_evaluation(o, std::cerr);
   if (!is_reporting_process()) return;  // rank > 0 of mpirun: its slices are in rank 0's report
-  print_table(run, std::cout);
-  if (!o.json.empty()) {
-    const nlohmann::json j = to_json(run);
-    io::write_atomically(o.json, [&](std::ostream& out) { out << json_text(j); });
-    std::cout << "wrote " << o.json << "\n";
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const EvalRun& run = runs[k];
+    if (runs.size() > 1) std::cout << (k > 0 ? "\n" : "") << "== R = " << radius_text(o.radii[k]) << " m\n";
+    print_table(run, std::cout);
+    const std::string json = radius_output(o.json, k, o.radii[k]);
+    if (!json.empty()) {
+      const nlohmann::json j = to_json(run);
+      io::write_atomically(json, [&](std::ostream& out) { out << json_text(j); });
+      std::cout << "wrote " << json << "\n";
+    }
   }
-  if (!o.plot.empty()) {
+  if (!o.plot.empty()) {  // the first radius's
+    const EvalRun& run = runs.front();
     std::vector<plot::RankCurve> curves;
     for (const MethodResult& m : run.report.methods) curves.push_back({m.method.label, m.normalized_ranks});
     plot::write_rank_plot(o.plot, run.input_name + " / dictionary " + run.dictionary_name, curves);
@@ -50,7 +57,7 @@ void register_eval(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("eval", "Evaluate matching methods on ground-truth tasks (ANR, time, bits)");
   add_eval_options(*cmd, *o);
   cmd->add_option("--json", o->json, "write the results as JSON");
-  cmd->add_option("--plot", o->plot, "write the cumulative normalised-rank plot (Fig. D) as PNG");
+  cmd->add_option("--plot", o->plot, "write the cumulative normalised-rank plot (Fig. D) as PNG (the first radius's)");
   cmd->callback([o] { run_eval(*o); });
 }
 

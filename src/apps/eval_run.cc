@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <numbers>
+#include <sstream>
 
 #include "apps/cpd_options.h"
 #include "apps/dmm_options.h"
@@ -41,7 +43,11 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
       ->check(non_negative_seed());
   cmd.add_option("--max-range", o.max_range, "usable range of submaps and dictionary: farther beam endpoints are dropped [m]")
       ->capture_default_str();
-  cmd.add_option("--radius", o.config.tasks.radius, "R: relevant-pair radius [m]")->capture_default_str();
+  cmd.add_option("--radius", o.radii,
+                 "R: relevant-pair radius [m]; several (2,4) evaluate the same maps at each, sharing the verified "
+                 "dMM pairs, and write --json FILE for the first and FILE_rR for each other")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd.add_option("--gap", o.config.tasks.min_travel_gap, "G: min travel gap of a relevant pair [m]")
       ->capture_default_str();
   cmd.add_option("--threads", o.config.num_threads, "threads (results do not depend on it)")->capture_default_str();
@@ -60,11 +66,29 @@ void add_eval_options(CLI::App& cmd, EvalOptions& o) {
   cmd.add_flag("--quiet", o.quiet, "no progress bar");
 }
 
-EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
+std::string radius_text(double radius) {
+  std::ostringstream r;
+  r << radius;
+  return r.str();
+}
+
+std::string radius_output(const std::string& path, std::size_t k, double radius) {
+  if (k == 0 || path.empty()) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "_r" + radius_text(radius) + p.extension().string())).string();
+}
+
+std::vector<EvalRun> run_evaluation(const EvalOptions& o, std::ostream& log) {
   EvalRun run;
   run.options = o;
-  const auto t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
+  if (o.radii.empty()) throw InputError("eval: --radius needs at least one radius");
+  for (const double radius : o.radii) {
+    EvalConfig c = o.config;
+    c.tasks.radius = radius;
+    validate(c);
+  }
   validate(o.config);
   const io::ScanSource input = load_scans(o.input, o.read);
   const io::ScanSource dict = load_scans(o.dictionary, o.read);
@@ -93,9 +117,17 @@ EvalRun run_evaluation(const EvalOptions& o, std::ostream& log) {
     log << run.input_name << ": " << maps.size() << " submaps" << truth_note << "; dictionary "
         << run.dictionary_name << ": " << dictionary.points.size() << " points\n";
   }
-  run.report = evaluate(maps, dictionary.points, methods, run.options.config, progress, world_split());
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return run;
+  std::vector<EvalRun> runs;
+  VerifiedPairs verified;
+  for (const double radius : o.radii) {
+    runs.push_back(run);
+    EvalRun& r = runs.back();
+    r.options.config.tasks.radius = radius;
+    r.report = evaluate(maps, dictionary.points, methods, r.options.config, progress, world_split(), &verified);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    t0 = std::chrono::steady_clock::now();
+  }
+  return runs;
 }
 
 void print_table(const EvalRun& run, std::ostream& out) {

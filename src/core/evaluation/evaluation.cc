@@ -46,7 +46,7 @@ std::vector<MapView> map_views(const Submaps& maps, const DescribedMaps& describ
 
 std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
                                    const DescribedMaps& described, std::span<const Task> tasks,
-                                   const EvalConfig& config, const Progress& progress) {
+                                   const EvalConfig& config, const Progress& progress, VerifiedPairs* reuse) {
   const std::vector<MapView> views = map_views(maps, described);
   const PoseTolerance fine{0.1, std::numbers::pi / 180};
   std::vector<TaskOutcome> outcomes(tasks.size());
@@ -56,7 +56,7 @@ std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& metho
         const Task& task = tasks[t];
         const std::size_t relevant = static_cast<std::size_t>(
             std::find(task.database.begin(), task.database.end(), task.relevant) - task.database.begin());
-        const Ranking r = ranker.rank(views.at(task.query), task.database);
+        const Ranking r = ranker.rank(views.at(task.query), task.database, {1, 0, reuse, task.query});
         TaskOutcome& out = outcomes[t];
         out.rank = tied_rank(r, relevant);
         out.db_size = task.database.size();
@@ -142,11 +142,12 @@ struct CpdRecord {
 // The outcomes of every task, each process running its slice.
 std::vector<TaskOutcome> run_split(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
                                    const DescribedMaps& described, std::span<const Task> tasks,
-                                   const EvalConfig& config, const Progress& progress, const WorkSplit& split) {
-  if (split.size() == 1) return run_tasks(ranker, method, maps, described, tasks, config, progress);
+                                   const EvalConfig& config, const Progress& progress, const WorkSplit& split,
+                                   VerifiedPairs& reuse) {
+  if (split.size() == 1) return run_tasks(ranker, method, maps, described, tasks, config, progress, &reuse);
   const auto [begin, end] = split.slice(tasks.size());
   const std::vector<TaskOutcome> local =
-      run_tasks(ranker, method, maps, described, tasks.subspan(begin, end - begin), config, progress);
+      run_tasks(ranker, method, maps, described, tasks.subspan(begin, end - begin), config, progress, &reuse);
   std::vector<TaskOutcome> out = all_gather<TaskOutcome>(split, local);
   if (out.size() != tasks.size()) throw InputError("eval: the processes ran different tasks");
   return out;
@@ -206,7 +207,8 @@ RankSummary oracle_ranks(const Submaps& maps, std::span<const Task> tasks, int n
 }
 
 EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
-                    const EvalConfig& config, const EvalProgress& progress, const WorkSplit& split) {
+                    const EvalConfig& config, const EvalProgress& progress, const WorkSplit& split,
+                    VerifiedPairs* reuse) {
   validate(config);
   if (methods.empty()) throw InputError("eval: no method given");
 
@@ -246,11 +248,13 @@ EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const
     ranking.parts.codec = described.codec;
   }
   const std::vector<MapView> views = map_views(maps, described);
+  VerifiedPairs own;  // dmm and every rerank share one set of verified pairs (core/ranking/verified_pairs.h)
+  VerifiedPairs& verified = reuse != nullptr ? *reuse : own;
   for (const MethodSpec& method : methods) {
     const std::unique_ptr<Ranker> ranker = make_ranker(method, ranking);
     ranker->prepare(views, config.num_threads, progress);
     const std::vector<TaskOutcome> outcomes =
-        run_split(*ranker, method, maps, described, tasks, config, progress, split);
+        run_split(*ranker, method, maps, described, tasks, config, progress, split, verified);
     report.methods.push_back(summarize(method, outcomes, ranker->bits_per_map()));
   }
   return report;

@@ -76,10 +76,13 @@ struct TaskOutcome {
   double prep_ms = 0;       ///< the query's own preparation, its CPD included [ms]
 };
 
-/// Stage 2: a prepared ranker (prepare()d on map_views(maps, described)) over some tasks.
+/// Stage 2: a prepared ranker (prepare()d on map_views(maps, described)) over some tasks. `reuse` (may be null):
+/// verified dMM answers shared with earlier calls on the same maps and ranking config (RankOptions::reuse); the
+/// outcomes are the same with or without it.
 std::vector<TaskOutcome> run_tasks(const Ranker& ranker, const MethodSpec& method, const Submaps& maps,
                                    const DescribedMaps& described, std::span<const Task> tasks,
-                                   const EvalConfig& config, const Progress& progress = {});
+                                   const EvalConfig& config, const Progress& progress = {},
+                                   VerifiedPairs* reuse = nullptr);
 
 struct MethodResult {
   MethodSpec method;
@@ -131,8 +134,10 @@ using EvalProgress = Progress;
 /// dictionary is empty while a method needs parts.
 /// With a split over several processes, each describes its slice of the maps and runs its slice of the tasks; the
 /// results are gathered, so the report equals one process's (timings apart). Every process prepares every map.
+/// `reuse`: verified dMM answers shared with other evaluations of the same maps and config.ranking (e.g. the
+/// same maps at another radius); null: shared among this call's methods only. The report is the same either way.
 EvalReport evaluate(const Submaps& maps, const Points2& dictionary_points, const std::vector<MethodSpec>& methods,
                     const EvalConfig& config, const EvalProgress& progress = {},
-                    const WorkSplit& split = local_work());
+                    const WorkSplit& split = local_work(), VerifiedPairs* reuse = nullptr);
 
 }  // namespace partslam

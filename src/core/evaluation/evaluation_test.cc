@@ -137,6 +137,34 @@ TEST(Evaluation, SplitOverTwoProcessesGivesTheSameReport) {
   EXPECT_EQ(testing::ThreadSplit(0, &exchange, &values[0]).slice(7), (std::pair<std::size_t, std::size_t>(0, 4)));
 }
 
+// Evaluations of the same maps at two radii sharing their verified pairs (`eval --radius 2,4`) report what each
+// reports alone; the second reuses answers of the first (its queries meet many of the same maps).
+TEST(Evaluation, TwoRadiiSharingVerifiedPairsReportWhatEachReportsAlone) {
+  const SimData& d = sim_data();
+  const auto methods = parse_method_list("dmm,rerank:5:succinct");
+  EvalConfig near = small_config(2), far = small_config(2);
+  far.tasks.radius = 4.0;
+  VerifiedPairs shared;
+  const EvalReport near_shared = evaluate(d.maps, d.dictionary.points, methods, near, {}, local_work(), &shared);
+  const std::size_t kept = shared.size(), hits = shared.hits();
+  EXPECT_GT(kept, 0u);
+  EXPECT_GE(hits, 5u * 24);  // the rerank's shortlist of every task was verified by dmm before it
+  const EvalReport far_shared = evaluate(d.maps, d.dictionary.points, methods, far, {}, local_work(), &shared);
+  EXPECT_GT(shared.hits() - hits, 5u * 24);
+  const EvalReport near_alone = evaluate(d.maps, d.dictionary.points, methods, near);
+  const EvalReport far_alone = evaluate(d.maps, d.dictionary.points, methods, far);
+  for (const auto& [with, alone] : {std::pair{&near_shared, &near_alone}, std::pair{&far_shared, &far_alone}}) {
+    ASSERT_EQ(with->methods.size(), alone->methods.size());
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+      EXPECT_EQ(with->methods[i].normalized_ranks, alone->methods[i].normalized_ranks) << methods[i].label;
+      EXPECT_EQ(with->methods[i].pose_within_tolerance, alone->methods[i].pose_within_tolerance);
+      EXPECT_EQ(with->methods[i].calibration_error, alone->methods[i].calibration_error);
+      EXPECT_GT(with->methods[i].ms_per_pair, 0.0);
+    }
+  }
+  EXPECT_NE(near_alone.methods[0].normalized_ranks, far_alone.methods[0].normalized_ranks);  // other tasks
+}
+
 TEST(Evaluation, NoLoopClosureIsAClearError) {
   const SimData& d = sim_data();
   Submaps few(d.maps.begin(), d.maps.begin() + 10);  // 5 m of travel: no revisit

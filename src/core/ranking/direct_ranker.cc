@@ -3,6 +3,9 @@
 // (Eq. 1, the reference) and `dmm-ransac` (the paper's baseline). They store the map's points (bits_per_point
 // each) and return the relative pose T_map_query of every candidate.
 // Tested by: core/ranking/ranking_test.cc, core/ranking/method_spec_test.cc
+#include <numeric>
+#include <optional>
+
 #include "core/error.h"
 #include "core/timing.h"
 #include "core/ranking/ranking.h"
@@ -58,18 +61,30 @@ class DmmRanker final : public Ranker {
       results.resize(candidates.size());
       r.probability.resize(candidates.size());
       r.runner_up.resize(candidates.size());
+      std::vector<double> pair_ms(candidates.size(), 0.0);
       parallel_for(candidates.size(), options.num_threads, [&](std::size_t j) {
         const std::size_t c = candidates[j];
-        const VerifiedDmm v = verify_dmm(prepared, maps_.at(c), query_verify, verify_maps_.at(c), verify_);
-        DmmResult& d = results[j];
-        d = v.eq1;
-        d.T_map_query = v.best.T_map_query;
-        d.inlier_fraction = v.best.terms.query.occupied;
-        d.inliers = static_cast<int>(std::lround(d.inlier_fraction * prepared.num_points));
-        r.probability[j] = v.best.probability;
-        r.runner_up[j] = v.runner_up;
+        std::optional<VerifiedPair> kept;
+        if (options.reuse != nullptr) kept = options.reuse->find(options.query_index, c);
+        if (!kept) {
+          const auto p0 = Clock::now();
+          const VerifiedDmm v = verify_dmm(prepared, maps_.at(c), query_verify, verify_maps_.at(c), verify_);
+          kept.emplace();
+          kept->direct = v.eq1;
+          kept->direct.T_map_query = v.best.T_map_query;
+          kept->direct.inlier_fraction = v.best.terms.query.occupied;
+          kept->direct.inliers = static_cast<int>(std::lround(kept->direct.inlier_fraction * prepared.num_points));
+          kept->probability = v.best.probability;
+          kept->runner_up = v.runner_up;
+          kept->ms = ms_since(p0);
+          if (options.reuse != nullptr) options.reuse->insert(options.query_index, c, *kept);
+        }
+        results[j] = kept->direct;
+        r.probability[j] = kept->probability;
+        r.runner_up[j] = kept->runner_up;
+        pair_ms[j] = kept->ms;
       });
-      r.match_ms = ms_since(t0);
+      r.match_ms = options.reuse != nullptr ? std::accumulate(pair_ms.begin(), pair_ms.end(), 0.0) : ms_since(t0);
       for (std::size_t j = 0; j < results.size(); ++j)
         r.scores.push_back(*r.probability[j]), r.direct.emplace_back(results[j]);
       return r;

@@ -25,6 +25,7 @@
 #include "core/parts/part.h"
 #include "core/ranking/method_spec.h"
 #include "core/ranking/registry.h"
+#include "core/ranking/verified_pairs.h"
 
 namespace partslam {
 
@@ -69,6 +70,11 @@ struct RankOptions {
   /// dMM only: > 0 lets a serial dMM drop candidates that provably cannot enter the top k (their score is then
   /// 0 and `exact` false); 0 scores every candidate exactly (what evaluation needs).
   int top_k = 0;
+  /// Verified dMM (`dmm` and rerank's dMM stage) only: answers kept from earlier calls of the same evaluation,
+  /// looked up and added under (query_index, candidate); match_ms is then the sum of each pair's own time, the
+  /// time kept with a reused answer included (core/ranking/verified_pairs.h). nullptr: every pair computed.
+  VerifiedPairs* reuse = nullptr;
+  std::size_t query_index = 0;  ///< the query's index among the stored maps, the key for `reuse`
 };
 
 /// What a candidate ranks by, in this order, higher first: its tier, its score, then the first stage's score (0

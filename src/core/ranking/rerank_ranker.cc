@@ -42,7 +42,7 @@ class RerankRanker final : public Ranker {
     order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(rerank_)));
     std::vector<std::size_t> shortlist;
     for (std::size_t j : order) shortlist.push_back(candidates[j]);
-    const Ranking d = direct_->rank(query, shortlist, {options.num_threads, 0});
+    const Ranking d = direct_->rank(query, shortlist, {options.num_threads, 0, options.reuse, options.query_index});
     r.direct.assign(candidates.size(), std::nullopt);
     r.tiers.assign(candidates.size(), 0);
     r.probability.assign(candidates.size(), std::nullopt);
