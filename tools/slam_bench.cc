@@ -295,6 +295,9 @@ int main(int argc, char** argv) {
     out["front_end_jumps"] = {{"count", jump_count}, {"first", jumps}};
     out["front_end_degenerate"] = r.front_end.degenerate;
     out["front_end_heading_jumps"] = r.front_end.heading_jumps;
+    out["front_end_weak_matches"] = r.front_end.weak_matches;
+    out["front_end_weakest_score"] = r.front_end.weakest_score;
+    out["front_end_wide"] = {r.front_end.wide_searches, r.front_end.wide_kept};
     out["front_end_turn_slope"] = r.front_end.turn_slope();
     out["front_end_turning_steps"] = r.front_end.turning_steps;
     Scans odometry = b.raw;

@@ -229,6 +229,8 @@ FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const P
         out.T_world_laser = accepted_pose(local, points, scan, m.pose, prediction, odometry_moves, config, stats);
         score_sum += m.score;
         ++matched;
+        if (m.score < stats.weakest_score) stats.weakest_score = m.score, stats.weakest_scan = result.scans.size();
+        stats.weak_matches += m.score < kWeakMatch;
       } else {
         out.T_world_laser = prediction;
         ++stats.rejected;

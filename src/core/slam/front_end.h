@@ -30,6 +30,9 @@ inline constexpr double kTurningStep = 0.02;
 /// Fewer turning steps than this say nothing about which way the scans turn (FrontEndStats::turns_against_odometry).
 inline constexpr std::size_t kMinTurningSteps = 20;
 
+/// A kept match scoring below this fits its local map poorly (FrontEndStats::weak_matches).
+inline constexpr double kWeakMatch = 0.4;
+
 struct FrontEndStats {
   std::size_t scans = 0;            ///< scans in the result
   std::size_t rejected = 0;         ///< scans whose match scored below min_score (prediction kept)
@@ -56,6 +59,11 @@ struct FrontEndStats {
   bool mirrored = false;
   double unmirrored_turn_slope = 0.0;
   double mean_score = 0.0;          ///< over matched scans
+  /// The weakest match kept (its score, the scan's index in the result; 1 and 0 when none was kept), and how many
+  /// kept matches scored below kWeakMatch: the steps where the chain rests on a poor fit.
+  double weakest_score = 1.0;
+  std::size_t weakest_scan = 0;
+  std::size_t weak_matches = 0;
   double seconds = 0.0;             ///< time spent
   double log_seconds = 0.0;         ///< time the log covers (last - first timestamp)
 };

@@ -183,6 +183,11 @@ TEST(FrontEnd, FindsAHeadingLostBetweenTwoScans) {
   EXPECT_LT(c_with.max, 0.15) << c_with.max;
   EXPECT_GE(with.stats.wide_kept, 1u);
   EXPECT_EQ(without.stats.wide_searches, 0u);
+  // Without the wide search the chain rests on poor fits after the slip, and the stats say where the worst is.
+  EXPECT_GE(without.stats.weak_matches, 1u);
+  EXPECT_LT(without.stats.weakest_score, kWeakMatch);
+  EXPECT_GE(without.stats.weakest_scan, 150u);
+  EXPECT_GT(with.stats.weakest_score, without.stats.weakest_score);
   // The clean log's matches all score well: nothing searched again.
   EXPECT_EQ(scan_match_log(Scans(log.raw.begin(), log.raw.begin() + 300)).stats.wide_searches, 0u);
 }
