@@ -64,7 +64,9 @@ TEST(VerifiedPairs, ARankingThatReusesAnswersIsTheRankingThatComputesThem) {
     }
     // Reused answers are charged the time they took when computed, not the lookup's (a rerank adds its first
     // stage's own time).
-    if (std::string(spec) == "dmm") EXPECT_EQ(second.match_ms, first.match_ms);
+    if (std::string(spec) == "dmm") {
+      EXPECT_EQ(second.match_ms, first.match_ms);
+    }
     EXPECT_GT(second.match_ms, 0.0) << spec;
   }
   // Query 1 against the same maps is another set of pairs.
