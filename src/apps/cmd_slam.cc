@@ -16,6 +16,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "apps/commands.h"
 #include "apps/config_options.h"
@@ -222,17 +224,33 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
               << "\n";
   if (fe.time_reversals > 0)
     std::cerr << "partslam: warning: " << o.log << ": " << fe.time_reversals << " scans dropped (time goes backwards)\n";
-  if (fe.heading_jumps > 0) {  // a measurement, not a warning: poor odometry (intel) disagrees this way too
+  // Measurements, not warnings: poor odometry (intel) disagrees with the scans this way too.
+  std::vector<std::string> front_end;
+  if (fe.heading_jumps > 0) {
     const std::vector<double> travel = travel_distances(r.scans);
-    std::cout << "front end: " << fe.heading_jumps << " scans turned more than " << o.config.front_end.jump_turn
-              << " rad away from the odometry (the scans overruled the wheels' heading: many where the odometry is "
-                 "poor; first at "
-              << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel), " << fe.degenerate
-              << " kept the odometry along a bare corridor (too few walls across it to match)";
-    if (fe.wide_kept > 0)
-      std::cout << ", " << fe.wide_kept << " found again over every heading (the odometry's turn was far off)";
-    std::cout << "\n";
+    std::ostringstream jumps;
+    jumps << fe.heading_jumps << " scans turned more than " << o.config.front_end.jump_turn
+          << " rad away from the odometry (the scans overruled the wheels' heading: many where the odometry is poor; "
+             "first at "
+          << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel)";
+    front_end.push_back(jumps.str());
   }
+  if (fe.degenerate > 0)
+    front_end.push_back(std::to_string(fe.degenerate) +
+                        " kept the odometry along a bare corridor (too few walls across it to match)");
+  if (fe.wide_kept > 0)
+    front_end.push_back(std::to_string(fe.wide_kept) +
+                        " found again over every heading (the odometry's turn was far off)");
+  if (fe.weak_matches > 0) {
+    std::ostringstream weak;
+    weak << std::fixed << std::setprecision(2) << fe.weak_matches
+         << (fe.weak_matches == 1 ? " kept match scored below " : " kept matches scored below ") << kWeakMatch
+         << " (the weakest " << fe.weakest_score << ", scan " << fe.weakest_scan
+         << "): the trajectory rests on a poor fit there";
+    front_end.push_back(weak.str());
+  }
+  for (std::size_t k = 0; k < front_end.size(); ++k)
+    std::cout << (k == 0 ? "front end: " : ", ") << front_end[k] << (k + 1 == front_end.size() ? "\n" : "");
   if (!fe.odometry_moves)
     std::cerr << "partslam: warning: " << o.log << ": the odometry never moves (no odometry in the log?)\n";
   if (fe.mirrored) std::cerr << "partslam: warning: " << o.log << ": " << mirrored_description(fe) << "\n";
