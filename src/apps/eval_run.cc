@@ -84,12 +84,11 @@ std::vector<EvalRun> run_evaluation(const EvalOptions& o, std::ostream& log) {
   auto t0 = std::chrono::steady_clock::now();
   const std::vector<MethodSpec> methods = parse_method_list(o.methods);
   if (o.radii.empty()) throw InputError("eval: --radius needs at least one radius");
-  for (const double radius : o.radii) {
+  for (const double radius : o.radii) {  // every setting, with each radius
     EvalConfig c = o.config;
     c.tasks.radius = radius;
     validate(c);
   }
-  validate(o.config);
   const io::ScanSource input = load_scans(o.input, o.read);
   const io::ScanSource dict = load_scans(o.dictionary, o.read);
   run.input_name = input.name;
