@@ -23,7 +23,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench readme-usage design-layers clean
+.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench slam-stress readme-usage design-layers clean
 
 all: build
 
@@ -66,6 +66,9 @@ locate-check: build
 
 slam-bench: build
 	bash scripts/slam-bench.sh
+
+slam-stress: build
+	bash scripts/slam-stress.sh
 
 # docs/USAGE.md's usage block, rewritten from `partslam CMD --help` (the ctest readme.usage checks they agree).
 readme-usage: build

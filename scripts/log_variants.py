@@ -1,0 +1,120 @@
+"""A real CARMEN log degraded the way another robot's sensors would be (scripts/slam-stress.sh): the same run, its
+truth (the relations file, by timestamp) unchanged.
+Usage: /usr/bin/python3 scripts/log_variants.py IN.clf[.gz] OUT.clf.gz VARIANT
+  VARIANT: half-beams     every second beam kept (0.5-degree lasers become 1-degree ones, 1-degree ones 2-degree)
+           half-rate      every second scan dropped (twice the motion between scans; the odometry messages kept)
+           odometry-scale the wheel odometry's increments rescaled: translations x 0.92, turns x 1.10 (a robot
+                          whose wheels and gauge are miscalibrated), the laser's mount on the robot kept
+           short-range    returns beyond 8 m dropped (a short-range laser)
+           sparse         half of the returns dropped, chosen at random with a fixed seed (glass, black surfaces,
+                          open space)
+Only FLASER and ODOM messages are read; a log with other laser messages is refused."""
+import gzip
+import math
+import os
+import random
+import sys
+
+VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse")
+NO_RETURN = "81.91"
+TRANSLATION_SCALE, TURN_SCALE = 0.92, 1.10
+SHORT_RANGE = 8.0
+
+
+def wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+class RescaledOdometry:
+    """Integrates the log's odometry increments, each expressed in the previous pose's frame, rescaled."""
+
+    def __init__(self):
+        self.raw = None
+        self.pose = None
+
+    def __call__(self, x, y, theta):
+        if self.raw is None:
+            self.raw, self.pose = (x, y, theta), [x, y, theta]
+            return tuple(self.pose)
+        px, py, pt = self.raw
+        c, s = math.cos(pt), math.sin(pt)
+        dx, dy = c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)
+        dx, dy, dt = TRANSLATION_SCALE * dx, TRANSLATION_SCALE * dy, TURN_SCALE * wrap(theta - pt)
+        c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
+        self.pose = [self.pose[0] + c * dx - s * dy, self.pose[1] + s * dx + c * dy, wrap(self.pose[2] + dt)]
+        self.raw = (x, y, theta)
+        return tuple(self.pose)
+
+
+def rescaled_flaser(rest, odometry):
+    """FLASER's laser pose (x y theta) and odometry pose: the odometry rescaled, the laser kept on its mount."""
+    lx, ly, lt, ox, oy, ot = (float(v) for v in rest[:6])
+    c, s = math.cos(ot), math.sin(ot)
+    mount = (c * (lx - ox) + s * (ly - oy), -s * (lx - ox) + c * (ly - oy), lt - ot)
+    nx, ny, nt = odometry(ox, oy, ot)
+    c, s = math.cos(nt), math.sin(nt)
+    laser = (nx + c * mount[0] - s * mount[1], ny + s * mount[0] + c * mount[1], wrap(nt + mount[2]))
+    return ["%.6f" % v for v in laser + (nx, ny, nt)] + rest[6:]
+
+
+def main(src, dst, variant):
+    if variant not in VARIANTS:
+        sys.exit(f"log_variants: unknown variant {variant!r} (one of {', '.join(VARIANTS)})")
+    try:
+        degrade(src, dst + ".part", variant)
+    except (OSError, EOFError, UnicodeDecodeError) as e:
+        if os.path.exists(dst + ".part"):
+            os.remove(dst + ".part")
+        sys.exit(f"log_variants: {src}: cannot read it or write {dst} ({e})")
+    except BaseException:  # an error exit too: no half-written output left behind
+        if os.path.exists(dst + ".part"):
+            os.remove(dst + ".part")
+        raise
+    os.replace(dst + ".part", dst)
+
+
+def degrade(src, part, variant):
+    rng = random.Random(7)
+    odometry = RescaledOdometry()
+    opener = gzip.open if src.endswith(".gz") else open
+    scans = 0
+    with opener(src, "rt") as lines, gzip.open(part, "wt") as out:
+        for number, line in enumerate(lines, 1):
+            f = line.split()
+            if f and f[0] in ("ROBOTLASER1", "ROBOTLASER2", "RAWLASER1", "RAWLASER2"):
+                sys.exit(f"log_variants: {src}:{number}: {f[0]} messages are not handled (FLASER and ODOM only)")
+            if not f or f[0] not in ("FLASER", "ODOM"):
+                out.write(line)
+                continue
+            try:
+                if f[0] == "ODOM":
+                    if variant == "odometry-scale":
+                        f[1:4] = ["%.6f" % v for v in odometry(*(float(v) for v in f[1:4]))]
+                    out.write(" ".join(f) + "\n")
+                    continue
+                n = int(f[1])
+                ranges, rest = f[2:2 + n], f[2 + n:]
+                if len(ranges) != n or len(rest) < 6:
+                    raise ValueError(f"{n} ranges and a pose announced, {len(f) - 2} fields follow")
+                scans += 1
+                if variant == "half-rate" and scans % 2 == 0:
+                    continue
+                if variant == "half-beams":
+                    ranges = ranges[::2]
+                elif variant == "short-range":
+                    ranges = [r if float(r) < SHORT_RANGE else NO_RETURN for r in ranges]
+                elif variant == "sparse":
+                    ranges = [r if rng.random() < 0.5 else NO_RETURN for r in ranges]
+                elif variant == "odometry-scale":
+                    rest = rescaled_flaser(rest, odometry)
+            except ValueError as e:
+                sys.exit(f"log_variants: {src}:{number}: a malformed {f[0]} message ({e})")
+            out.write(" ".join(["FLASER", str(len(ranges))] + ranges + rest) + "\n")
+    if scans == 0:
+        sys.exit(f"log_variants: {src}: no FLASER message")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__.strip().splitlines()[1])
+    main(*sys.argv[1:])
