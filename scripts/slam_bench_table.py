@@ -15,6 +15,15 @@ def err(e):
     return f'{t["mean"]:.3f} ± {t["std"]:.3f} m, {r["mean"]:.2f}°', t["mean"]
 
 
+def run_errors(j):
+    """A run's slam, odometry and front-end cells, slam's error [m] (None: no relation) and whether slam is worse
+    than the odometry."""
+    slam, s = err(j["slam"])
+    odom, o = err(j["odometry"])
+    fe, _ = err(j["front_end"])
+    return slam, odom, fe, s, s is not None and o is not None and s > o
+
+
 def check(j):
     m = j.get("map_check")
     if not m:
@@ -103,12 +112,9 @@ def main(path):
         if j["kind"] == "raw":
             name += " (ROS 1 bag)" if is_bag(j) else " (raw)"
         odo = "real" if j["kind"] == "raw" else f'{j["level"]} seed {j["seed"]}'
-        slam, s = err(j["slam"])
-        odom, o = err(j["odometry"])
-        fe, _ = err(j["front_end"])
-        flag = ""
-        if s is not None and o is not None and s > o:
-            flag, worse = " **worse than odometry**", worse + 1
+        slam, odom, fe, s, worse_than_odometry = run_errors(j)
+        flag = " **worse than odometry**" if worse_than_odometry else ""
+        worse += worse_than_odometry
         c = j["closures"]
         verdict = j.get("verdict", "-")
         inject = f'{j["inject"]:g}' + (" forced" if j.get("forced") else "")
@@ -148,7 +154,8 @@ def main(path):
               f"({os.path.basename(worst[1]['log']).split('.')[0]}, inject {worst[1]['inject']:g})")
 
 
-if __name__ == "__main__":
+def cli(main, doc, make_target):
+    """`SCRIPT RUNS.jsonl` prints main's table; `SCRIPT --check TABLE.md RUNS.jsonl` exits 1 when TABLE.md is not it."""
     if len(sys.argv) == 4 and sys.argv[1] == "--check":
         made = io.StringIO()
         with contextlib.redirect_stdout(made):
@@ -158,8 +165,12 @@ if __name__ == "__main__":
         except (OSError, UnicodeDecodeError) as e:
             sys.exit(f"{sys.argv[2]}: cannot read it ({e})")
         if current != made.getvalue():
-            sys.exit(f"{sys.argv[2]} is not the table of {sys.argv[3]} (make slam-bench rewrites both)")
+            sys.exit(f"{sys.argv[2]} is not the table of {sys.argv[3]} ({make_target} rewrites both)")
     elif len(sys.argv) == 2:
         main(sys.argv[1])
     else:
-        sys.exit(__doc__.strip().splitlines()[-2])
+        sys.exit(doc.strip().splitlines()[-2])
+
+
+if __name__ == "__main__":
+    cli(main, __doc__, "make slam-bench")

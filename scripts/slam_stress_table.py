@@ -2,14 +2,12 @@
 recorded or degraded by scripts/log_variants.py (the variant read from the file name), from its JSON lines.
 Usage: /usr/bin/python3 scripts/slam_stress_table.py [--check TABLE.md] RUNS.jsonl
   (prints the table; --check prints nothing and exits 1 when TABLE.md is not the table of RUNS.jsonl)"""
-import contextlib
-import io
 import json
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from slam_bench_table import check, err  # noqa: E402
+from slam_bench_table import check, cli, run_errors  # noqa: E402
 
 
 def main(path):
@@ -21,12 +19,9 @@ def main(path):
     for j in rows:
         parts = os.path.basename(j["log"]).split(".")
         log, variant = parts[0], parts[1] if parts[1] not in ("clf", "log") else "as recorded"
-        slam, s = err(j["slam"])
-        odom, o = err(j["odometry"])
-        fe, _ = err(j["front_end"])
-        flag = ""
-        if s is not None and o is not None and s > o:
-            flag, worse = " **worse than odometry**", worse + 1
+        slam, odom, fe, s, worse_than_odometry = run_errors(j)
+        flag = " **worse than odometry**" if worse_than_odometry else ""
+        worse += worse_than_odometry
         trusted = j.get("verdict") in ("closed", "open")
         if s is not None and s > 0.15:
             over += 1
@@ -39,17 +34,4 @@ def main(path):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[1] == "--check":
-        made = io.StringIO()
-        with contextlib.redirect_stdout(made):
-            main(sys.argv[3])
-        try:
-            current = open(sys.argv[2]).read()
-        except (OSError, UnicodeDecodeError) as e:
-            sys.exit(f"{sys.argv[2]}: cannot read it ({e})")
-        if current != made.getvalue():
-            sys.exit(f"{sys.argv[2]} is not the table of {sys.argv[3]} (make slam-stress rewrites both)")
-    elif len(sys.argv) == 2:
-        main(sys.argv[1])
-    else:
-        sys.exit(__doc__.strip().splitlines()[-2])
+    cli(main, __doc__, "make slam-stress")
