@@ -17,7 +17,8 @@
 //       twin (the relations file is then needed; closures and front-end steps are not judged).
 // Ablations (docs/NOTES.md "SLAM bench") override front-end settings from the environment: FE_MAX_RANGE,
 // FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY
-// (key_translation); SLAM_BENCH_CLOSURES=1 adds every judged closure's gap and disagreement with the front end.
+// (key_translation), LOOPS_CONSISTENCY_MAX_CHAIN (loops.consistency.max_chain); SLAM_BENCH_CLOSURES=1 adds every
+// judged closure's gap and disagreement with the front end.
 // INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
 // between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
 // A trailing "f" (0.1f) forces them in: the back end sets no closure aside and its loss is quadratic (no Cauchy),
@@ -209,6 +210,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("LOOPS_CONSISTENCY")) config.loops.consistency.enabled = std::atoi(v) != 0;
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_RATE")) config.loops.consistency.rate = std::atof(v);
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_OFFSET")) config.loops.consistency.offset = std::atof(v);
+    if (const char* v = std::getenv("LOOPS_CONSISTENCY_MAX_CHAIN")) config.loops.consistency.max_chain = std::atof(v);
     if (forced) {  // every closure kept, with a quadratic loss: the injected ones bend the map
       config.back_end.max_translation_residual = config.back_end.max_rotation_residual = 1e6;
       config.back_end.graph.robust_scale = 1e6;
