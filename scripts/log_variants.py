@@ -60,17 +60,16 @@ def rescaled_flaser(rest, odometry):
 def main(src, dst, variant):
     if variant not in VARIANTS:
         sys.exit(f"log_variants: unknown variant {variant!r} (one of {', '.join(VARIANTS)})")
+    part = dst + ".part"
     try:
-        degrade(src, dst + ".part", variant)
-    except (OSError, EOFError, UnicodeDecodeError) as e:
-        if os.path.exists(dst + ".part"):
-            os.remove(dst + ".part")
-        sys.exit(f"log_variants: {src}: cannot read it or write {dst} ({e})")
-    except BaseException:  # an error exit too: no half-written output left behind
-        if os.path.exists(dst + ".part"):
-            os.remove(dst + ".part")
-        raise
-    os.replace(dst + ".part", dst)
+        try:
+            degrade(src, part, variant)
+        except (OSError, EOFError, UnicodeDecodeError) as e:
+            sys.exit(f"log_variants: {src}: cannot read it or write {dst} ({e})")
+        os.replace(part, dst)
+    finally:  # any failure, an error exit too: no half-written output left behind
+        if os.path.exists(part):
+            os.remove(part)
 
 
 def degrade(src, part, variant):
