@@ -8,17 +8,24 @@ Usage: /usr/bin/python3 scripts/log_variants.py IN.clf[.gz] OUT.clf.gz VARIANT
            short-range    returns beyond 8 m dropped (a short-range laser)
            sparse         half of the returns dropped, chosen at random with a fixed seed (glass, black surfaces,
                           open space)
+           odometry-curve the wheel odometry turns 0.01 rad more per metre travelled (one wheel 0.5 % larger than
+                          the other on a 0.5 m gauge: straight corridors drawn as arcs), the laser's mount kept
+           laser-lag      each scan posed by the odometry of 0.1 s before it (a laser whose stamps lag the
+                          odometry's: the pose is wrong while the robot turns), interpolated in the log's FLASER poses
 Only FLASER and ODOM messages are read; a log with other laser messages is refused."""
+import bisect
 import gzip
 import math
 import os
 import random
 import sys
 
-VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse")
+VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse", "odometry-curve", "laser-lag")
 NO_RETURN = "81.91"
 TRANSLATION_SCALE, TURN_SCALE = 0.92, 1.10
+CURVE = 0.01  # [rad per metre]
 SHORT_RANGE = 8.0
+LAG = 0.1  # [s]
 
 
 def wrap(a):
@@ -26,11 +33,13 @@ def wrap(a):
 
 
 class RescaledOdometry:
-    """Integrates the log's odometry increments, each expressed in the previous pose's frame, rescaled."""
+    """Integrates the log's odometry increments, each expressed in the previous pose's frame, rescaled
+    (translation_scale, turn_scale) and bent (curve [rad] more turn per metre of the increment's translation)."""
 
-    def __init__(self):
+    def __init__(self, translation_scale=1.0, turn_scale=1.0, curve=0.0):
         self.raw = None
         self.pose = None
+        self.translation_scale, self.turn_scale, self.curve = translation_scale, turn_scale, curve
 
     def __call__(self, x, y, theta):
         if self.raw is None:
@@ -39,7 +48,8 @@ class RescaledOdometry:
         px, py, pt = self.raw
         c, s = math.cos(pt), math.sin(pt)
         dx, dy = c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)
-        dx, dy, dt = TRANSLATION_SCALE * dx, TRANSLATION_SCALE * dy, TURN_SCALE * wrap(theta - pt)
+        dt = self.turn_scale * wrap(theta - pt) + self.curve * math.hypot(dx, dy)
+        dx, dy = self.translation_scale * dx, self.translation_scale * dy
         c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
         self.pose = [self.pose[0] + c * dx - s * dy, self.pose[1] + s * dx + c * dy, wrap(self.pose[2] + dt)]
         self.raw = (x, y, theta)
@@ -48,10 +58,16 @@ class RescaledOdometry:
 
 def rescaled_flaser(rest, odometry):
     """FLASER's laser pose (x y theta) and odometry pose: the odometry rescaled, the laser kept on its mount."""
+    return reposed_flaser(rest, odometry(*(float(v) for v in rest[3:6])))
+
+
+def reposed_flaser(rest, pose):
+    """FLASER's laser pose (x y theta) and odometry pose: the odometry replaced by pose, the laser kept on its
+    mount."""
     lx, ly, lt, ox, oy, ot = (float(v) for v in rest[:6])
     c, s = math.cos(ot), math.sin(ot)
     mount = (c * (lx - ox) + s * (ly - oy), -s * (lx - ox) + c * (ly - oy), lt - ot)
-    nx, ny, nt = odometry(ox, oy, ot)
+    nx, ny, nt = pose
     c, s = math.cos(nt), math.sin(nt)
     laser = (nx + c * mount[0] - s * mount[1], ny + s * mount[0] + c * mount[1], wrap(nt + mount[2]))
     return ["%.6f" % v for v in laser + (nx, ny, nt)] + rest[6:]
@@ -72,10 +88,46 @@ def main(src, dst, variant):
             os.remove(part)
 
 
+def flaser_poses(src, opener):
+    """(timestamp, odometry pose) of every FLASER message in order; the timestamp is the message's third field
+    from the end (CARMEN's ipc_timestamp)."""
+    poses = []
+    with opener(src, "rt") as lines:
+        for number, line in enumerate(lines, 1):
+            f = line.split()
+            if not f or f[0] != "FLASER":
+                continue
+            try:
+                n = int(f[1])
+                rest = f[2 + n:]
+                if len(rest) < 9:
+                    raise ValueError(f"{n} ranges announced, {len(f) - 2} fields follow")
+                poses.append((float(rest[6]), tuple(float(v) for v in rest[3:6])))
+            except ValueError as e:
+                sys.exit(f"log_variants: {src}:{number}: a malformed FLASER message ({e})")
+    return poses
+
+
+def pose_at(poses, times, t):
+    """The odometry pose at time t, linear between the two FLASER poses around it (the first or last outside);
+    times: the poses' timestamps."""
+    i = bisect.bisect_right(times, t)
+    if i == 0:
+        return poses[0][1]
+    if i == len(poses):
+        return poses[-1][1]
+    (t0, a), (t1, b) = poses[i - 1], poses[i]
+    u = (t - t0) / (t1 - t0) if t1 > t0 else 0.0
+    return (a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]), wrap(a[2] + u * wrap(b[2] - a[2])))
+
+
 def degrade(src, part, variant):
     rng = random.Random(7)
-    odometry = RescaledOdometry()
+    odometry = (RescaledOdometry(TRANSLATION_SCALE, TURN_SCALE) if variant == "odometry-scale"
+                else RescaledOdometry(curve=CURVE))
     opener = gzip.open if src.endswith(".gz") else open
+    lagged = flaser_poses(src, opener) if variant == "laser-lag" else []
+    lagged_times = [p[0] for p in lagged]
     scans = 0
     with opener(src, "rt") as lines, gzip.open(part, "wt") as out:
         for number, line in enumerate(lines, 1):
@@ -87,7 +139,7 @@ def degrade(src, part, variant):
                 continue
             try:
                 if f[0] == "ODOM":
-                    if variant == "odometry-scale":
+                    if variant in ("odometry-scale", "odometry-curve"):
                         f[1:4] = ["%.6f" % v for v in odometry(*(float(v) for v in f[1:4]))]
                     out.write(" ".join(f) + "\n")
                     continue
@@ -104,8 +156,12 @@ def degrade(src, part, variant):
                     ranges = [r if float(r) < SHORT_RANGE else NO_RETURN for r in ranges]
                 elif variant == "sparse":
                     ranges = [r if rng.random() < 0.5 else NO_RETURN for r in ranges]
-                elif variant == "odometry-scale":
+                elif variant in ("odometry-scale", "odometry-curve"):
                     rest = rescaled_flaser(rest, odometry)
+                elif variant == "laser-lag":
+                    if len(rest) < 9:
+                        raise ValueError(f"{n} ranges announced, no timestamp after the poses")
+                    rest = reposed_flaser(rest, pose_at(lagged, lagged_times, float(rest[6]) - LAG))
             except ValueError as e:
                 sys.exit(f"log_variants: {src}:{number}: a malformed {f[0]} message ({e})")
             out.write(" ".join(["FLASER", str(len(ranges))] + ranges + rest) + "\n")
