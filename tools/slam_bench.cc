@@ -16,8 +16,10 @@
 //       the closures, and the relations (from the file when given, else built from the twin). TWIN_LOG "-": no
 //       twin (the relations file is then needed; closures and front-end steps are not judged).
 // Ablations (docs/NOTES.md "SLAM bench") override front-end settings from the environment: FE_MAX_RANGE,
-// FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY
-// (key_translation), LOOPS_CONSISTENCY_MAX_CHAIN (loops.consistency.max_chain); SLAM_BENCH_CLOSURES=1 adds every
+// FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_HALF_RATIO and FE_HALF_SLACK
+// (half_constrained_ratio, _slack), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY
+// (key_translation), LOOPS_CONSISTENCY_MAX_CHAIN, _LONG_CHAIN, _LONG_FACTOR (loops.consistency.max_chain, ...);
+// SLAM_BENCH_CLOSURES=1 adds every
 // judged closure's gap and disagreement with the front end.
 // INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
 // between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
@@ -198,6 +200,8 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_ANGULAR")) config.front_end.matcher.angular_window = std::atof(v);
     if (const char* v = std::getenv("FE_MIN_SCORE")) config.front_end.min_score = std::atof(v);
     if (const char* v = std::getenv("FE_DEGENERATE")) config.front_end.degenerate_ratio = std::atof(v);
+    if (const char* v = std::getenv("FE_HALF_RATIO")) config.front_end.half_constrained_ratio = std::atof(v);
+    if (const char* v = std::getenv("FE_HALF_SLACK")) config.front_end.half_constrained_slack = std::atof(v);
     if (const char* v = std::getenv("FE_SIGMA")) config.front_end.matcher.sigma = std::atof(v);
     if (const char* v = std::getenv("FE_FINE")) config.front_end.fine_sigma = std::atof(v);
     if (const char* v = std::getenv("FE_RES")) config.front_end.point_resolution = config.front_end.matcher.resolution = std::atof(v);
@@ -211,6 +215,9 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_RATE")) config.loops.consistency.rate = std::atof(v);
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_OFFSET")) config.loops.consistency.offset = std::atof(v);
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_MAX_CHAIN")) config.loops.consistency.max_chain = std::atof(v);
+    if (const char* v = std::getenv("LOOPS_CONSISTENCY_LONG_CHAIN")) config.loops.consistency.long_chain = std::atof(v);
+    if (const char* v = std::getenv("LOOPS_CONSISTENCY_LONG_FACTOR"))
+      config.loops.consistency.long_factor = std::atof(v);
     if (forced) {  // every closure kept, with a quadratic loss: the injected ones bend the map
       config.back_end.max_translation_residual = config.back_end.max_rotation_residual = 1e6;
       config.back_end.graph.robust_scale = 1e6;
@@ -296,6 +303,7 @@ int main(int argc, char** argv) {
     }
     out["front_end_jumps"] = {{"count", jump_count}, {"first", jumps}};
     out["front_end_degenerate"] = r.front_end.degenerate;
+    out["front_end_half_constrained"] = r.front_end.half_constrained;
     out["front_end_heading_jumps"] = r.front_end.heading_jumps;
     out["front_end_weak_matches"] = r.front_end.weak_matches;
     out["front_end_weakest_score"] = r.front_end.weakest_score;

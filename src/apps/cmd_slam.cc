@@ -93,6 +93,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
           {"front_end",
            {{"rejected_matches", r.front_end.rejected},
             {"degenerate_scans", r.front_end.degenerate},
+            {"half_constrained_scans", r.front_end.half_constrained},
             {"heading_jumps", r.front_end.heading_jumps},
             {"time_reversals", r.front_end.time_reversals},
             {"turning_steps", r.front_end.turning_steps},
@@ -238,6 +239,9 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
   if (fe.degenerate > 0)
     front_end.push_back(std::to_string(fe.degenerate) +
                         " kept the odometry along a bare corridor (too few walls across it to match)");
+  if (fe.half_constrained > 0)
+    front_end.push_back(std::to_string(fe.half_constrained) +
+                        " moved along a half-constrained corridor only as far as the odometry has lately been wrong");
   if (fe.wide_kept > 0)
     front_end.push_back(std::to_string(fe.wide_kept) +
                         " found again over every heading (the odometry's turn was far off)");

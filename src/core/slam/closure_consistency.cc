@@ -30,47 +30,39 @@ void validate(const ClosureConsistencyConfig& c) {
                                                    {c.rate, "rate"},
                                                    {c.turn, "turn"},
                                                    {c.turn_rate, "turn_rate"},
-                                                   {c.max_chain, "max_chain"}};
+                                                   {c.max_chain, "max_chain"},
+                                                   {c.long_chain, "long_chain"},
+                                                   {c.long_factor, "long_factor"}};
   for (const auto& [v, name] : values)
     if (!(v >= 0) || !std::isfinite(v))
       throw InputError(std::string("closure consistency config: ") + name + " must be finite and >= 0");
 }
 
-bool closures_agree(const Submaps& maps, const LoopClosure& a, const LoopClosure& b,
-                    const ClosureConsistencyConfig& c) {
-  const double travel = chain_travel(maps, a, b);
-  const Pose2 E = a.T_match_query.inverse() * chain(maps, a.match, b.match) * b.T_match_query *
-                  chain(maps, b.query, a.query);
-  return E.translation().norm() <= c.offset + c.rate * travel &&
-         std::abs(E.theta) <= c.turn + c.turn_rate * travel;
+namespace {
+
+// The cycle of a and b through the chain: identity when both are right and the chain does not drift.
+Pose2 cycle_error(const Submaps& maps, const LoopClosure& a, const LoopClosure& b) {
+  return a.T_match_query.inverse() * chain(maps, a.match, b.match) * b.T_match_query * chain(maps, b.query, a.query);
 }
 
-std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<LoopClosure>& closures,
-                                      const ClosureConsistencyConfig& c) {
-  validate(c);
+bool within(const Pose2& E, double travel, double rate, const ClosureConsistencyConfig& c) {
+  return E.translation().norm() <= c.offset + rate * travel && std::abs(E.theta) <= c.turn + c.turn_rate * travel;
+}
+
+}  // namespace
+
+bool closures_agree(const Submaps& maps, const LoopClosure& a, const LoopClosure& b,
+                    const ClosureConsistencyConfig& c) {
+  return within(cycle_error(maps, a, b), chain_travel(maps, a, b), c.rate, c);
+}
+
+namespace {
+
+// Greedy vertex cover of the disagreements: drop the closure with the most, the less confident first among
+// equals (then the later one), until none are left; `kept` false on entry stays false.
+void drop_conflicts(const std::vector<LoopClosure>& closures, const std::vector<std::vector<std::size_t>>& conflicts,
+                    std::vector<bool>& kept) {
   const std::size_t n = closures.size();
-  for (const LoopClosure& l : closures)
-    if (l.query >= maps.size() || l.match >= maps.size())
-      throw InputError("closure consistency: a closure names a submap out of range");
-  // Disagreeing pairs, among closures whose queries lie within max_chain of travel (sorted by it).
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  const auto query_travel = [&](std::size_t k) { return maps[closures[k].query].travel; };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
-  std::vector<std::vector<std::size_t>> conflicts(n);
-  for (std::size_t p = 0; p < n; ++p) {
-    const LoopClosure& a = closures[order[p]];
-    for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= c.max_chain;
-         ++q) {
-      const LoopClosure& b = closures[order[q]];
-      if (chain_travel(maps, a, b) > c.max_chain || closures_agree(maps, a, b, c)) continue;
-      conflicts[order[p]].push_back(order[q]);
-      conflicts[order[q]].push_back(order[p]);
-    }
-  }
-  // Greedy vertex cover of the disagreements: drop the closure with the most, the less confident first among
-  // equals (then the later one), until none are left.
   std::vector<std::size_t> degree(n);
   for (std::size_t k = 0; k < n; ++k) degree[k] = conflicts[k].size();
   const auto worse = [&](std::size_t x, std::size_t y) {  // x is dropped before y
@@ -83,7 +75,6 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   std::set<std::size_t, decltype(cmp)> queue(cmp);
   for (std::size_t k = 0; k < n; ++k)
     if (degree[k] > 0) queue.insert(k);
-  std::vector<bool> kept(n, true);
   while (!queue.empty()) {
     const std::size_t k = *queue.begin();
     queue.erase(queue.begin());
@@ -95,6 +86,69 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
     }
     degree[k] = 0;
   }
+}
+
+}  // namespace
+
+std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<LoopClosure>& closures,
+                                      const ClosureConsistencyConfig& c) {
+  validate(c);
+  const std::size_t n = closures.size();
+  for (const LoopClosure& l : closures)
+    if (l.query >= maps.size() || l.match >= maps.size())
+      throw InputError("closure consistency: a closure names a submap out of range");
+  // Closures sorted by their query's travel, so that the pairs within a chain length are found in a window.
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  const auto query_travel = [&](std::size_t k) { return maps[closures[k].query].travel; };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
+  // Each pair of closures still kept whose cycle's chain is longer than `shortest` and at most `longest`.
+  std::vector<bool> kept(n, true);
+  const auto for_each_cycle = [&](double shortest, double longest, auto&& visit) {
+    for (std::size_t p = 0; p < n; ++p) {
+      if (!kept[order[p]]) continue;
+      const LoopClosure& a = closures[order[p]];
+      for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= longest; ++q) {
+        if (!kept[order[q]]) continue;
+        const LoopClosure& b = closures[order[q]];
+        const double travel = chain_travel(maps, a, b);
+        if (travel > shortest && travel <= longest) visit(order[p], order[q], cycle_error(maps, a, b), travel);
+      }
+    }
+  };
+  // The short cycles: the largest group that agrees within the fixed rate.
+  std::vector<std::vector<std::size_t>> conflicts(n);
+  const auto conflict_beyond = [&](double rate) {
+    return [&, rate](std::size_t x, std::size_t y, const Pose2& E, double travel) {
+      if (within(E, travel, rate, c)) return;
+      conflicts[x].push_back(y);
+      conflicts[y].push_back(x);
+    };
+  };
+  for_each_cycle(-1.0, c.max_chain, conflict_beyond(c.rate));
+  drop_conflicts(closures, conflicts, kept);
+  if (!(c.long_chain > c.max_chain)) return kept;
+  // The long cycles of that group: its drift per metre of chain measured on them (the median, from a histogram
+  // in bins of 1e-4 per metre, the last holding every larger one), and the cycles broken by more than long_factor
+  // times it.
+  constexpr double kBin = 1e-4;
+  std::vector<std::size_t> histogram(2001, 0);
+  std::size_t count = 0;
+  for_each_cycle(c.max_chain, c.long_chain, [&](std::size_t, std::size_t, const Pose2& E, double travel) {
+    const double bin = E.translation().norm() / travel / kBin;
+    ++histogram[static_cast<std::size_t>(std::min(bin, static_cast<double>(histogram.size() - 1)))];
+    ++count;
+  });
+  if (count == 0) return kept;
+  std::size_t below = 0, median_bin = 0;
+  while (median_bin + 1 < histogram.size() && 2 * (below + histogram[median_bin]) < count + 1)
+    below += histogram[median_bin++];
+  const double median = (static_cast<double>(median_bin) + 1) * kBin;
+  const double long_rate = std::max(c.rate, c.long_factor * median);
+  for (auto& list : conflicts) list.clear();
+  for_each_cycle(c.max_chain, c.long_chain, conflict_beyond(long_rate));
+  drop_conflicts(closures, conflicts, kept);
   return kept;
 }
 

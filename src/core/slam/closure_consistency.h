@@ -6,7 +6,8 @@
 // corridor) breaks the cycle with every right closure near it. The largest set of closures that agree
 // pairwise is kept: the complement of the consistency graph is sparse (far-apart closures cannot contradict
 // each other through a long, loose chain), so the closure with the most disagreements is dropped until none
-// disagree (a greedy vertex cover of the disagreements; ties drop the less confident closure).
+// disagree (a greedy vertex cover of the disagreements; ties drop the less confident closure). Then the same
+// over the long cycles of the group kept, with a tolerance measured on them (long_chain).
 #pragma once
 
 #include <vector>
@@ -26,6 +27,14 @@ struct ClosureConsistencyConfig {
   double turn_rate = 0.001;
   /// Cycles whose chain segments are longer than this are not tested (their tolerance covers any alias) [m].
   double max_chain = 100.0;
+  /// Then the long cycles of the group kept (chain segments longer than max_chain, up to long_chain [m]) are
+  /// tested with a rate measured on them: long_factor times the median of their translation errors per metre of
+  /// chain, at least `rate`. A group of wrong closures that agree with each other (one alias seen from several
+  /// submaps) breaks only long cycles with the right ones, by many times the front end's usual drift; a front
+  /// end that drifts more than `rate` along a long corridor raises the rate with it (docs/NOTES.md, "Real logs
+  /// degraded"). long_chain <= max_chain: no long cycles tested.
+  double long_chain = 1000.0;
+  double long_factor = 5.0;
 };
 
 /// Throws InputError naming the offending field when a value is out of range.

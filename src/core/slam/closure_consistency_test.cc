@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -60,11 +61,52 @@ TEST(ClosureConsistency, ClosuresFartherApartThanTheLongestChainAreNotTested) {
   EXPECT_TRUE(consistent_closures(l.maps, {}, c).empty());
 }
 
+// The freiburg-campus case (docs/NOTES.md, "Real logs degraded"): a group of wrong closures that agree with one
+// another where no right closure is near them, so every cycle that could refute them runs over a long chain. The
+// long cycles' test drops the group; without it (long_chain 0) all are kept.
+TEST(ClosureConsistency, LongCyclesDropAConsistentWrongGroupFarFromTheRightClosures) {
+  const Laps l = laps();
+  std::vector<LoopClosure> closures;
+  for (std::size_t i = 0; i <= 8; ++i) closures.push_back(closure(l, l.lap + i, i));
+  for (std::size_t i = 42; i < l.lap; i += 2) closures.push_back(closure(l, l.lap + i, i));
+  const std::size_t right = closures.size();
+  // Along the first side (submaps 0-39, a straight 20 m), each 2.5 m off along it: they agree with one another.
+  for (std::size_t i = 20; i <= 30; i += 2) closures.push_back(closure(l, l.lap + i, i, {2.5, 0, 0}, 0.9));
+  ClosureConsistencyConfig c;
+  c.max_chain = 10.0;  // the group is 12 submaps (12 m of chain over both laps) from the nearest right closure
+  c.long_chain = 0.0;
+  EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
+  c.long_chain = 1000.0;
+  const std::vector<bool> kept = consistent_closures(l.maps, closures, c);
+  for (std::size_t k = 0; k < closures.size(); ++k) EXPECT_EQ(kept[k], k < right) << "closure " << k;
+}
+
+// A second lap whose travel the front end made 10 % too long (wheels miscalibrated, a corridor slid along): right
+// closures' long cycles break by up to about 5 % of their chain, beyond the fixed 1 %. The rate measured on the
+// long cycles follows it and keeps them all; held at the fixed rate (long_factor 0), many are dropped.
+TEST(ClosureConsistency, TheLongCyclesRateFollowsTheFrontEndsDrift) {
+  Laps l = laps();
+  const Submaps stored = l.maps;  // both laps' headings drift alike, so their cycles cancel it
+  for (std::size_t i = l.lap + 1; i < l.truth.size(); ++i) {
+    const Pose2 step = stored[i - 1].T_world_map.inverse() * stored[i].T_world_map;
+    l.maps[i].T_world_map = l.maps[i - 1].T_world_map * Pose2{1.1 * step.x, 1.1 * step.y, step.theta};
+  }
+  std::vector<LoopClosure> closures;
+  for (std::size_t i = 0; i < l.lap; i += 4) closures.push_back(closure(l, l.lap + i, i));
+  ClosureConsistencyConfig c;
+  c.max_chain = 10.0;
+  EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
+  c.long_factor = 0.0;
+  const std::vector<bool> fixed = consistent_closures(l.maps, closures, c);
+  EXPECT_LT(std::count(fixed.begin(), fixed.end(), true), static_cast<long>(closures.size()) * 3 / 4);
+}
+
 TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
   const Laps l = laps();
   for (auto field :
        {&ClosureConsistencyConfig::offset, &ClosureConsistencyConfig::rate, &ClosureConsistencyConfig::turn,
-        &ClosureConsistencyConfig::turn_rate, &ClosureConsistencyConfig::max_chain}) {
+        &ClosureConsistencyConfig::turn_rate, &ClosureConsistencyConfig::max_chain,
+        &ClosureConsistencyConfig::long_chain, &ClosureConsistencyConfig::long_factor}) {
     ClosureConsistencyConfig c;
     c.*field = -1.0;
     EXPECT_THROW(validate(c), InputError);

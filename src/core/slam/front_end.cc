@@ -26,10 +26,10 @@ Points2 matching_points(const Scan& scan, const FrontEndConfig& c) {
 
 // The direction (unit, laser frame) along which the scan's surfaces do not fix a translation, if any: the weaker
 // eigenvector of sum n n^T over the normals of consecutive beam endpoints (each within 0.5 m of its neighbours,
-// within max_range), when its eigenvalue is below degenerate_ratio times the stronger one's. A bare corridor's
+// within max_range), when its eigenvalue is below `ratio` times the stronger one's. A bare corridor's
 // walls all have normals across it: its axis is the weak direction.
-std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c) {
-  if (c.degenerate_ratio <= 0) return std::nullopt;
+std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c, double ratio) {
+  if (ratio <= 0) return std::nullopt;
   Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
   const Points2& p = scan.points_laser;
   const double r2 = c.max_range * c.max_range;
@@ -40,7 +40,7 @@ std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c) {
     const Vec2 n(-d.y() / d.norm(), d.x() / d.norm());
     A += n * n.transpose();
   }
-  return unconstrained_direction(A, c.degenerate_ratio);
+  return unconstrained_direction(A, ratio);
 }
 
 // The pose the front end's last step, continued at the same velocity, predicts for a scan `dt` after the previous
@@ -120,21 +120,41 @@ ScanMatch match_predicted(const LocalMap& local, const Points2& points, const Sc
   return m;
 }
 
+// The odometry's recent error, as the front end measures it: an exponential mean of the squared moves from the
+// odometry's prediction to the accepted match on scans that fix both directions of translation.
+struct OdometryError {
+  double mean_square = -1;  ///< none yet
+  void add(double square) { mean_square = mean_square < 0 ? square : mean_square + (square - mean_square) / 50; }
+};
+
 // The pose of an accepted match: refined on the fine field (fine_sigma > 0), and where the odometry moves, its
-// translation along the scan's weak direction (a bare corridor's axis) taken from the prediction.
+// translation along the scan's weak direction (a bare corridor's axis) taken from the prediction; along a
+// half-constrained direction, kept within half_constrained_slack times the odometry's recent error of the
+// prediction (only where the prediction is the odometry's own step: `odometry_step`).
 Pose2 accepted_pose(const LocalMap& local, const Points2& points, const Scan& scan, const Pose2& matched,
-                    const Pose2& prediction, bool odometry_moves, const FrontEndConfig& config,
-                    FrontEndStats& stats) {
+                    const Pose2& prediction, bool odometry_moves, bool odometry_step, const FrontEndConfig& config,
+                    OdometryError& odometry_error, FrontEndStats& stats) {
   Pose2 pose = matched;
   if (config.fine_sigma > 0) {
     ScanMatcherConfig fine = config.matcher;
     fine.sigma = config.fine_sigma, fine.linear_window = 0, fine.angular_window = 0;
     pose = match_scan(local.fine_field(), points, matched, fine).pose;
   }
-  if (const std::optional<Vec2> weak = odometry_moves ? weak_direction(scan, config) : std::nullopt) {
-    pose = keep_along(pose, prediction, *weak, 0.0);
+  if (!odometry_moves) return pose;
+  if (const std::optional<Vec2> weak = weak_direction(scan, config, config.degenerate_ratio)) {
     ++stats.degenerate;
+    return keep_along(pose, prediction, *weak, 0.0);
   }
+  if (config.half_constrained_ratio <= 0 || !odometry_step) return pose;
+  if (const std::optional<Vec2> half = weak_direction(scan, config, config.half_constrained_ratio)) {
+    if (odometry_error.mean_square < 0) return pose;
+    const double slack = config.half_constrained_slack * std::sqrt(odometry_error.mean_square);
+    const Vec2 along = Eigen::Rotation2Dd(pose.theta) * *half;
+    if (std::abs(along.dot(pose.translation() - prediction.translation())) <= slack) return pose;
+    ++stats.half_constrained;
+    return keep_along(pose, prediction, *half, slack);
+  }
+  odometry_error.add((pose.translation() - prediction.translation()).squaredNorm());
   return pose;
 }
 
@@ -176,6 +196,10 @@ void validate(const FrontEndConfig& c) {
   if (!(c.jump_turn > 0.0 && c.jump_turn <= 7.0)) throw InputError("front end config: jump_turn must be in (0, 7] rad");
   if (!(c.degenerate_ratio >= 0.0 && c.degenerate_ratio < 1.0))
     throw InputError("front end config: degenerate_ratio must be in [0, 1)");
+  if (!(c.half_constrained_ratio >= 0.0 && c.half_constrained_ratio < 1.0))
+    throw InputError("front end config: half_constrained_ratio must be in [0, 1)");
+  if (!(c.half_constrained_slack >= 0.0 && c.half_constrained_slack <= 100.0))
+    throw InputError("front end config: half_constrained_slack must be in [0, 100]");
   if (!(c.second_prediction >= 0.0 && c.second_prediction <= 10.0))
     throw InputError("front end config: second_prediction must be in [0, 10]");
   if (!(c.second_margin >= 0.0 && c.second_margin <= 1.0))
@@ -207,6 +231,8 @@ FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const P
   for (std::size_t i = 1; i < raw.size() && !odometry_moves; ++i)
     odometry_moves = moved(raw[i - 1].T_world_odom, raw[i].T_world_odom, 1e-9, 1e-9);
   Pose2 last_key;
+  OdometryError odometry_error;
+  bool after_stall = false;  // the step before repeated the odometry's pose
   double score_sum = 0.0;
   std::size_t matched = 0;
   for (std::size_t i = 0; i < raw.size(); ++i) {
@@ -224,9 +250,16 @@ FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const P
     if (!result.scans.empty()) {
       const Scan& prev = result.scans.back();
       Pose2 prediction = prev.T_world_laser * (prev.T_world_odom.inverse() * scan.T_world_odom);
+      const Pose2 odometry_prediction = prediction;
       const ScanMatch m = match_predicted(local, points, result.scans, scan, config, stats, prediction);
+      // The odometry's step, as recorded: not a stall or the step that catches up after one, and not where
+      // another prediction was kept.
+      const bool stalled = !moved(prev.T_world_odom, scan.T_world_odom, 1e-9, 1e-9);
+      const bool odometry_step = !stalled && !after_stall && !moved(prediction, odometry_prediction, 1e-12, 1e-12);
+      after_stall = stalled;
       if (m.score >= config.min_score) {
-        out.T_world_laser = accepted_pose(local, points, scan, m.pose, prediction, odometry_moves, config, stats);
+        out.T_world_laser = accepted_pose(local, points, scan, m.pose, prediction, odometry_moves, odometry_step,
+                                          config, odometry_error, stats);
         score_sum += m.score;
         ++matched;
         if (m.score < stats.weakest_score) stats.weakest_score = m.score, stats.weakest_scan = result.scans.size();

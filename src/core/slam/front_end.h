@@ -37,6 +37,8 @@ struct FrontEndStats {
   std::size_t scans = 0;            ///< scans in the result
   std::size_t rejected = 0;         ///< scans whose match scored below min_score (prediction kept)
   std::size_t degenerate = 0;       ///< matched scans that kept the prediction along an unconstrained direction
+  /// matched scans whose move along a half-constrained direction was bounded (FrontEndConfig::half_constrained_ratio)
+  std::size_t half_constrained = 0;
   std::size_t heading_jumps = 0;    ///< scans whose turn disagrees with the odometry's by more than jump_turn
   std::vector<std::size_t> jump_scans;  ///< the first 100 of them (indices into the result's scans)
   std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards

@@ -71,6 +71,10 @@ void config_fields(V& v, std::type_identity<FrontEndConfig>) {
   v.field("key_rotation", &C::key_rotation, "");
   v.field("min_score", &C::min_score, "");
   v.field("degenerate_ratio", &C::degenerate_ratio, "");
+  v.field("half_constrained_ratio", &C::half_constrained_ratio,
+          "along a direction fixed below this share, a match moves no further than the odometry's recent error "
+          "allows (0: off)");
+  v.field("half_constrained_slack", &C::half_constrained_slack, "... times the root mean square of that error");
   v.field("jump_turn", &C::jump_turn, "");
   v.field("second_prediction", &C::second_prediction, "");
   v.field("second_margin", &C::second_margin, "");
@@ -102,6 +106,8 @@ void config_fields(V& v, std::type_identity<ClosureConsistencyConfig>) {
   v.field("turn", &C::turn, "");
   v.field("turn_rate", &C::turn_rate, "");
   v.field("max_chain", &C::max_chain, "");
+  v.field("long_chain", &C::long_chain, "");
+  v.field("long_factor", &C::long_factor, "");
 }
 
 template <class V>
