@@ -95,6 +95,7 @@ TEST(ClosureConsistency, TheLongCyclesRateFollowsTheFrontEndsDrift) {
   for (std::size_t i = 0; i < l.lap; i += 4) closures.push_back(closure(l, l.lap + i, i));
   ClosureConsistencyConfig c;
   c.max_chain = 10.0;
+  c.long_chain = 1000.0;
   EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
   c.long_factor = 0.0;
   const std::vector<bool> fixed = consistent_closures(l.maps, closures, c);
