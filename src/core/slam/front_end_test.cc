@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numeric>
 
 #include "core/error.h"
@@ -274,6 +275,12 @@ TEST(FrontEnd, RefusesAbsurdConfigs) {
   EXPECT_THROW(validate(c), InputError);
   c = {};
   c.second_prediction = -0.1;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.half_constrained_ratio = 1;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.half_constrained_slack = std::nan("");
   EXPECT_THROW(validate(c), InputError);
   EXPECT_EQ(scan_match_log({}).scans.size(), 0u);
 }
