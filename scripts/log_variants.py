@@ -88,29 +88,9 @@ def main(src, dst, variant):
             os.remove(part)
 
 
-def flaser_poses(src, opener):
-    """(timestamp, odometry pose) of every FLASER message in order; the timestamp is the message's third field
-    from the end (CARMEN's ipc_timestamp)."""
-    poses = []
-    with opener(src, "rt") as lines:
-        for number, line in enumerate(lines, 1):
-            f = line.split()
-            if not f or f[0] != "FLASER":
-                continue
-            try:
-                n = int(f[1])
-                rest = f[2 + n:]
-                if len(rest) < 9:
-                    raise ValueError(f"{n} ranges announced, {len(f) - 2} fields follow")
-                poses.append((float(rest[6]), tuple(float(v) for v in rest[3:6])))
-            except ValueError as e:
-                sys.exit(f"log_variants: {src}:{number}: a malformed FLASER message ({e})")
-    return poses
-
-
 def pose_at(poses, times, t):
     """The odometry pose at time t, linear between the two FLASER poses around it (the first or last outside);
-    times: the poses' timestamps."""
+    times: the poses' timestamps. A lag looks back only, so the poses read so far are enough."""
     i = bisect.bisect_right(times, t)
     if i == 0:
         return poses[0][1]
@@ -126,8 +106,7 @@ def degrade(src, part, variant):
     odometry = (RescaledOdometry(TRANSLATION_SCALE, TURN_SCALE) if variant == "odometry-scale"
                 else RescaledOdometry(curve=CURVE))
     opener = gzip.open if src.endswith(".gz") else open
-    lagged = flaser_poses(src, opener) if variant == "laser-lag" else []
-    lagged_times = [p[0] for p in lagged]
+    lagged, lagged_times = [], []  # laser-lag: the FLASER poses so far and their timestamps (CARMEN's ipc_timestamp)
     scans = 0
     with opener(src, "rt") as lines, gzip.open(part, "wt") as out:
         for number, line in enumerate(lines, 1):
@@ -161,7 +140,9 @@ def degrade(src, part, variant):
                 elif variant == "laser-lag":
                     if len(rest) < 9:
                         raise ValueError(f"{n} ranges announced, no timestamp after the poses")
-                    rest = reposed_flaser(rest, pose_at(lagged, lagged_times, float(rest[6]) - LAG))
+                    lagged.append((float(rest[6]), tuple(float(v) for v in rest[3:6])))
+                    lagged_times.append(lagged[-1][0])
+                    rest = reposed_flaser(rest, pose_at(lagged, lagged_times, lagged[-1][0] - LAG))
             except ValueError as e:
                 sys.exit(f"log_variants: {src}:{number}: a malformed {f[0]} message ({e})")
             out.write(" ".join(["FLASER", str(len(ranges))] + ranges + rest) + "\n")
