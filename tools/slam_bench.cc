@@ -17,10 +17,9 @@
 //       twin (the relations file is then needed; closures and front-end steps are not judged).
 // Ablations (docs/NOTES.md "SLAM bench") override front-end settings from the environment: FE_MAX_RANGE,
 // FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_HALF_RATIO and FE_HALF_SLACK
-// (half_constrained_ratio, _slack), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY
-// (key_translation), LOOPS_CONSISTENCY_MAX_CHAIN, _LONG_CHAIN, _LONG_FACTOR (loops.consistency.max_chain, ...);
-// SLAM_BENCH_CLOSURES=1 adds every
-// judged closure's gap and disagreement with the front end.
+// (half_constrained_ratio, _slack), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY (key_translation),
+// LOOPS_CONSISTENCY_MAX_CHAIN, _LONG_CHAIN, _LONG_FACTOR (loops.consistency.max_chain, ...); SLAM_BENCH_CLOSURES=1
+// adds every judged closure's gap and disagreement with the front end.
 // INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
 // between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
 // A trailing "f" (0.1f) forces them in: the back end sets no closure aside and its loss is quadratic (no Cauchy),

@@ -24,12 +24,10 @@ Points2 matching_points(const Scan& scan, const FrontEndConfig& c) {
   return voxel_downsample(near, c.point_resolution);
 }
 
-// The direction (unit, laser frame) along which the scan's surfaces do not fix a translation, if any: the weaker
-// eigenvector of sum n n^T over the normals of consecutive beam endpoints (each within 0.5 m of its neighbours,
-// within max_range), when its eigenvalue is below `ratio` times the stronger one's. A bare corridor's
-// walls all have normals across it: its axis is the weak direction.
-std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c, double ratio) {
-  if (ratio <= 0) return std::nullopt;
+// How the scan's surfaces fix a translation: sum n n^T over the normals of consecutive beam endpoints (each within
+// 0.5 m of its neighbours, within max_range). unconstrained_direction(it, ratio) is the direction (unit, laser
+// frame) they do not fix, if any: a bare corridor's walls all have normals across it, so its axis.
+Eigen::Matrix2d normal_scatter(const Scan& scan, const FrontEndConfig& c) {
   Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
   const Points2& p = scan.points_laser;
   const double r2 = c.max_range * c.max_range;
@@ -40,7 +38,7 @@ std::optional<Vec2> weak_direction(const Scan& scan, const FrontEndConfig& c, do
     const Vec2 n(-d.y() / d.norm(), d.x() / d.norm());
     A += n * n.transpose();
   }
-  return unconstrained_direction(A, ratio);
+  return A;
 }
 
 // The pose the front end's last step, continued at the same velocity, predicts for a scan `dt` after the previous
@@ -141,12 +139,15 @@ Pose2 accepted_pose(const LocalMap& local, const Points2& points, const Scan& sc
     pose = match_scan(local.fine_field(), points, matched, fine).pose;
   }
   if (!odometry_moves) return pose;
-  if (const std::optional<Vec2> weak = weak_direction(scan, config, config.degenerate_ratio)) {
+  const bool bound_half = config.half_constrained_ratio > 0 && odometry_step;
+  if (config.degenerate_ratio <= 0 && !bound_half) return pose;
+  const Eigen::Matrix2d scatter = normal_scatter(scan, config);  // once for both ratios
+  if (const std::optional<Vec2> weak = unconstrained_direction(scatter, config.degenerate_ratio)) {
     ++stats.degenerate;
     return keep_along(pose, prediction, *weak, 0.0);
   }
-  if (config.half_constrained_ratio <= 0 || !odometry_step) return pose;
-  if (const std::optional<Vec2> half = weak_direction(scan, config, config.half_constrained_ratio)) {
+  if (!bound_half) return pose;
+  if (const std::optional<Vec2> half = unconstrained_direction(scatter, config.half_constrained_ratio)) {
     if (odometry_error.mean_square < 0) return pose;
     const double slack = config.half_constrained_slack * std::sqrt(odometry_error.mean_square);
     const Vec2 along = Eigen::Rotation2Dd(pose.theta) * *half;
