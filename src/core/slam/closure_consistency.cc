@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <string>
@@ -32,7 +33,9 @@ void validate(const ClosureConsistencyConfig& c) {
                                                    {c.turn_rate, "turn_rate"},
                                                    {c.max_chain, "max_chain"},
                                                    {c.long_chain, "long_chain"},
-                                                   {c.long_factor, "long_factor"}};
+                                                   {c.long_factor, "long_factor"},
+                                                   {c.long_min_confidence, "long_min_confidence"},
+                                                   {c.long_alias_extent, "long_alias_extent"}};
   for (const auto& [v, name] : values)
     if (!(v >= 0) || !std::isfinite(v))
       throw InputError(std::string("closure consistency config: ") + name + " must be finite and >= 0");
@@ -105,12 +108,14 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
                    [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
   // Each pair of closures still kept whose cycle's chain is longer than `shortest` and at most `longest`.
   std::vector<bool> kept(n, true);
-  const auto for_each_cycle = [&](double shortest, double longest, auto&& visit) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // min_confidence: only closures at least this confident take part.
+  const auto for_each_cycle = [&](double shortest, double longest, double min_confidence, auto&& visit) {
     for (std::size_t p = 0; p < n; ++p) {
-      if (!kept[order[p]]) continue;
+      if (!kept[order[p]] || closures[order[p]].confidence < min_confidence) continue;
       const LoopClosure& a = closures[order[p]];
       for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= longest; ++q) {
-        if (!kept[order[q]]) continue;
+        if (!kept[order[q]] || closures[order[q]].confidence < min_confidence) continue;
         const LoopClosure& b = closures[order[q]];
         const double travel = chain_travel(maps, a, b);
         if (travel > shortest && travel <= longest) visit(order[p], order[q], cycle_error(maps, a, b), travel);
@@ -126,16 +131,17 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
       conflicts[y].push_back(x);
     };
   };
-  for_each_cycle(-1.0, c.max_chain, conflict_beyond(c.rate));
+  for_each_cycle(-1.0, c.max_chain, -kInf, conflict_beyond(c.rate));
   drop_conflicts(closures, conflicts, kept);
   if (!(c.long_chain > c.max_chain)) return kept;
-  // The long cycles of that group: its drift per metre of chain measured on them (the median, from a histogram
-  // in bins of 1e-4 per metre, the last holding every larger one), and the cycles broken by more than long_factor
-  // times it.
+  // The long cycles of that group's confident closures: its drift per metre of chain measured on them (the
+  // median, from a histogram in bins of 1e-4 per metre, the last holding every larger one), and the cycles broken
+  // by more than long_factor times it.
   constexpr double kBin = 1e-4;
   std::vector<std::size_t> histogram(2001, 0);
   std::size_t count = 0;
-  for_each_cycle(c.max_chain, c.long_chain, [&](std::size_t, std::size_t, const Pose2& E, double travel) {
+  for_each_cycle(c.max_chain, c.long_chain, c.long_min_confidence,
+                 [&](std::size_t, std::size_t, const Pose2& E, double travel) {
     const double bin = E.translation().norm() / travel / kBin;
     ++histogram[static_cast<std::size_t>(std::min(bin, static_cast<double>(histogram.size() - 1)))];
     ++count;
@@ -147,8 +153,27 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   const double median = (static_cast<double>(median_bin) + 1) * kBin;
   const double long_rate = std::max(c.rate, c.long_factor * median);
   for (auto& list : conflicts) list.clear();
-  for_each_cycle(c.max_chain, c.long_chain, conflict_beyond(long_rate));
+  for_each_cycle(c.max_chain, c.long_chain, c.long_min_confidence, conflict_beyond(long_rate));
+  const std::vector<bool> before_long = kept;
   drop_conflicts(closures, conflicts, kept);
+  // What was dropped, in stretches of the queries' travel (a gap over long_alias_extent starts a new one): a
+  // stretch whose matches lie within long_alias_extent of each other saw one place as another (an alias) and stays
+  // dropped; one whose matches are spread over the building disagrees with every place it revisits, which is the
+  // front end's chain broken where no short cycle reaches (a heading lost), not an alias: it is kept.
+  std::vector<std::size_t> dropped;
+  for (const std::size_t k : order)
+    if (before_long[k] && !kept[k]) dropped.push_back(k);
+  for (std::size_t begin = 0, end = 0; begin < dropped.size(); begin = end) {
+    double lo = maps[closures[dropped[begin]].match].travel, hi = lo;
+    for (end = begin + 1; end < dropped.size() &&
+                          query_travel(dropped[end]) - query_travel(dropped[end - 1]) <= c.long_alias_extent;
+         ++end) {
+      lo = std::min(lo, maps[closures[dropped[end]].match].travel);
+      hi = std::max(hi, maps[closures[dropped[end]].match].travel);
+    }
+    if (hi - lo > c.long_alias_extent)
+      for (std::size_t i = begin; i < end; ++i) kept[dropped[i]] = true;
+  }
   return kept;
 }
 

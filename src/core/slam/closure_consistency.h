@@ -7,7 +7,8 @@
 // pairwise is kept: the complement of the consistency graph is sparse (far-apart closures cannot contradict
 // each other through a long, loose chain), so the closure with the most disagreements is dropped until none
 // disagree (a greedy vertex cover of the disagreements; ties drop the less confident closure). Then the same
-// over the long cycles of the group kept, with a tolerance measured on them (long_chain).
+// over the long cycles of the group kept, with a tolerance measured on them, dropping only what sees one place as
+// another (long_chain).
 #pragma once
 
 #include <vector>
@@ -27,16 +28,21 @@ struct ClosureConsistencyConfig {
   double turn_rate = 0.001;
   /// Cycles whose chain segments are longer than this are not tested (their tolerance covers any alias) [m].
   double max_chain = 100.0;
-  /// Then the long cycles of the group kept (chain segments longer than max_chain, up to long_chain [m]) are
-  /// tested with a rate measured on them: long_factor times the median of their translation errors per metre of
-  /// chain, at least `rate`. A group of wrong closures that agree with each other (one alias seen from several
-  /// submaps) breaks only long cycles with the right ones, by many times the front end's usual drift; a front
-  /// end that drifts more than `rate` along a long corridor raises the rate with it. Off by default
-  /// (long_chain <= max_chain: no long cycles tested): at 1000 m and factor 5 it drops freiburg-campus's alias
-  /// group, but also right closures of intel's degraded logs, whose maps then break unseen (docs/NOTES.md, "Real
-  /// logs degraded").
-  double long_chain = 0.0;
-  double long_factor = 5.0;
+  /// Then the long cycles of the group kept (chain segments longer than max_chain, up to long_chain [m]) between
+  /// its confident closures (at least long_min_confidence: those `slam` offers its back end) are tested with a rate
+  /// measured on them: long_factor times the median of their translation errors per metre of chain, at least
+  /// `rate`. A group of wrong closures that agree with each other (one alias seen from several submaps) breaks only
+  /// long cycles with the right ones, by many times the front end's usual drift; a front end that drifts more than
+  /// `rate` along a long corridor raises the rate with it. What that drops is kept again unless it sees one place:
+  /// the dropped closures in stretches of their queries' travel (a gap over long_alias_extent [m] starts a new
+  /// one), a stretch staying dropped only when its matches lie within long_alias_extent of each other. A stretch
+  /// whose matches are spread over the building disagrees with every place it revisits: the front end's chain
+  /// broken where no short cycle reaches (a heading lost in a spin), which the graph mends, not an alias
+  /// (docs/NOTES.md, "Long cycles that drop only one place"). long_chain <= max_chain turns the long cycles off.
+  double long_chain = 1000.0;
+  double long_factor = 10.0;
+  double long_min_confidence = 0.2;
+  double long_alias_extent = 20.0;
 };
 
 /// Throws InputError naming the offending field when a value is out of range.

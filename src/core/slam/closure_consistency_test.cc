@@ -98,8 +98,47 @@ TEST(ClosureConsistency, TheLongCyclesRateFollowsTheFrontEndsDrift) {
   c.long_chain = 1000.0;
   EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
   c.long_factor = 0.0;
+  c.long_alias_extent = 1e9;  // whatever the cycles drop stays dropped
   const std::vector<bool> fixed = consistent_closures(l.maps, closures, c);
   EXPECT_LT(std::count(fixed.begin(), fixed.end(), true), static_cast<long>(closures.size()) * 3 / 4);
+}
+
+// The intel case (docs/NOTES.md, "Long cycles that drop only one place"): the front end loses 0.3 rad of heading
+// at one submap of the second lap, between closures more than max_chain apart, so only long cycles cross it. Every
+// closure is right, but the cycles of those before the break with those after it break by the lost heading: the
+// greedy cover drops one side, whose matches are spread over 22 m of the first lap, so it is kept again. Counted
+// as an alias (long_alias_extent beyond that spread), that side is dropped.
+TEST(ClosureConsistency, LongCyclesKeepAStretchThatDisagreesWithEveryPlaceItRevisits) {
+  Laps l = laps();
+  const std::size_t lost = l.lap + 60;
+  for (std::size_t i = lost; i < l.maps.size(); ++i)
+    l.maps[i].T_world_map = Pose2{0, 0, 0.3} * l.maps[i].T_world_map;  // turned about the origin: a heading lost
+  std::vector<LoopClosure> closures;
+  for (std::size_t i = 0; i <= 48; i += 4) closures.push_back(closure(l, l.lap + i, i));
+  for (std::size_t i = 72; i < l.lap; i += 4) closures.push_back(closure(l, l.lap + i, i));
+  ClosureConsistencyConfig c;
+  c.max_chain = 10.0;
+  EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
+  c.long_alias_extent = 30.0;
+  const std::vector<bool> aliased = consistent_closures(l.maps, closures, c);
+  EXPECT_EQ(std::count(aliased.begin(), aliased.end(), false), 12);  // the side after the break, the smaller
+  for (std::size_t k = 0; k < 13; ++k) EXPECT_TRUE(aliased[k]) << "closure " << k;
+}
+
+// The long cycles are tested between confident closures only: the freiburg-campus-like group of the test above
+// kept when its closures are less confident than long_min_confidence.
+TEST(ClosureConsistency, LongCyclesTestOnlyConfidentClosures) {
+  const Laps l = laps();
+  std::vector<LoopClosure> closures;
+  for (std::size_t i = 0; i <= 8; ++i) closures.push_back(closure(l, l.lap + i, i));
+  for (std::size_t i = 42; i < l.lap; i += 2) closures.push_back(closure(l, l.lap + i, i));
+  for (std::size_t i = 20; i <= 30; i += 2) closures.push_back(closure(l, l.lap + i, i, {2.5, 0, 0}, 0.1));
+  ClosureConsistencyConfig c;
+  c.max_chain = 10.0;
+  EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
+  c.long_min_confidence = 0.05;
+  const std::vector<bool> kept = consistent_closures(l.maps, closures, c);
+  EXPECT_EQ(std::count(kept.begin(), kept.end(), false), 6);
 }
 
 TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
@@ -107,7 +146,8 @@ TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
   for (auto field :
        {&ClosureConsistencyConfig::offset, &ClosureConsistencyConfig::rate, &ClosureConsistencyConfig::turn,
         &ClosureConsistencyConfig::turn_rate, &ClosureConsistencyConfig::max_chain,
-        &ClosureConsistencyConfig::long_chain, &ClosureConsistencyConfig::long_factor}) {
+        &ClosureConsistencyConfig::long_chain, &ClosureConsistencyConfig::long_factor,
+        &ClosureConsistencyConfig::long_min_confidence, &ClosureConsistencyConfig::long_alias_extent}) {
     ClosureConsistencyConfig c;
     c.*field = -1.0;
     EXPECT_THROW(validate(c), InputError);

@@ -108,6 +108,8 @@ void config_fields(V& v, std::type_identity<ClosureConsistencyConfig>) {
   v.field("max_chain", &C::max_chain, "");
   v.field("long_chain", &C::long_chain, "");
   v.field("long_factor", &C::long_factor, "");
+  v.field("long_min_confidence", &C::long_min_confidence, "");
+  v.field("long_alias_extent", &C::long_alias_extent, "");
 }
 
 template <class V>
