@@ -64,14 +64,22 @@ TEST(ClosureConsistency, ClosuresFartherApartThanTheLongestChainAreNotTested) {
 // The freiburg-campus case (docs/NOTES.md, "Real logs degraded"): a group of wrong closures that agree with one
 // another where no right closure is near them, so every cycle that could refute them runs over a long chain. The
 // long cycles' test drops the group; without it (long_chain 0) all are kept.
-TEST(ClosureConsistency, LongCyclesDropAConsistentWrongGroupFarFromTheRightClosures) {
-  const Laps l = laps();
+// Right closures at the start and after the first side, then kFarGroup wrong ones of `wrong_confidence` along that
+// side (submaps 0-39, a straight 20 m), each 2.5 m off along it: they agree with one another.
+constexpr std::size_t kFarGroup = 6;
+std::vector<LoopClosure> far_wrong_group(const Laps& l, double wrong_confidence) {
   std::vector<LoopClosure> closures;
   for (std::size_t i = 0; i <= 8; ++i) closures.push_back(closure(l, l.lap + i, i));
   for (std::size_t i = 42; i < l.lap; i += 2) closures.push_back(closure(l, l.lap + i, i));
-  const std::size_t right = closures.size();
-  // Along the first side (submaps 0-39, a straight 20 m), each 2.5 m off along it: they agree with one another.
-  for (std::size_t i = 20; i <= 30; i += 2) closures.push_back(closure(l, l.lap + i, i, {2.5, 0, 0}, 0.9));
+  for (std::size_t i = 20; i <= 30; i += 2)
+    closures.push_back(closure(l, l.lap + i, i, {2.5, 0, 0}, wrong_confidence));
+  return closures;
+}
+
+TEST(ClosureConsistency, LongCyclesDropAConsistentWrongGroupFarFromTheRightClosures) {
+  const Laps l = laps();
+  const std::vector<LoopClosure> closures = far_wrong_group(l, 0.9);
+  const std::size_t right = closures.size() - kFarGroup;
   ClosureConsistencyConfig c;
   c.max_chain = 10.0;  // the group is 12 submaps (12 m of chain over both laps) from the nearest right closure
   c.long_chain = 0.0;
@@ -125,20 +133,17 @@ TEST(ClosureConsistency, LongCyclesKeepAStretchThatDisagreesWithEveryPlaceItRevi
   for (std::size_t k = 0; k < 13; ++k) EXPECT_TRUE(aliased[k]) << "closure " << k;
 }
 
-// The long cycles are tested between confident closures only: the freiburg-campus-like group of the test above
-// kept when its closures are less confident than long_min_confidence.
+// The long cycles are tested between confident closures only: far_wrong_group's wrong ones are kept when they are
+// less confident than long_min_confidence.
 TEST(ClosureConsistency, LongCyclesTestOnlyConfidentClosures) {
   const Laps l = laps();
-  std::vector<LoopClosure> closures;
-  for (std::size_t i = 0; i <= 8; ++i) closures.push_back(closure(l, l.lap + i, i));
-  for (std::size_t i = 42; i < l.lap; i += 2) closures.push_back(closure(l, l.lap + i, i));
-  for (std::size_t i = 20; i <= 30; i += 2) closures.push_back(closure(l, l.lap + i, i, {2.5, 0, 0}, 0.1));
+  const std::vector<LoopClosure> closures = far_wrong_group(l, 0.1);
   ClosureConsistencyConfig c;
   c.max_chain = 10.0;
   EXPECT_EQ(consistent_closures(l.maps, closures, c), std::vector<bool>(closures.size(), true));
   c.long_min_confidence = 0.05;
   const std::vector<bool> kept = consistent_closures(l.maps, closures, c);
-  EXPECT_EQ(std::count(kept.begin(), kept.end(), false), 6);
+  EXPECT_EQ(std::count(kept.begin(), kept.end(), false), static_cast<long>(kFarGroup));
 }
 
 TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
