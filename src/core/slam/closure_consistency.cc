@@ -9,9 +9,13 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace partslam {
 namespace {
+
+// The cycle passes split the closures (in travel order) into this many chunks for the threads.
+constexpr std::size_t kChunks = 64;
 
 // The travel along the two chain segments of a and b's cycle [m].
 double chain_travel(const Submaps& maps, const LoopClosure& a, const LoopClosure& b) {
@@ -47,6 +51,25 @@ namespace {
 Pose2 cycle_error(const Submaps& maps, const LoopClosure& a, const LoopClosure& b) {
   return a.T_match_query.inverse() * chain(maps, a.match, b.match) * b.T_match_query * chain(maps, b.query, a.query);
 }
+
+// cycle_error over many pairs, with the inverses it takes computed once per submap and per closure (the same
+// operations on the same values, so the same result to the last bit).
+class CycleErrors {
+ public:
+  CycleErrors(const Submaps& maps, const std::vector<LoopClosure>& closures) : maps_(maps) {
+    for (const Submap& m : maps) map_world_.push_back(m.T_world_map.inverse());
+    for (const LoopClosure& l : closures) query_match_.push_back(l.T_match_query.inverse());
+  }
+  /// cycle_error(maps, closures[x], closures[y]) for a = closures[x], b = closures[y].
+  Pose2 operator()(std::size_t x, const LoopClosure& a, const LoopClosure& b) const {
+    return query_match_[x] * (map_world_[a.match] * maps_[b.match].T_world_map) * b.T_match_query *
+           (map_world_[b.query] * maps_[a.query].T_world_map);
+  }
+
+ private:
+  const Submaps& maps_;
+  std::vector<Pose2> map_world_, query_match_;
+};
 
 bool within(const Pose2& E, double travel, double rate, const ClosureConsistencyConfig& c) {
   return E.translation().norm() <= c.offset + rate * travel && std::abs(E.theta) <= c.turn + c.turn_rate * travel;
@@ -94,7 +117,7 @@ void drop_conflicts(const std::vector<LoopClosure>& closures, const std::vector<
 }  // namespace
 
 std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<LoopClosure>& closures,
-                                      const ClosureConsistencyConfig& c) {
+                                      const ClosureConsistencyConfig& c, int num_threads) {
   validate(c);
   const std::size_t n = closures.size();
   for (const LoopClosure& l : closures)
@@ -106,54 +129,70 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   const auto query_travel = [&](std::size_t k) { return maps[closures[k].query].travel; };
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
-  // Each pair of closures still kept whose cycle's chain is longer than `shortest` and at most `longest`.
+  // Each pair of closures still kept whose cycle's chain is longer than `shortest` and at most `longest`
+  // (min_confidence: only closures at least this confident take part), visited as visit(chunk, x, y, E, travel):
+  // the outer closures in kChunks chunks of the travel order, on num_threads; a chunk's visits are in the serial
+  // order, so what each chunk collects, merged in chunk order, is what one thread would have collected.
   std::vector<bool> kept(n, true);
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  // min_confidence: only closures at least this confident take part.
+  const std::size_t chunks = std::min<std::size_t>(n, kChunks);
+  const CycleErrors cycle(maps, closures);
   const auto for_each_cycle = [&](double shortest, double longest, double min_confidence, auto&& visit) {
-    for (std::size_t p = 0; p < n; ++p) {
-      if (!kept[order[p]] || closures[order[p]].confidence < min_confidence) continue;
-      const LoopClosure& a = closures[order[p]];
-      for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= longest; ++q) {
-        if (!kept[order[q]] || closures[order[q]].confidence < min_confidence) continue;
-        const LoopClosure& b = closures[order[q]];
-        const double travel = chain_travel(maps, a, b);
-        if (travel > shortest && travel <= longest) visit(order[p], order[q], cycle_error(maps, a, b), travel);
+    parallel_for(chunks, num_threads, [&](std::size_t chunk) {
+      for (std::size_t p = n * chunk / chunks; p < n * (chunk + 1) / chunks; ++p) {
+        if (!kept[order[p]] || closures[order[p]].confidence < min_confidence) continue;
+        const LoopClosure& a = closures[order[p]];
+        for (std::size_t q = p + 1; q < n && query_travel(order[q]) - query_travel(order[p]) <= longest; ++q) {
+          if (!kept[order[q]] || closures[order[q]].confidence < min_confidence) continue;
+          const LoopClosure& b = closures[order[q]];
+          const double travel = chain_travel(maps, a, b);
+          if (travel > shortest && travel <= longest)
+            visit(chunk, order[p], order[q], cycle(order[p], a, b), travel);
+        }
       }
+    });
+  };
+  // The pairs whose cycle breaks `rate`, per chunk, then each closure's list of those it disagrees with.
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> broken(chunks);
+  std::vector<std::vector<std::size_t>> conflicts(n);
+  const auto find_conflicts = [&](double shortest, double longest, double min_confidence, double rate) {
+    for (auto& list : conflicts) list.clear();
+    for_each_cycle(shortest, longest, min_confidence,
+                   [&](std::size_t chunk, std::size_t x, std::size_t y, const Pose2& E, double travel) {
+      if (!within(E, travel, rate, c)) broken[chunk].emplace_back(x, y);
+    });
+    for (auto& pairs : broken) {
+      for (const auto& [x, y] : pairs) conflicts[x].push_back(y), conflicts[y].push_back(x);
+      pairs.clear();
+      pairs.shrink_to_fit();
     }
   };
   // The short cycles: the largest group that agrees within the fixed rate.
-  std::vector<std::vector<std::size_t>> conflicts(n);
-  const auto conflict_beyond = [&](double rate) {
-    return [&, rate](std::size_t x, std::size_t y, const Pose2& E, double travel) {
-      if (within(E, travel, rate, c)) return;
-      conflicts[x].push_back(y);
-      conflicts[y].push_back(x);
-    };
-  };
-  for_each_cycle(-1.0, c.max_chain, -kInf, conflict_beyond(c.rate));
+  find_conflicts(-1.0, c.max_chain, -kInf, c.rate);
   drop_conflicts(closures, conflicts, kept);
   if (!(c.long_chain > c.max_chain)) return kept;
   // The long cycles of that group's confident closures: its drift per metre of chain measured on them (the
   // median, from a histogram in bins of 1e-4 per metre, the last holding every larger one), and the cycles broken
   // by more than long_factor times it.
   constexpr double kBin = 1e-4;
-  std::vector<std::size_t> histogram(2001, 0);
-  std::size_t count = 0;
+  constexpr std::size_t kBins = 2001;
+  std::vector<std::vector<std::size_t>> histograms(chunks, std::vector<std::size_t>(kBins, 0));
   for_each_cycle(c.max_chain, c.long_chain, c.long_min_confidence,
-                 [&](std::size_t, std::size_t, const Pose2& E, double travel) {
+                 [&](std::size_t chunk, std::size_t, std::size_t, const Pose2& E, double travel) {
     const double bin = E.translation().norm() / travel / kBin;
-    ++histogram[static_cast<std::size_t>(std::min(bin, static_cast<double>(histogram.size() - 1)))];
-    ++count;
+    ++histograms[chunk][static_cast<std::size_t>(std::min(bin, static_cast<double>(kBins - 1)))];
   });
+  std::vector<std::size_t> histogram(kBins, 0);
+  for (const auto& h : histograms)
+    for (std::size_t b = 0; b < kBins; ++b) histogram[b] += h[b];
+  const std::size_t count = std::accumulate(histogram.begin(), histogram.end(), std::size_t{0});
   if (count == 0) return kept;
   std::size_t below = 0, median_bin = 0;
   while (median_bin + 1 < histogram.size() && 2 * (below + histogram[median_bin]) < count + 1)
     below += histogram[median_bin++];
   const double median = (static_cast<double>(median_bin) + 1) * kBin;
   const double long_rate = std::max(c.rate, c.long_factor * median);
-  for (auto& list : conflicts) list.clear();
-  for_each_cycle(c.max_chain, c.long_chain, c.long_min_confidence, conflict_beyond(long_rate));
+  find_conflicts(c.max_chain, c.long_chain, c.long_min_confidence, long_rate);
   const std::vector<bool> before_long = kept;
   drop_conflicts(closures, conflicts, kept);
   // What was dropped, in stretches of the queries' travel (a gap over long_alias_extent starts a new one): a

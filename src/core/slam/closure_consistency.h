@@ -53,7 +53,8 @@ bool closures_agree(const Submaps& maps, const LoopClosure& a, const LoopClosure
                     const ClosureConsistencyConfig& config = {});
 
 /// Per closure: in the largest pairwise-consistent set found (greedy; the same answer for the same input).
+/// The cycles are tested on num_threads; the answer does not depend on it.
 std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<LoopClosure>& closures,
-                                      const ClosureConsistencyConfig& config = {});
+                                      const ClosureConsistencyConfig& config = {}, int num_threads = 1);
 
 }  // namespace partslam

@@ -146,6 +146,28 @@ TEST(ClosureConsistency, LongCyclesTestOnlyConfidentClosures) {
   EXPECT_EQ(std::count(kept.begin(), kept.end(), false), static_cast<long>(kFarGroup));
 }
 
+// The cycles are tested on several threads in chunks of the closures: the same answer as on one, on a set larger
+// than the chunks with something for each stage to drop (a wrong group of short cycles, a far consistent wrong
+// group of long ones, a heading lost in the second lap) and right closures with small errors of their own.
+TEST(ClosureConsistency, TheAnswerDoesNotDependOnTheThreads) {
+  Laps l = laps();
+  for (std::size_t i = l.lap + 90; i < l.maps.size(); ++i)
+    l.maps[i].T_world_map = Pose2{0, 0, 0.05} * l.maps[i].T_world_map;
+  std::vector<LoopClosure> closures = far_wrong_group(l, 0.9);
+  for (std::size_t i = 0; i < l.lap; ++i) {
+    const double u = std::sin(12.9898 * static_cast<double>(i)) * 0.05;  // a few centimetres, fixed
+    closures.push_back(closure(l, l.lap + i, i, {u, -u, u / 10}, 0.3 + 0.5 * std::abs(u) / 0.05));
+  }
+  for (std::size_t i = 50; i < 60; i += 2) closures.push_back(closure(l, l.lap + i, i, {0, 2.0, 0}, 0.6));
+  ClosureConsistencyConfig c;
+  c.max_chain = 10.0;
+  const std::vector<bool> one = consistent_closures(l.maps, closures, c, 1);
+  const long dropped = std::count(one.begin(), one.end(), false);
+  EXPECT_GE(dropped, static_cast<long>(kFarGroup + 5));
+  EXPECT_LT(dropped, static_cast<long>(closures.size()) / 2);
+  for (const int threads : {2, 3, 8}) EXPECT_EQ(consistent_closures(l.maps, closures, c, threads), one) << threads;
+}
+
 TEST(ClosureConsistency, RefusesAbsurdSettingsAndClosuresOutOfRange) {
   const Laps l = laps();
   for (auto field :

@@ -102,7 +102,7 @@ void judge_agreement(const Submaps& maps, std::vector<LoopClosure>& closures, co
     std::vector<LoopClosure> group;
     for (std::size_t k = 0; k < closures.size(); ++k)
       if (closures[k].confidence > 0) positive.push_back(k), group.push_back(closures[k]);
-    const std::vector<bool> kept = consistent_closures(maps, group, c.consistency);
+    const std::vector<bool> kept = consistent_closures(maps, group, c.consistency, c.num_threads);
     for (std::size_t k = 0; k < positive.size(); ++k)
       if (!kept[k]) closures[positive[k]].in_group = false, closures[positive[k]].confidence -= 1.0;
   }
