@@ -23,7 +23,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench slam-stress readme-usage design-layers clean
+.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench slam-stress slam-resolution readme-usage design-layers clean
 
 all: build
 
@@ -69,6 +69,9 @@ slam-bench: build
 
 slam-stress: build
 	bash scripts/slam-stress.sh
+
+slam-resolution: build
+	bash scripts/slam-resolution.sh
 
 # docs/USAGE.md's usage block, rewritten from `partslam CMD --help` (the ctest readme.usage checks they agree).
 readme-usage: build

@@ -12,6 +12,9 @@ Usage: /usr/bin/python3 scripts/log_variants.py IN.clf[.gz] OUT.clf.gz VARIANT
                           the other on a 0.5 m gauge: straight corridors drawn as arcs), the laser's mount kept
            laser-lag      each scan posed by the odometry of 0.1 s before it (a laser whose stamps lag the
                           odometry's: the pose is wrong while the robot turns), interpolated in the log's FLASER poses
+           moved-K        (K = 1..9) the whole run moved rigidly: every pose (laser, odometry, ODOM) turned by
+                          0.61 K rad and shifted by (3.7 K, -2.3 K) m. Nothing a relation measures changes: slam's
+                          answers on these are its resolution (scripts/slam-resolution.sh)
 Only FLASER and ODOM messages are read; a log with other laser messages is refused."""
 import bisect
 import gzip
@@ -20,7 +23,8 @@ import os
 import random
 import sys
 
-VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse", "odometry-curve", "laser-lag")
+VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse", "odometry-curve", "laser-lag") + tuple(
+    f"moved-{k}" for k in range(1, 10))
 NO_RETURN = "81.91"
 TRANSLATION_SCALE, TURN_SCALE = 0.92, 1.10
 CURVE = 0.01  # [rad per metre]
@@ -88,6 +92,13 @@ def main(src, dst, variant):
             os.remove(part)
 
 
+def moved(pose, k):
+    """pose (x, y, theta) after the rigid move of variant moved-k."""
+    a = 0.61 * k
+    c, s = math.cos(a), math.sin(a)
+    return (3.7 * k + c * pose[0] - s * pose[1], -2.3 * k + s * pose[0] + c * pose[1], wrap(a + pose[2]))
+
+
 def pose_at(poses, times, t):
     """The odometry pose at time t, linear between the two FLASER poses around it (the first or last outside);
     times: the poses' timestamps. A lag looks back only, so the poses read so far are enough."""
@@ -108,6 +119,7 @@ def degrade(src, part, variant):
     opener = gzip.open if src.endswith(".gz") else open
     lagged, lagged_times = [], []  # laser-lag: the FLASER poses so far and their timestamps (CARMEN's ipc_timestamp)
     scans = 0
+    move = int(variant.split("-")[1]) if variant.startswith("moved-") else 0
     with opener(src, "rt") as lines, gzip.open(part, "wt") as out:
         for number, line in enumerate(lines, 1):
             f = line.split()
@@ -120,6 +132,8 @@ def degrade(src, part, variant):
                 if f[0] == "ODOM":
                     if variant in ("odometry-scale", "odometry-curve"):
                         f[1:4] = ["%.6f" % v for v in odometry(*(float(v) for v in f[1:4]))]
+                    elif move:
+                        f[1:4] = ["%.6f" % v for v in moved(tuple(float(v) for v in f[1:4]), move)]
                     out.write(" ".join(f) + "\n")
                     continue
                 n = int(f[1])
@@ -137,6 +151,10 @@ def degrade(src, part, variant):
                     ranges = [r if rng.random() < 0.5 else NO_RETURN for r in ranges]
                 elif variant in ("odometry-scale", "odometry-curve"):
                     rest = rescaled_flaser(rest, odometry)
+                elif move:
+                    poses = moved(tuple(float(v) for v in rest[:3]), move) + moved(
+                        tuple(float(v) for v in rest[3:6]), move)
+                    rest = ["%.6f" % v for v in poses] + rest[6:]
                 elif variant == "laser-lag":
                     if len(rest) < 9:
                         raise ValueError(f"{n} ranges announced, no timestamp after the poses")

@@ -39,10 +39,10 @@ def turning_log(steps=11, rate=0.4, dt=0.5):
     return "\n".join(lines) + "\n"
 
 
-def read_flaser(path):
-    """Per FLASER message: (ranges, laser pose, odometry pose)."""
+def read_flaser(path, plain=False):
+    """Per FLASER message: (ranges, laser pose, odometry pose); plain: an uncompressed file."""
     out = []
-    with gzip.open(path, "rt") as f:
+    with (open(path) if plain else gzip.open(path, "rt")) as f:
         for line in f:
             v = line.split()
             if v[0] != "FLASER":
@@ -89,6 +89,32 @@ class LogVariants(unittest.TestCase):
         for i in range(1, len(scans)):
             self.assertAlmostEqual(scans[i][2][2], 0.4 * (i * 0.5 - 0.1), delta=1e-5)
             self.assertAlmostEqual(scans[i][1][2], scans[i][2][2], delta=1e-5)
+
+    def test_moved_keeps_every_relative_pose_and_moves_every_pose(self):
+        p, out = self.run_variant(turning_log().replace("FLASER", "ODOM 0 0 0 0 0 0 0 host 0\nFLASER", 1)
+                                  + straight_log(), "moved-2")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        before = read_flaser(os.path.join(self.dir.name, "in.clf"), plain=True)
+        after = read_flaser(out)
+        self.assertEqual(len(after), len(before))
+
+        def relative(a, b):
+            c, s = math.cos(a[2]), math.sin(a[2])
+            dx, dy = b[0] - a[0], b[1] - a[1]
+            return c * dx + s * dy, -s * dx + c * dy, math.remainder(b[2] - a[2], 2 * math.pi)
+
+        for (r0, l0, o0), (r1, l1, o1) in zip(before, after):
+            self.assertEqual(r0, r1)
+            self.assertNotAlmostEqual(o1[0], o0[0], delta=1.0)  # moved: 7.4 m along x, turned 1.22 rad
+            for got, want in zip(relative(o1, l1), relative(o0, l0)):  # the laser on its mount
+                self.assertAlmostEqual(got, want, delta=2e-6)
+            for got, want in zip(relative(after[0][2], o1), relative(before[0][2], o0)):  # the run's shape
+                self.assertAlmostEqual(got, want, delta=2e-5)
+        with gzip.open(out, "rt") as f:
+            odom = [line.split() for line in f if line.startswith("ODOM")]
+        self.assertAlmostEqual(float(odom[0][1]), 7.4, delta=1e-6)  # the origin, moved by (3.7 K, -2.3 K)
+        self.assertAlmostEqual(float(odom[0][2]), -4.6, delta=1e-6)
+        self.assertAlmostEqual(float(odom[0][3]), 1.22, delta=1e-6)
 
     def test_short_range_drops_far_returns_only(self):
         p, out = self.run_variant(straight_log(), "short-range")
