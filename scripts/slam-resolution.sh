@@ -12,7 +12,9 @@ OUT=${OUT:-docs/results}
 MOVES=${MOVES-1 2 3 4}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
-VARIANTS="as-recorded$(printf ' moved-%s' $MOVES)" OUT="$WORK" bash scripts/slam-stress.sh > /dev/null
+VARIANTS=as-recorded
+for k in $MOVES; do VARIANTS+=" moved-$k"; done
+VARIANTS="$VARIANTS" OUT="$WORK" bash scripts/slam-stress.sh > /dev/null
 mkdir -p "$OUT"
 mv "$WORK/slam_stress.jsonl" "$OUT/slam_resolution.jsonl"
 /usr/bin/python3 scripts/slam_resolution_table.py "$OUT/slam_resolution.jsonl" > "$OUT/slam_resolution.md"
