@@ -23,11 +23,6 @@ double chain_travel(const Submaps& maps, const LoopClosure& a, const LoopClosure
          std::abs(maps[a.query].travel - maps[b.query].travel);
 }
 
-// The stored relative pose of submap v in submap u's frame.
-Pose2 chain(const Submaps& maps, std::size_t u, std::size_t v) {
-  return maps[u].T_world_map.inverse() * maps[v].T_world_map;
-}
-
 }  // namespace
 
 void validate(const ClosureConsistencyConfig& c) {
@@ -47,13 +42,21 @@ void validate(const ClosureConsistencyConfig& c) {
 
 namespace {
 
-// The cycle of a and b through the chain: identity when both are right and the chain does not drift.
-Pose2 cycle_error(const Submaps& maps, const LoopClosure& a, const LoopClosure& b) {
-  return a.T_match_query.inverse() * chain(maps, a.match, b.match) * b.T_match_query * chain(maps, b.query, a.query);
+// The cycle of a and b through the chain of stored frames (a's closure back, the chain from a's match to b's, b's
+// closure, the chain from b's query to a's): identity when both are right and the chain does not drift. Given the
+// inverses it takes: of a's relative pose and of the frames of a's match and b's query.
+Pose2 cycle_error(const Submaps& maps, const LoopClosure& a, const LoopClosure& b, const Pose2& a_inverse,
+                  const Pose2& a_match_inverse, const Pose2& b_query_inverse) {
+  return a_inverse * (a_match_inverse * maps[b.match].T_world_map) * b.T_match_query *
+         (b_query_inverse * maps[a.query].T_world_map);
 }
 
-// cycle_error over many pairs, with the inverses it takes computed once per submap and per closure (the same
-// operations on the same values, so the same result to the last bit).
+Pose2 cycle_error(const Submaps& maps, const LoopClosure& a, const LoopClosure& b) {
+  return cycle_error(maps, a, b, a.T_match_query.inverse(), maps[a.match].T_world_map.inverse(),
+                     maps[b.query].T_world_map.inverse());
+}
+
+// cycle_error over many pairs, with the inverses it takes computed once per submap and per closure.
 class CycleErrors {
  public:
   CycleErrors(const Submaps& maps, const std::vector<LoopClosure>& closures) : maps_(maps) {
@@ -62,8 +65,7 @@ class CycleErrors {
   }
   /// cycle_error(maps, closures[x], closures[y]) for a = closures[x], b = closures[y].
   Pose2 operator()(std::size_t x, const LoopClosure& a, const LoopClosure& b) const {
-    return query_match_[x] * (map_world_[a.match] * maps_[b.match].T_world_map) * b.T_match_query *
-           (map_world_[b.query] * maps_[a.query].T_world_map);
+    return cycle_error(maps_, a, b, query_match_[x], map_world_[a.match], map_world_[b.query]);
   }
 
  private:
@@ -127,6 +129,7 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   const auto query_travel = [&](std::size_t k) { return maps[closures[k].query].travel; };
+  const auto match_travel = [&](std::size_t k) { return maps[closures[k].match].travel; };
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t x, std::size_t y) { return query_travel(x) < query_travel(y); });
   // Each pair of closures still kept whose cycle's chain is longer than `shortest` and at most `longest`
@@ -203,12 +206,12 @@ std::vector<bool> consistent_closures(const Submaps& maps, const std::vector<Loo
   for (const std::size_t k : order)
     if (before_long[k] && !kept[k]) dropped.push_back(k);
   for (std::size_t begin = 0, end = 0; begin < dropped.size(); begin = end) {
-    double lo = maps[closures[dropped[begin]].match].travel, hi = lo;
+    double lo = match_travel(dropped[begin]), hi = lo;
     for (end = begin + 1; end < dropped.size() &&
                           query_travel(dropped[end]) - query_travel(dropped[end - 1]) <= c.long_alias_extent;
          ++end) {
-      lo = std::min(lo, maps[closures[dropped[end]].match].travel);
-      hi = std::max(hi, maps[closures[dropped[end]].match].travel);
+      lo = std::min(lo, match_travel(dropped[end]));
+      hi = std::max(hi, match_travel(dropped[end]));
     }
     if (hi - lo > c.long_alias_extent)
       for (std::size_t i = begin; i < end; ++i) kept[dropped[i]] = true;
