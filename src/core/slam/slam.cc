@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/slam/wall_direction.h"
 #include "core/timing.h"
 
 namespace partslam {
@@ -61,8 +62,40 @@ double degenerate_share(const FrontEndStats& s) {
   return s.scans > 1 ? static_cast<double>(s.degenerate) / static_cast<double>(s.scans - 1) : 0.0;
 }
 
-SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
+namespace {
+
+// Every world-frame pose and position of r turned by T (the closures' relative poses are frame-free).
+void turn_result(SlamResult& r, const Pose2& T) {
+  for (Scan& s : r.scans) s.T_world_laser = T * s.T_world_laser, s.T_world_odom = T * s.T_world_odom;
+  for (Pose2& p : r.front_end_poses) p = T * p;
+  for (Submap& m : r.submaps) m.T_world_map = T * m.T_world_map;
+  for (Pose2& p : r.stored_frames) p = T * p;
+  for (Pose2& p : r.back_end.frames) p = T * p;
+  for (MapCheck* m : {&r.map_check, &r.front_end_map_check}) {
+    for (auto& place : m->places) place.centre = T * place.centre;
+    m->worst_place = T * m->worst_place;
+  }
+}
+
+SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Progress& progress,
+                            const ClosureHook& hook);
+
+}  // namespace
+
+SlamResult run_slam(const Scans& log, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
   validate(config);
+  const Pose2 onto_walls{0, 0, config.align_to_walls ? -wall_direction(log) : 0.0};
+  Scans raw = log;
+  for (Scan& s : raw) s.T_world_laser = onto_walls * s.T_world_laser, s.T_world_odom = onto_walls * s.T_world_odom;
+  SlamResult r = run_slam_aligned(raw, config, progress, hook);
+  turn_result(r, onto_walls.inverse());
+  return r;
+}
+
+namespace {
+
+SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Progress& progress,
+                            const ClosureHook& hook) {
   SlamResult r;
   auto t0 = Clock::now();
   FrontEndResult fe = scan_match_log(raw, config.front_end, progress);
@@ -129,6 +162,8 @@ SlamResult run_slam(const Scans& raw, const SlamConfig& config, const Progress& 
   }
   return r;
 }
+
+}  // namespace
 
 std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
   const BackEndResult& b = r.back_end;

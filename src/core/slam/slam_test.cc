@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -111,6 +112,41 @@ TEST(Slam, AMapWhoseLengthsAreTheOdometrysIsDoubtful) {
   EXPECT_EQ(r.back_end.verdict, "doubtful");
   EXPECT_NE(r.back_end.reason.find("fix no position along a bare corridor"), std::string::npos) << r.back_end.reason;
   EXPECT_EQ(degenerate_share(FrontEndStats{}), 0.0);
+}
+
+// The grids lie along the walls whichever way the odometry's frame lies (SlamConfig::align_to_walls), and the
+// result is turned back: a log whose walls lie at 0.5 rad to its frame is mapped as well, every pose in
+// the log's own frame.
+TEST(Slam, ALogTurnedAsAWholeGivesItsMapInItsOwnFrame) {
+  const Scans truth = simulate(SimulatorConfig{}).scans;
+  const Pose2 turn{3.0, -1.0, 0.5};
+  Scans raw = truth, turned_truth = truth;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    raw[i].T_world_laser = raw[i].T_world_odom = turn * truth[i].T_world_odom;
+    turned_truth[i].T_world_laser = turn * truth[i].T_world_laser;
+  }
+  SlamConfig config;
+  config.loops.num_threads = 2;
+  const SlamResult r = run_slam(raw, config);
+  ASSERT_EQ(r.scans.size(), raw.size());
+  const Relations relations = long_relations(truth);
+  EXPECT_LT(relations_error(r.scans, relations).translation_mean, 0.05);
+  // In the log's frame: the corrected scans where the turned truth has them (the odometry starts on it), and
+  // each submap's correction (its frame after loop closing times its frame before, inverted) taking its anchor
+  // scan from the front end's pose to the corrected one.
+  std::vector<double> off;
+  for (std::size_t i = 0; i < r.scans.size(); ++i)
+    off.push_back((r.scans[i].T_world_laser.translation() - turned_truth[i].T_world_laser.translation()).norm());
+  std::sort(off.begin(), off.end());
+  EXPECT_LT(off[off.size() / 2], 0.1);
+  double worst = 0;
+  for (std::size_t k = 0; k < r.submaps.size(); ++k) {
+    const auto at = static_cast<std::size_t>(r.submaps[k].anchor_scan);
+    const Pose2 got = r.submaps[k].T_world_map * r.stored_frames[k].inverse() * r.front_end_poses[at];
+    worst = std::max({worst, (got.translation() - r.scans[at].T_world_laser.translation()).norm(),
+                      std::abs(wrap_angle(got.theta - r.scans[at].T_world_laser.theta))});
+  }
+  EXPECT_LT(worst, 1e-6);
 }
 
 TEST(Slam, CorrectionsMoveScansWithTheirSubmaps) {

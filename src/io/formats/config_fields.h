@@ -204,6 +204,7 @@ void config_fields(V& v, std::type_identity<SlamConfig>) {
   v.section("back_end", &C::back_end, "");
   v.section("map_check", &C::map_check, "");
   v.field("max_degenerate_share", &C::max_degenerate_share, "");
+  v.field("align_to_walls", &C::align_to_walls, "");
 }
 
 template <class V>
