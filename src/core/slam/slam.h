@@ -31,9 +31,9 @@ struct SlamConfig {
   /// there are the odometry's, which nothing in the laser data checks (a ring of bare corridors with harsh
   /// odometry came out 0.157 m off, "closed"; docs/NOTES.md, "SLAM on real raw logs"). 1 turns it off.
   double max_degenerate_share = 0.4;
-  /// The log is turned onto its walls' direction (wall_direction.h) before anything runs and every pose of the
-  /// result turned back: the grids then lie along the walls whatever the odometry frame's heading (docs/NOTES.md,
-  /// "The bench's resolution").
+  /// The log is turned onto its walls' direction (log_wall_axis, core/maps/manhattan.h) before anything runs,
+  /// and every pose of the result turned back: the grids then lie along the walls whatever the odometry frame's
+  /// heading (docs/NOTES.md, "The bench's resolution").
   bool align_to_walls = true;
 };
 
