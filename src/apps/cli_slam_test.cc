@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -67,7 +68,9 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_GT(j["front_end"]["turn_slope"].get<double>(), 0.8);  // the scans turn with the wheels
   EXPECT_GT(j["front_end"]["turning_steps"].get<int>(), 20);
   EXPECT_FALSE(j["front_end"]["mirrored"].get<bool>());
+  EXPECT_LT(std::abs(j["front_end"]["wall_axis_deg"].get<double>()), 2.0);  // the simulated walls lie along its axes
   EXPECT_THAT(run.output, Not(HasSubstr("read mirrored")));
+  EXPECT_THAT(run.output, HasSubstr(" deg to the log's axes (mapped turned onto them"));
   const CliRun located = run_partslam("locate --map " + quoted(out / "map.yaml") + " --query-log " +
                                       quoted(out / "corrected.log") + " --from 30 --to 32");
   EXPECT_EQ(located.exit_code, 0) << located.output;

@@ -104,6 +104,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"weakest_scan", r.front_end.weakest_scan},
             {"turn_slope", r.front_end.turn_slope()},
             {"mirrored", r.front_end.mirrored},
+            {"wall_axis_deg", r.wall_axis * kDegrees},
             {"seconds", r.front_end_s}}},
           {"closures",
            {{"hypotheses", r.closures.size()},
@@ -201,8 +202,11 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
   const FailedChecks failed = failed_checks(r.closures);
   std::cout << std::fixed << std::setprecision(1) << source.name << ": " << fe.scans << " scans, front end "
             << r.front_end_s << " s (" << std::setprecision(0) << fe.log_seconds / std::max(r.front_end_s, 1e-9)
-            << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n"
-            << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
+            << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n";
+  if (o.config.align_to_walls)
+    std::cout << "walls at " << std::setprecision(1) << r.wall_axis * kDegrees
+              << " deg to the log's axes (mapped turned onto them, written in the log's frame)\n";
+  std::cout << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
             << " loop-closure hypotheses (" << failed.outside_group << " outside the consistent group, "
             << failed.at_odds_with_graph
             << " at odds with its pose graph), " << r.accepted

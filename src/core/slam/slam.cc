@@ -84,11 +84,13 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
 
 SlamResult run_slam(const Scans& log, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
   validate(config);
-  const Pose2 onto_walls{0, 0, config.align_to_walls ? -log_wall_axis(log) : 0.0};
+  const double wall_axis = config.align_to_walls ? log_wall_axis(log) : 0.0;
+  const Pose2 onto_walls{0, 0, -wall_axis};
   Scans raw = log;
   for (Scan& s : raw) s.T_world_laser = onto_walls * s.T_world_laser, s.T_world_odom = onto_walls * s.T_world_odom;
   SlamResult r = run_slam_aligned(raw, config, progress, hook);
   turn_result(r, onto_walls.inverse());
+  r.wall_axis = wall_axis;
   return r;
 }
 

@@ -52,6 +52,9 @@ struct SlamResult {
   BackEndResult back_end;             ///< which closures were used, the graph's summary, the verdict
   MapCheck map_check;                 ///< of the corrected scans (map_check.h)
   MapCheck front_end_map_check;       ///< of the front end's scans, for comparison
+  /// The walls' direction in the log's frame, by which the log was turned before mapping (log_wall_axis) [rad];
+  /// 0 with SlamConfig::align_to_walls off.
+  double wall_axis = 0;
   double front_end_s = 0, loops_s = 0, refine_s = 0, graph_s = 0, check_s = 0;
 };
 

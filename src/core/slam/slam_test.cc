@@ -129,6 +129,7 @@ TEST(Slam, ALogTurnedAsAWholeGivesItsMapInItsOwnFrame) {
   config.loops.num_threads = 2;
   const SlamResult r = run_slam(raw, config);
   ASSERT_EQ(r.scans.size(), raw.size());
+  EXPECT_NEAR(r.wall_axis, 0.5, 0.02);  // the simulated building's walls lie along its axes
   const Relations relations = long_relations(truth);
   EXPECT_LT(relations_error(r.scans, relations).translation_mean, 0.05);
   // In the log's frame: the corrected scans where the turned truth has them (the odometry starts on it), and
