@@ -121,6 +121,11 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"chain_bends", b.chain_bends},
             {"max_chain_bend_m", b.max_chain_translation},
             {"max_chain_bend_deg", b.max_chain_rotation * kDegrees}}},
+          {"neighbours",
+           {{"rounds", o.config.neighbours.rounds},
+            {"refined", r.neighbours.refined},
+            {"too_far", r.neighbours.too_far},
+            {"mean_move_m", r.neighbours.mean_move}}},
           {"map_check", map_check_json(r.map_check, o.config.map_check)},
           {"front_end_map_check", map_check_json(r.front_end_map_check, o.config.map_check)},
           {"verdict", b.verdict},
@@ -133,6 +138,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"loops", r.loops_s},
             {"refine", r.refine_s},
             {"graph", r.graph_s},
+            {"neighbours", r.neighbours_s},
             {"check", r.check_s}}}};
 }
 
@@ -217,6 +223,10 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << "pose graph: " << b.used_count << " closures used, " << b.rejected
             << " set aside (they disagree with the solution), cost " << std::setprecision(3) << b.graph.initial_cost
             << " -> " << b.graph.final_cost << " in " << b.rounds << " solves, " << std::setprecision(1) << r.graph_s
+            << " s\nneighbours: " << r.neighbours.refined << " refinements of a scan on the scans around it ("
+            << o.config.neighbours.rounds << " rounds, mean move " << std::setprecision(1)
+            << 1e3 * r.neighbours.mean_move << " mm, " << r.neighbours.too_far << " over "
+            << o.config.neighbours.max_move << " m not taken), " << r.neighbours_s
             << " s\nmap check: " << r.map_check.crossing_beams << " of " << r.map_check.revisiting_beams
             << " beams that revisit a place cross a wall another visit saw ("
             << (r.map_check.judged ? "" : "too few to judge, ") << std::setprecision(1)
@@ -371,7 +381,7 @@ void register_slam(CLI::App& app) {
     }
     if (given(*cmd, "--threads"))
       o->config.loops.num_threads = o->config.front_end.matcher.num_threads = o->config.refinement.num_threads =
-          o->threads;
+          o->config.neighbours.num_threads = o->threads;
     run_slam_command(*o);
   });
 }

@@ -14,7 +14,6 @@
 #include "core/timing.h"
 
 namespace partslam {
-namespace {
 
 Points2 matching_points(const Scan& scan, const FrontEndConfig& c) {
   Points2 near;
@@ -23,6 +22,8 @@ Points2 matching_points(const Scan& scan, const FrontEndConfig& c) {
     if (p.squaredNorm() <= c.max_range * c.max_range) near.push_back(p);
   return voxel_downsample(near, c.point_resolution);
 }
+
+namespace {
 
 // How the scan's surfaces fix a translation: sum n n^T over the normals of consecutive beam endpoints (each within
 // 0.5 m of its neighbours, within max_range). unconstrained_direction(it, ratio) is the direction (unit, laser

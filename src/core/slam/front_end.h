@@ -81,6 +81,10 @@ struct FrontEndResult {
 /// empty when the scans were not mirrored.
 std::string mirrored_description(const FrontEndStats& stats);
 
+/// The points of a scan the front end matches: its beam endpoints within max_range, one per point_resolution cell
+/// (in the laser's frame).
+Points2 matching_points(const Scan& scan, const FrontEndConfig& config);
+
 /// Runs the front end over a log's scans (serial: each scan depends on the previous ones).
 FrontEndResult scan_match_log(const Scans& raw, const FrontEndConfig& config = {},
                               const Progress& progress = {});

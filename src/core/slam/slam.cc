@@ -53,6 +53,7 @@ void validate(const SlamConfig& c) {
   validate_nested("slam config", "refinement", [&] { validate(c.refinement); });
   validate_nested("slam config", "back_end", [&] { validate(c.back_end); });
   validate_nested("slam config", "map_check", [&] { validate(c.map_check); });
+  validate_nested("slam config", "neighbours", [&] { validate(c.neighbours); });
   if (!(c.max_degenerate_share >= 0 && c.max_degenerate_share <= 1))
     throw InputError("slam config: max_degenerate_share must be in [0, 1], got " +
                      std::to_string(c.max_degenerate_share));
@@ -128,6 +129,9 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
   for (std::size_t k = 0; k < maps.size(); ++k) r.submaps[k].T_world_map = optimised[k];
   r.scans = corrected_scans(fe.scans, maps, r.submaps);
   r.graph_s = ms_since(t0) / 1e3;
+  t0 = Clock::now();
+  r.scans = refine_on_neighbours(r.scans, config.neighbours, config.front_end, &r.neighbours);
+  r.neighbours_s = ms_since(t0) / 1e3;
   t0 = Clock::now();
   r.map_check = check_map(r.scans, config.map_check);
   r.front_end_map_check = check_map(fe.scans, config.map_check);

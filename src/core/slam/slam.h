@@ -11,6 +11,7 @@
 #include "core/maps/submap.h"
 #include "core/slam/back_end.h"
 #include "core/slam/closure_refinement.h"
+#include "core/slam/neighbour_refinement.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
 #include "core/slam/map_check.h"
@@ -31,6 +32,8 @@ struct SlamConfig {
   /// there are the odometry's, which nothing in the laser data checks (a ring of bare corridors with harsh
   /// odometry came out 0.157 m off, "closed"; docs/NOTES.md, "SLAM on real raw logs"). 1 turns it off.
   double max_degenerate_share = 0.4;
+  /// The corrected scans refined once more against their neighbours in time (neighbour_refinement.h).
+  NeighbourRefinementConfig neighbours;
   /// The log is turned onto its walls' direction (log_wall_axis, core/maps/manhattan.h) before anything runs,
   /// and every pose of the result turned back: the grids then lie along the walls whatever the odometry frame's
   /// heading (docs/NOTES.md, "The bench's resolution").
@@ -55,7 +58,8 @@ struct SlamResult {
   /// The walls' direction in the log's frame, by which the log was turned before mapping (log_wall_axis) [rad];
   /// 0 with SlamConfig::align_to_walls off.
   double wall_axis = 0;
-  double front_end_s = 0, loops_s = 0, refine_s = 0, graph_s = 0, check_s = 0;
+  NeighbourRefinementStats neighbours;  ///< what the last stage moved (neighbour_refinement.h)
+  double front_end_s = 0, loops_s = 0, refine_s = 0, graph_s = 0, neighbours_s = 0, check_s = 0;
 };
 
 /// Called on the accepted closures before they join the graph (a bench injects wrong ones here).

@@ -194,6 +194,17 @@ void config_fields(V& v, std::type_identity<ClosureRefinementConfig>) {
 }
 
 template <class V>
+void config_fields(V& v, std::type_identity<NeighbourRefinementConfig>) {
+  using C = NeighbourRefinementConfig;
+  v.field("rounds", &C::rounds, "");
+  v.field("window", &C::window, "");
+  v.field("block", &C::block, "");
+  v.field("sigma", &C::sigma, "");
+  v.field("max_move", &C::max_move, "");
+  v.field("num_threads", &C::num_threads, "");
+}
+
+template <class V>
 void config_fields(V& v, std::type_identity<SlamConfig>) {
   using C = SlamConfig;
   v.section("front_end", &C::front_end, "");
@@ -204,6 +215,7 @@ void config_fields(V& v, std::type_identity<SlamConfig>) {
   v.section("back_end", &C::back_end, "");
   v.section("map_check", &C::map_check, "");
   v.field("max_degenerate_share", &C::max_degenerate_share, "");
+  v.section("neighbours", &C::neighbours, "");
   v.field("align_to_walls", &C::align_to_walls, "");
 }
 
