@@ -46,7 +46,7 @@ def table(folder):
     rows = ["| raw log | relation error, translation [m] | rotation [deg] | Cartographer (Hess et al. 2016) | "
             "Graph Mapping (Kümmerle et al. 2009, as quoted by Hess et al.) | odometry, translation [m] | "
             "places closed by `loops` at 100 % precision | verdict | "
-            "slam's stages (front end, loops, refinement, graph, check) [s] |",
+            "slam's stages (front end, loops, refinement, graph, neighbours, check) [s] |",
             "|---|---|---|---|---|---|---|---|---|"]
     for log in LOGS:
         slam = Json(folder / f"slam_{log}.json")

@@ -1,8 +1,10 @@
-// The whole chain for a raw log: front end (front_end.h) -> submaps on the scan-matched trajectory -> loop
-// closures among them (loop_closure.h), the confident ones refined on the scans (closure_refinement.h) -> a pose
-// graph over the submap frames (consecutive submaps joined by the front end's relative poses, accepted closures
-// with a robust loss, those that disagree with the solution set aside, and a verdict: back_end.h) -> every scan's
-// pose corrected by its submaps' corrections, interpolated along the travel between the two anchors around it.
+// The whole chain for a raw log, turned onto its walls' direction first (log_wall_axis, core/maps/manhattan.h) and
+// its result back: front end (front_end.h) -> submaps on the scan-matched trajectory -> loop closures among them
+// (loop_closure.h), the confident ones refined on the scans (closure_refinement.h) -> a pose graph over the submap
+// frames (consecutive submaps joined by the front end's relative poses, accepted closures with a robust loss, those
+// that disagree with the solution set aside, and a verdict: back_end.h) -> every scan's pose corrected by its
+// submaps' corrections, interpolated along the travel between the two anchors around it -> every scan refined on
+// its neighbours in time (neighbour_refinement.h) -> the map checked against itself (map_check.h).
 #pragma once
 
 #include <functional>
