@@ -2,7 +2,7 @@
 // matched once more against the scans around it in time, on both sides. The front end matched each scan against
 // the scans before it only (it runs as the log is read); the finished trajectory has the scans after it too, and
 // a scan held between both sides jitters less: on the four raw logs with relations (mit-csail, fr079, intel, aces)
-// the relation error fell by 1.3-4.9 mm, on every one of them and for every setting tried near the default.
+// the relation error fell by 1.3-4.8 mm, on every one of them and for every setting tried near the default.
 //
 // The log is cut into blocks of `block` consecutive scans; a block's scans are refined (Gauss-Newton on a
 // likelihood field, no search: core/matching/scan_matcher.h) against a field of the points of the `window` scans
