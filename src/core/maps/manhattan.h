@@ -46,8 +46,8 @@ struct WallDirectionConfig {
 std::vector<double> wall_directions(const Points2& points, const WallDirectionConfig& config = {});
 
 /// The direction of a log's walls in its world frame, modulo a quarter turn, in (-pi/4, pi/4]: the circular mean
-/// of four times the world angles of the surface normals the first `first` scans see (each normal from three
-/// consecutive beam endpoints within 0.5 m of each other, turned by the scan's logged heading), divided by four;
+/// of four times the world angles of the surface normals the first `first` scans see (for_each_surface_tangent,
+/// core/maps/scan.h, turned by the scan's logged heading), divided by four;
 /// 0 when no surface is seen or the angles cancel. Unlike manhattan_angle it reads a raw log before any map
 /// exists: each normal comes from one scan, so the odometry's drift between scans moves it only by the heading's
 /// error. slam turns a log by minus this before mapping it (SlamConfig::align_to_walls): its grids, laid along

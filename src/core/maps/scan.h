@@ -31,6 +31,22 @@ inline Points2 points_world(const Scan& scan, double max_range) {
   return out;
 }
 
+/// Where a scan shows a surface: for every endpoint i whose neighbours i - 1 and i + 1 both lie within 0.5 m of it
+/// (one surface, not a jump from one object to another) and that lies within `max_range` of the laser, calls
+/// fn(tangent) with the chord p[i + 1] - p[i - 1] (laser frame, not normalised, never shorter than 1e-6 m); the
+/// surface's normal is the chord turned by +90 degrees. The front end's degeneracy test (the normals' scatter) and
+/// log_wall_axis (the walls' direction, core/maps/manhattan.h) read the same surfaces through it.
+template <class Fn>
+void for_each_surface_tangent(const Points2& p, double max_range, Fn&& fn) {
+  const double r2 = max_range * max_range;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    if (p[i].squaredNorm() > r2 || (p[i + 1] - p[i]).norm() > 0.5 || (p[i] - p[i - 1]).norm() > 0.5) continue;
+    const Vec2 d = p[i + 1] - p[i - 1];
+    if (d.norm() < 1e-6) continue;
+    fn(d);
+  }
+}
+
 /// Plausibility limit of a pose coordinate [m]: readers refuse poses farther than this from the log's origin
 /// (a building, or a campus, is far smaller), naming the file, line and field (docs/NOTES.md, "Limits").
 inline constexpr double kMaxCoordinate = 1e5;

@@ -30,15 +30,10 @@ namespace {
 // frame) they do not fix, if any: a bare corridor's walls all have normals across it, so its axis.
 Eigen::Matrix2d normal_scatter(const Scan& scan, const FrontEndConfig& c) {
   Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
-  const Points2& p = scan.points_laser;
-  const double r2 = c.max_range * c.max_range;
-  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-    if (p[i].squaredNorm() > r2 || (p[i + 1] - p[i]).norm() > 0.5 || (p[i] - p[i - 1]).norm() > 0.5) continue;
-    const Vec2 d = p[i + 1] - p[i - 1];
-    if (d.norm() < 1e-6) continue;
+  for_each_surface_tangent(scan.points_laser, c.max_range, [&](const Vec2& d) {
     const Vec2 n(-d.y() / d.norm(), d.x() / d.norm());
     A += n * n.transpose();
-  }
+  });
   return A;
 }
 

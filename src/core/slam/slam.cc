@@ -85,7 +85,8 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
 
 SlamResult run_slam(const Scans& log, const SlamConfig& config, const Progress& progress, const ClosureHook& hook) {
   validate(config);
-  const double wall_axis = config.align_to_walls ? log_wall_axis(log) : 0.0;
+  if (!config.align_to_walls) return run_slam_aligned(log, config, progress, hook);  // no copy; wall_axis 0
+  const double wall_axis = log_wall_axis(log);
   const Pose2 onto_walls{0, 0, -wall_axis};
   Scans raw = log;
   for (Scan& s : raw) s.T_world_laser = onto_walls * s.T_world_laser, s.T_world_odom = onto_walls * s.T_world_odom;
