@@ -13,13 +13,18 @@
 //       round a large open hall), "long-range" (an 80 m x 60 m building seen by a 60 m laser).
 //   slam_bench raw RAW_LOG TWIN_LOG [RELATIONS] [INJECT]
 //       a raw log; its scans associated by content with the corrected TWIN_LOG (a subset may do) give the truth of
-//       the closures, and the relations (from the file when given, else built from the twin). TWIN_LOG "-": no
-//       twin (the relations file is then needed; closures and front-end steps are not judged).
+//       the closures, and the relations (from the file when given, else built from the twin; with both, the
+//       twin's own poses and slam's result judged by relations built from the twin are printed too:
+//       "twin_reference", "slam_against_twin"). TWIN_LOG "-": no twin (the relations file is then needed;
+//       closures and front-end steps are not judged).
 // Ablations (docs/NOTES.md "SLAM bench") override front-end settings from the environment: FE_MAX_RANGE,
 // FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_HALF_RATIO and FE_HALF_SLACK
 // (half_constrained_ratio, _slack), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY (key_translation),
-// LOOPS_CONSISTENCY_MAX_CHAIN, _LONG_CHAIN, _LONG_FACTOR (loops.consistency.max_chain, ...); SLAM_BENCH_CLOSURES=1
-// adds every judged closure's gap and disagreement with the front end.
+// LOOPS_CONSISTENCY_MAX_CHAIN, _LONG_CHAIN, _LONG_FACTOR (loops.consistency.max_chain, ...), NEIGHBOUR_ROUNDS
+// (neighbours.rounds: 0 turns the neighbour refinement off); SLAM_BENCH_CLOSURES=1
+// adds every judged closure's gap and disagreement with the front end; SLAM_BENCH_PLACES=1 adds the map checks'
+// places (x, y, revisiting and crossing beams of each place with at least 100 revisiting beams: two thirds of a
+// line's size, so the committed bench leaves them out).
 // INJECT: wrong closures added to the accepted ones, as a fraction of their count (0.5 = 50 % extra), each
 // between two submaps whose true frames are more than 5 m apart, with a pose within 1 m / 0.3 rad of identity.
 // A trailing "f" (0.1f) forces them in: the back end sets no closure aside and its loss is quadratic (no Cauchy),
@@ -82,6 +87,7 @@ struct Bench {
   Scans truth;   // the true poses of the raw scans it has (same timestamps; a subset for raw logs)
   Relations relations;
   bool retimed = false;
+  bool twin_and_relations = false;  // a raw log with both a corrected twin and a relations file
 };
 
 Bench twin_bench(const std::string& log, const std::string& level, std::uint64_t seed) {
@@ -144,6 +150,7 @@ Bench raw_bench(const std::string& log, const std::string& twin_log, const std::
   }
   if (b.truth.empty()) throw InputError(twin_log + ": no scan of " + log + " found in it");
   b.relations = relations.empty() ? bench_relations(b.truth) : io::read_relations(relations);
+  b.twin_and_relations = !relations.empty();
   return b;
 }
 
@@ -217,6 +224,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_LONG_CHAIN")) config.loops.consistency.long_chain = std::atof(v);
     if (const char* v = std::getenv("LOOPS_CONSISTENCY_LONG_FACTOR"))
       config.loops.consistency.long_factor = std::atof(v);
+    if (const char* v = std::getenv("NEIGHBOUR_ROUNDS")) config.neighbours.rounds = std::atoi(v);
     if (forced) {  // every closure kept, with a quadratic loss: the injected ones bend the map
       config.back_end.max_translation_residual = config.back_end.max_rotation_residual = 1e6;
       config.back_end.graph.robust_scale = 1e6;
@@ -315,6 +323,13 @@ int main(int argc, char** argv) {
     out["submaps"] = r.submaps.size();
     out["slam"] = io::relations_error_json(relations_error(r.scans, b.relations));
     out["odometry"] = io::relations_error_json(relations_error(odometry, b.relations));
+    if (b.twin_and_relations) {
+      // How good a twin's truth is: the corrected twin's own poses judged by the relations file, and slam's result
+      // judged by relations built from the twin, as a drifted twin's run is (docs/NOTES.md, "How good a twin's
+      // truth is").
+      out["twin_reference"] = io::relations_error_json(relations_error(b.truth, b.relations));
+      out["slam_against_twin"] = io::relations_error_json(relations_error(r.scans, bench_relations(b.truth)));
+    }
     {  // slam's error on relations within one visit (scans at most 10 s apart) and between visits (the rest)
       Relations within, between;
       for (const Relation& rel : b.relations) (std::abs(rel.t2 - rel.t1) <= 10.0 ? within : between).push_back(rel);
@@ -348,17 +363,19 @@ int main(int argc, char** argv) {
     out["graph"] = {{"rounds", r.back_end.rounds}, {"chain_bends", r.back_end.chain_bends},
                     {"max_chain_bend_m", r.back_end.max_chain_translation},
                     {"max_chain_bend_deg", r.back_end.max_chain_rotation * kRadToDeg}};
-    const auto check_json = [](const MapCheck& m) {
-      return nlohmann::json{{"scans", m.scans}, {"beams", m.beams}, {"revisiting", m.revisiting_beams},
-                            {"crossing", m.crossing_beams}, {"share", m.crossing_share}, {"judged", m.judged},
-                            {"passed", m.passed}, {"worst", {m.worst_place.x(), m.worst_place.y()}},
-                            {"worst_crossings", m.worst_place_crossings}, {"worst_share", m.worst_place_share},
-                            {"places", [&] {
-                               nlohmann::json p = nlohmann::json::array();
-                               for (const MapCheck::Place& q : m.places)
-                                 if (q.revisiting >= 100) p.push_back({q.centre.x(), q.centre.y(), q.revisiting, q.crossing});
-                               return p;
-                             }()}};
+    const bool with_places = std::getenv("SLAM_BENCH_PLACES") != nullptr;
+    const auto check_json = [with_places](const MapCheck& m) {
+      nlohmann::json j{{"scans", m.scans}, {"beams", m.beams}, {"revisiting", m.revisiting_beams},
+                       {"crossing", m.crossing_beams}, {"share", m.crossing_share}, {"judged", m.judged},
+                       {"passed", m.passed}, {"worst", {m.worst_place.x(), m.worst_place.y()}},
+                       {"worst_crossings", m.worst_place_crossings}, {"worst_share", m.worst_place_share}};
+      if (with_places) {
+        nlohmann::json p = nlohmann::json::array();
+        for (const MapCheck::Place& q : m.places)
+          if (q.revisiting >= 100) p.push_back({q.centre.x(), q.centre.y(), q.revisiting, q.crossing});
+        j["places"] = p;
+      }
+      return j;
     };
     out["map_check"] = check_json(r.map_check);
     out["front_end_map_check"] = check_json(r.front_end_map_check);
