@@ -21,7 +21,8 @@
 // FE_SIGMA, FE_FINE (fine_sigma), FE_DEGENERATE (degenerate_ratio), FE_HALF_RATIO and FE_HALF_SLACK
 // (half_constrained_ratio, _slack), FE_LINEAR, FE_ANGULAR, FE_MIN_SCORE, FE_KEY (key_translation),
 // LOOPS_CONSISTENCY_MAX_CHAIN, _LONG_CHAIN, _LONG_FACTOR (loops.consistency.max_chain, ...), NEIGHBOUR_ROUNDS
-// (neighbours.rounds: 0 turns the neighbour refinement off); SLAM_BENCH_CLOSURES=1
+// (neighbours.rounds: 0 turns the neighbour refinement off), SIM_REFERENCE_JITTER=M,DEG (sim: the odometry drifted
+// from a jittered reference, as a twin's; see sim_bench); SLAM_BENCH_CLOSURES=1
 // adds every judged closure's gap and disagreement with the front end; SLAM_BENCH_PLACES=1 adds the map checks'
 // places (x, y, revisiting and crossing beams of each place with at least 100 revisiting beams: two thirds of a
 // line's size, so the committed bench leaves them out).
@@ -88,6 +89,7 @@ struct Bench {
   Relations relations;
   bool retimed = false;
   bool twin_and_relations = false;  // a raw log with both a corrected twin and a relations file
+  Scans reference;  // sim with SIM_REFERENCE_JITTER: the truth jittered, what the odometry is drifted from
 };
 
 Bench twin_bench(const std::string& log, const std::string& level, std::uint64_t seed) {
@@ -125,6 +127,22 @@ Bench sim_bench(const std::string& scenario, const std::string& level, std::uint
   b.truth = simulate(c).scans;
   for (Scan& s : b.truth) s.T_world_odom = s.T_world_laser;
   b.raw = drifted_twin(b.truth, odometry_noise(level), seed);
+  if (const char* v = std::getenv("SIM_REFERENCE_JITTER")) {
+    // A drifted twin's truth is another mapper's poses, not the scans' true ones. "M,DEG": a reference made of the
+    // true poses jittered by N(0, M) per axis and N(0, DEG) in heading, scan by scan; the odometry is drifted from
+    // it, as a twin's is from its corrected log, while the scans stay where they were taken. slam is judged by
+    // the truth as always and also by the reference ("slam_against_reference"), as a twin is.
+    double metres = 0, degrees = 0;
+    if (std::sscanf(v, "%lf,%lf", &metres, &degrees) != 2 || !(metres >= 0) || !(degrees >= 0))
+      throw InputError(std::string("SIM_REFERENCE_JITTER '") + v + "': expected METRES,DEGREES, both >= 0");
+    Rng rng(seed, 99);
+    b.reference = b.truth;
+    for (Scan& s : b.reference) {
+      s.T_world_laser = s.T_world_laser * Pose2{metres * rng.normal(), metres * rng.normal(), degrees * kDegree * rng.normal()};
+      s.T_world_odom = s.T_world_laser;
+    }
+    b.raw = drifted_twin(b.reference, odometry_noise(level), seed);
+  }
   b.relations = bench_relations(b.truth);
   b.name = "sim:" + scenario;
   return b;
@@ -329,6 +347,10 @@ int main(int argc, char** argv) {
       // truth is").
       out["twin_reference"] = io::relations_error_json(relations_error(b.truth, b.relations));
       out["slam_against_twin"] = io::relations_error_json(relations_error(r.scans, bench_relations(b.truth)));
+    }
+    if (!b.reference.empty()) {
+      out["reference"] = io::relations_error_json(relations_error(b.reference, b.relations));
+      out["slam_against_reference"] = io::relations_error_json(relations_error(r.scans, bench_relations(b.reference)));
     }
     {  // slam's error on relations within one visit (scans at most 10 s apart) and between visits (the rest)
       Relations within, between;
