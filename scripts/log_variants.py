@@ -10,6 +10,8 @@ Usage: /usr/bin/python3 scripts/log_variants.py IN.clf[.gz] OUT.clf.gz VARIANT
                           open space)
            odometry-curve the wheel odometry turns 0.01 rad more per metre travelled (one wheel 0.5 % larger than
                           the other on a 0.5 m gauge: straight corridors drawn as arcs), the laser's mount kept
+           range-noise    N(0, 0.03 m) added to every return nearer than 40 m, with a fixed seed (a cheaper laser
+                          than these logs' SICKs, e.g. a Hokuyo URG's +-3 cm; no-return codes left as they are)
            laser-lag      each scan posed by the odometry of 0.1 s before it (a laser whose stamps lag the
                           odometry's: the pose is wrong while the robot turns), interpolated in the log's FLASER poses
            moved-K        (K = 1..9) the whole run moved rigidly: every pose (laser, odometry, ODOM) turned by
@@ -23,13 +25,15 @@ import os
 import random
 import sys
 
-VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse", "odometry-curve", "laser-lag") + tuple(
+VARIANTS = ("half-beams", "half-rate", "odometry-scale", "short-range", "sparse", "odometry-curve", "laser-lag",
+            "range-noise") + tuple(
     f"moved-{k}" for k in range(1, 10))
 NO_RETURN = "81.91"
 TRANSLATION_SCALE, TURN_SCALE = 0.92, 1.10
 CURVE = 0.01  # [rad per metre]
 SHORT_RANGE = 8.0
 LAG = 0.1  # [s]
+RANGE_NOISE, NOISY_BELOW = 0.03, 40.0  # [m]
 
 
 def wrap(a):
@@ -149,6 +153,9 @@ def degrade(src, part, variant):
                     ranges = [r if float(r) < SHORT_RANGE else NO_RETURN for r in ranges]
                 elif variant == "sparse":
                     ranges = [r if rng.random() < 0.5 else NO_RETURN for r in ranges]
+                elif variant == "range-noise":
+                    ranges = ["%.3f" % max(0.0, float(r) + rng.gauss(0.0, RANGE_NOISE)) if 0 < float(r) < NOISY_BELOW
+                              else r for r in ranges]
                 elif variant in ("odometry-scale", "odometry-curve"):
                     rest = rescaled_flaser(rest, odometry)
                 elif move:

@@ -121,6 +121,20 @@ class LogVariants(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertEqual(read_flaser(out)[3][0], [2.0, 5.0, 81.91, 81.91])
 
+    def test_range_noise_moves_near_returns_by_centimetres_and_keeps_no_return_codes(self):
+        p, out = self.run_variant(straight_log(steps=200), "range-noise")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        scans = read_flaser(out)
+        self.assertEqual(len(scans), 200)
+        errors = [r - true for ranges, _, _ in scans for r, true in zip(ranges[:3], (2.0, 5.0, 9.0))]
+        mean = sum(errors) / len(errors)
+        std = math.sqrt(sum((e - mean) ** 2 for e in errors) / len(errors))
+        self.assertLess(abs(mean), 0.005)
+        self.assertAlmostEqual(std, 0.03, delta=0.004)
+        self.assertTrue(all(ranges[3] == 81.91 for ranges, _, _ in scans))  # the no-return code untouched
+        recorded = read_flaser(os.path.join(self.dir.name, "in.clf"), plain=True)
+        self.assertEqual([s[1:] for s in scans], [s[1:] for s in recorded])  # the poses as recorded
+
     def test_a_malformed_message_is_named_and_leaves_no_output(self):
         text = straight_log().replace("FLASER 4 2.00 5.00 9.00 81.91 0.600000", "FLASER 4 2.00 5.00", 1)
         self.assertNotEqual(text, straight_log())

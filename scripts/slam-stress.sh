@@ -2,7 +2,8 @@
 # The SLAM stress bench (make slam-stress; docs/NOTES.md "Real logs degraded"): `slam` with its defaults on the raw
 # logs that have a relations file (mit-csail, fr079, intel, aces), each as recorded and degraded as another robot's
 # sensors would be (scripts/log_variants.py: every second beam, every second scan, miscalibrated wheel odometry, an
-# 8 m laser, half of the returns lost, odometry that turns as it drives straight, scans posed 0.1 s late), judged by
+# 8 m laser, half of the returns lost, odometry that turns as it drives straight, scans posed 0.1 s late, 3 cm of
+# range noise), judged by
 # the log's relations. Real scans and real odometry errors, unlike
 # the drifted twins: where a variant breaks the map, the verdict must say so.
 # Writes docs/results/slam_stress.jsonl (one build/slam_bench line per run) and docs/results/slam_stress.md.
@@ -12,7 +13,7 @@ cd "$(dirname "$0")/.."
 DATA=../shared/data
 OUT=${OUT:-docs/results}
 RAW=${RAW-mit-csail fr079 intel aces}
-VARIANTS=${VARIANTS-as-recorded half-beams half-rate odometry-scale short-range sparse odometry-curve laser-lag}
+VARIANTS=${VARIANTS-as-recorded half-beams half-rate odometry-scale short-range sparse odometry-curve laser-lag range-noise}
 BIN=${BIN:-build/slam_bench}
 [ -d "$DATA" ] || { echo "slam-stress: $DATA not found (the real data sets are needed)" >&2; exit 1; }
 [ -x "$BIN" ] || { echo "slam-stress: $BIN not built (make build)" >&2; exit 1; }

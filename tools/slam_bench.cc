@@ -138,7 +138,8 @@ Bench sim_bench(const std::string& scenario, const std::string& level, std::uint
     Rng rng(seed, 99);
     b.reference = b.truth;
     for (Scan& s : b.reference) {
-      s.T_world_laser = s.T_world_laser * Pose2{metres * rng.normal(), metres * rng.normal(), degrees * kDegree * rng.normal()};
+      const Pose2 jitter{metres * rng.normal(), metres * rng.normal(), degrees * kDegree * rng.normal()};
+      s.T_world_laser = s.T_world_laser * jitter;
       s.T_world_odom = s.T_world_laser;
     }
     b.raw = drifted_twin(b.reference, odometry_noise(level), seed);
@@ -350,7 +351,8 @@ int main(int argc, char** argv) {
     }
     if (!b.reference.empty()) {
       out["reference"] = io::relations_error_json(relations_error(b.reference, b.relations));
-      out["slam_against_reference"] = io::relations_error_json(relations_error(r.scans, bench_relations(b.reference)));
+      out["slam_against_reference"] =
+          io::relations_error_json(relations_error(r.scans, bench_relations(b.reference)));
     }
     {  // slam's error on relations within one visit (scans at most 10 s apart) and between visits (the rest)
       Relations within, between;
