@@ -126,7 +126,6 @@ Bench sim_bench(const std::string& scenario, const std::string& level, std::uint
   Bench b;
   b.truth = simulate(c).scans;
   for (Scan& s : b.truth) s.T_world_odom = s.T_world_laser;
-  b.raw = drifted_twin(b.truth, odometry_noise(level), seed);
   if (const char* v = std::getenv("SIM_REFERENCE_JITTER")) {
     // A drifted twin's truth is another mapper's poses, not the scans' true ones. "M,DEG": a reference made of the
     // true poses jittered by N(0, M) per axis and N(0, DEG) in heading, scan by scan; the odometry is drifted from
@@ -142,8 +141,8 @@ Bench sim_bench(const std::string& scenario, const std::string& level, std::uint
       s.T_world_laser = s.T_world_laser * jitter;
       s.T_world_odom = s.T_world_laser;
     }
-    b.raw = drifted_twin(b.reference, odometry_noise(level), seed);
   }
+  b.raw = drifted_twin(b.reference.empty() ? b.truth : b.reference, odometry_noise(level), seed);
   b.relations = bench_relations(b.truth);
   b.name = "sim:" + scenario;
   return b;
