@@ -42,7 +42,8 @@ Scans refine_on_neighbours(const Scans& scans, const NeighbourRefinementConfig& 
   NeighbourRefinementStats total;
   double moved_sum = 0;
   for (int round = 0; round < c.rounds; ++round) {
-    const Scans before = out;
+    std::vector<Pose2> before(n);  // the poses this round began with: every block reads these
+    for (std::size_t i = 0; i < n; ++i) before[i] = out[i].T_world_laser;
     std::fill(taken.begin(), taken.end(), 0), std::fill(too_far.begin(), too_far.end(), 0);
     parallel_for(blocks, c.num_threads, [&](std::size_t b) {
       const std::size_t first = b * block, end = std::min(n, first + block);
@@ -51,7 +52,7 @@ Scans refine_on_neighbours(const Scans& scans, const NeighbourRefinementConfig& 
       Vec2 lo = Vec2::Constant(std::numeric_limits<double>::max()), hi = -lo;
       for (std::size_t i = first; i < end; ++i)
         for (const Vec2& p : points[i]) {
-          const Vec2 q = before[i].T_world_laser * p;
+          const Vec2 q = before[i] * p;
           lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
         }
       const Vec2 margin = Vec2::Constant(c.max_move + 3 * c.sigma + front_end.matcher.resolution);
@@ -59,7 +60,7 @@ Scans refine_on_neighbours(const Scans& scans, const NeighbourRefinementConfig& 
       Points2 near;
       for (std::size_t j = first >= window ? first - window : 0; j < std::min(n, end + window); ++j) {
         if (j >= first && j < end) continue;
-        const Pose2::Applied to_world = before[j].T_world_laser.applied();
+        const Pose2::Applied to_world = before[j].applied();
         for (const Vec2& p : points[j]) {
           const Vec2 q = to_world(p);
           if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) near.push_back(q);
@@ -69,8 +70,8 @@ Scans refine_on_neighbours(const Scans& scans, const NeighbourRefinementConfig& 
       const LikelihoodField field(near, front_end.matcher.resolution, c.sigma);
       for (std::size_t i = first; i < end; ++i) {
         if (points[i].empty()) continue;
-        const Pose2 refined = match_scan(field, points[i], before[i].T_world_laser, gauss_newton).pose;
-        const double d = (refined.translation() - before[i].T_world_laser.translation()).norm();
+        const Pose2 refined = match_scan(field, points[i], before[i], gauss_newton).pose;
+        const double d = (refined.translation() - before[i].translation()).norm();
         if (d > c.max_move) {
           too_far[i] = 1;
           continue;
