@@ -88,8 +88,9 @@ struct Bench {
   Scans truth;   // the true poses of the raw scans it has (same timestamps; a subset for raw logs)
   Relations relations;
   bool retimed = false;
-  bool twin_and_relations = false;  // a raw log with both a corrected twin and a relations file
-  Scans reference;  // sim with SIM_REFERENCE_JITTER: the truth jittered, what the odometry is drifted from
+  // Poses other than the truth that a twin-like run is judged by too: a raw log's corrected twin (when a relations
+  // file is the truth), or sim with SIM_REFERENCE_JITTER: the truth jittered, what the odometry is drifted from.
+  Scans reference;
 };
 
 Bench twin_bench(const std::string& log, const std::string& level, std::uint64_t seed) {
@@ -168,7 +169,7 @@ Bench raw_bench(const std::string& log, const std::string& twin_log, const std::
   }
   if (b.truth.empty()) throw InputError(twin_log + ": no scan of " + log + " found in it");
   b.relations = relations.empty() ? bench_relations(b.truth) : io::read_relations(relations);
-  b.twin_and_relations = !relations.empty();
+  if (!relations.empty()) b.reference = b.truth;
   return b;
 }
 
@@ -341,16 +342,14 @@ int main(int argc, char** argv) {
     out["submaps"] = r.submaps.size();
     out["slam"] = io::relations_error_json(relations_error(r.scans, b.relations));
     out["odometry"] = io::relations_error_json(relations_error(odometry, b.relations));
-    if (b.twin_and_relations) {
-      // How good a twin's truth is: the corrected twin's own poses judged by the relations file, and slam's result
-      // judged by relations built from the twin, as a drifted twin's run is (docs/NOTES.md, "How good a twin's
-      // truth is").
-      out["twin_reference"] = io::relations_error_json(relations_error(b.truth, b.relations));
-      out["slam_against_twin"] = io::relations_error_json(relations_error(r.scans, bench_relations(b.truth)));
-    }
     if (!b.reference.empty()) {
-      out["reference"] = io::relations_error_json(relations_error(b.reference, b.relations));
-      out["slam_against_reference"] =
+      // How good a twin's truth is: the reference's own poses judged by the truth, and slam's result judged by
+      // relations built from the reference, as a drifted twin's run is (docs/NOTES.md, "How good a twin's truth
+      // is"); a raw log's reference is its corrected twin.
+      const bool twin = mode == "raw";
+      out[twin ? "twin_reference" : "reference"] =
+          io::relations_error_json(relations_error(b.reference, b.relations));
+      out[twin ? "slam_against_twin" : "slam_against_reference"] =
           io::relations_error_json(relations_error(r.scans, bench_relations(b.reference)));
     }
     {  // slam's error on relations within one visit (scans at most 10 s apart) and between visits (the rest)
