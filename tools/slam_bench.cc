@@ -227,6 +227,8 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("FE_DEGENERATE")) config.front_end.degenerate_ratio = std::atof(v);
     if (const char* v = std::getenv("FE_HALF_RATIO")) config.front_end.half_constrained_ratio = std::atof(v);
     if (const char* v = std::getenv("FE_HALF_SLACK")) config.front_end.half_constrained_slack = std::atof(v);
+    if (const char* v = std::getenv("FE_SCALE_MEMORY")) config.front_end.scale_memory = std::atof(v);
+    if (const char* v = std::getenv("FE_SCALE_RATIO")) config.front_end.scale_ratio = std::atof(v);
     if (const char* v = std::getenv("FE_SIGMA")) config.front_end.matcher.sigma = std::atof(v);
     if (const char* v = std::getenv("FE_FINE")) config.front_end.fine_sigma = std::atof(v);
     if (const char* v = std::getenv("FE_RES")) config.front_end.point_resolution = config.front_end.matcher.resolution = std::atof(v);
@@ -330,6 +332,8 @@ int main(int argc, char** argv) {
     out["front_end_jumps"] = {{"count", jump_count}, {"first", jumps}};
     out["front_end_degenerate"] = r.front_end.degenerate;
     out["front_end_half_constrained"] = r.front_end.half_constrained;
+    out["front_end_scaled"] = r.front_end.scaled;
+    out["front_end_odometry_scale"] = r.front_end.odometry_scale;
     out["front_end_heading_jumps"] = r.front_end.heading_jumps;
     out["front_end_weak_matches"] = r.front_end.weak_matches;
     out["front_end_weakest_score"] = r.front_end.weakest_score;
@@ -357,6 +361,7 @@ int main(int argc, char** argv) {
       for (const Relation& rel : b.relations) (std::abs(rel.t2 - rel.t1) <= 10.0 ? within : between).push_back(rel);
       out["slam_within_visit"] = io::relations_error_json(relations_error(r.scans, within));
       out["slam_between_visits"] = io::relations_error_json(relations_error(r.scans, between));
+      out["front_end_within_visit"] = io::relations_error_json(relations_error(front_end_estimate, within));
       // With SLAM_BENCH_BETWEEN=FILE: one line per relation between visits (t1, t2, slam's error m and rad, the
       // front end's error m, the true x, y of both scans), to see where a map is off (not in the bench's table).
       if (const char* path = std::getenv("SLAM_BENCH_BETWEEN")) {

@@ -94,6 +94,8 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
            {{"rejected_matches", r.front_end.rejected},
             {"degenerate_scans", r.front_end.degenerate},
             {"half_constrained_scans", r.front_end.half_constrained},
+            {"scaled_scans", r.front_end.scaled},
+            {"odometry_scale", r.front_end.odometry_scale},
             {"heading_jumps", r.front_end.heading_jumps},
             {"time_reversals", r.front_end.time_reversals},
             {"turning_steps", r.front_end.turning_steps},
@@ -250,9 +252,14 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
           << static_cast<long>(travel.at(fe.jump_scans.front())) << " m of travel)";
     front_end.push_back(jumps.str());
   }
-  if (fe.degenerate > 0)
-    front_end.push_back(std::to_string(fe.degenerate) +
-                        " kept the odometry along a bare corridor (too few walls across it to match)");
+  if (fe.degenerate > 0) {
+    std::ostringstream degenerate;
+    degenerate << fe.degenerate << " kept the odometry along a bare corridor (too few walls across it to match)";
+    if (fe.scaled > 0)
+      degenerate << std::fixed << std::setprecision(3) << ", " << fe.scaled << " of them scaled by "
+                 << fe.odometry_scale << " (the odometry's scale as the matches measured it; at the log's end)";
+    front_end.push_back(degenerate.str());
+  }
   if (fe.half_constrained > 0)
     front_end.push_back(std::to_string(fe.half_constrained) +
                         " moved along a half-constrained corridor only as far as the odometry has lately been wrong");

@@ -121,13 +121,53 @@ struct OdometryError {
   void add(double square) { mean_square = mean_square < 0 ? square : mean_square + (square - mean_square) / 50; }
 };
 
+// The odometry's scale as the front end measures it (FrontEndConfig::scale_memory): over stretches of at least
+// kScaleStretch of odometry travel on consecutive scans that fix both directions, the least-squares ratio of the
+// match's motion to the odometry's (stretches, not single steps: a step's own noise would bias the ratio towards
+// 0), each stretch's weight decaying with the odometry travel after it.
+struct OdometryScale {
+  double products = 0, squares = 0, travel = 0;
+  Pose2 matched, odometry;  // the open stretch's motion so far
+  bool open = false;
+  // A scan that does not fix both directions, or whose step is not the odometry's: the open stretch is dropped.
+  void drop() { open = false; }
+  // A scan that fixes both directions: the match's step and the odometry's, both in the previous scan's frame.
+  void step(const Pose2& matched_step, const Pose2& odometry_step, double memory) {
+    if (!open) matched = odometry = Pose2{}, open = true;
+    matched = matched * matched_step, odometry = odometry * odometry_step;
+    const double length = odometry.translation().norm();
+    if (length < kScaleStretch) return;
+    open = false;
+    // A stretch the match moved further from the odometry than any scale would (a slip, a bump) says nothing of it.
+    if ((matched.translation() - odometry.translation()).norm() > kScaleOutlier + (kMaxOdometryScale - 1.0) * length)
+      return;
+    const double keep = std::exp(-length / memory);
+    products = products * keep + matched.translation().dot(odometry.translation());
+    squares = squares * keep + length * length;
+    travel += length;
+  }
+  double value() const {
+    if (travel < kMinScaleTravel || !(squares > 0)) return 1.0;
+    return std::clamp(products / squares, 1.0 / kMaxOdometryScale, kMaxOdometryScale);
+  }
+};
+
+// Where a scan was predicted from: the previous scan's pose and the odometry's step since (`prediction` is the
+// pose matched from; it is from * step when `odometry_step`, the odometry's own step: not a stall, the step after
+// one, or another prediction kept).
+struct Predicted {
+  Pose2 prediction, from, step;
+  bool odometry_step = false;
+};
+
 // The pose of an accepted match: refined on the fine field (fine_sigma > 0), and where the odometry moves, its
-// translation along the scan's weak direction (a bare corridor's axis) taken from the prediction; along a
-// half-constrained direction, kept within half_constrained_slack times the odometry's recent error of the
-// prediction (only where the prediction is the odometry's own step: `odometry_step`).
+// translation along the scan's weak direction (a bare corridor's axis) taken from the prediction (the odometry's
+// step times its learned scale, where the prediction is that step); along a half-constrained direction, kept
+// within half_constrained_slack times the odometry's recent error of the prediction (only on the odometry's own
+// steps).
 Pose2 accepted_pose(const LocalMap& local, const Points2& points, const Scan& scan, const Pose2& matched,
-                    const Pose2& prediction, bool odometry_moves, bool odometry_step, const FrontEndConfig& config,
-                    OdometryError& odometry_error, FrontEndStats& stats) {
+                    const Predicted& p, bool odometry_moves, const FrontEndConfig& config,
+                    OdometryError& odometry_error, OdometryScale& odometry_scale, FrontEndStats& stats) {
   Pose2 pose = matched;
   if (config.fine_sigma > 0) {
     ScanMatcherConfig fine = config.matcher;
@@ -135,23 +175,34 @@ Pose2 accepted_pose(const LocalMap& local, const Points2& points, const Scan& sc
     pose = match_scan(local.fine_field(), points, matched, fine).pose;
   }
   if (!odometry_moves) return pose;
-  const bool bound_half = config.half_constrained_ratio > 0 && odometry_step;
-  if (config.degenerate_ratio <= 0 && !bound_half) return pose;
-  const Eigen::Matrix2d scatter = normal_scatter(scan, config);  // once for both ratios
+  const bool bound_half = config.half_constrained_ratio > 0 && p.odometry_step;
+  const bool learn_scale = config.scale_memory > 0 && p.odometry_step;
+  if (!learn_scale) odometry_scale.drop();
+  if (config.degenerate_ratio <= 0 && !bound_half && !learn_scale) return pose;
+  const Eigen::Matrix2d scatter = normal_scatter(scan, config);  // once for every ratio
   if (const std::optional<Vec2> weak = unconstrained_direction(scatter, config.degenerate_ratio)) {
     ++stats.degenerate;
-    return keep_along(pose, prediction, *weak, 0.0);
+    const double scale = odometry_scale.value();
+    odometry_scale.drop();
+    if (!learn_scale || scale == 1.0) return keep_along(pose, p.prediction, *weak, 0.0);
+    ++stats.scaled;
+    const Pose2 scaled = p.from * Pose2{scale * p.step.x, scale * p.step.y, p.step.theta};
+    return keep_along(pose, scaled, *weak, 0.0);
   }
+  if (learn_scale && !unconstrained_direction(scatter, config.scale_ratio))
+    odometry_scale.step(p.from.inverse() * pose, p.step, config.scale_memory);
+  else
+    odometry_scale.drop();
   if (!bound_half) return pose;
   if (const std::optional<Vec2> half = unconstrained_direction(scatter, config.half_constrained_ratio)) {
     if (odometry_error.mean_square < 0) return pose;
     const double slack = config.half_constrained_slack * std::sqrt(odometry_error.mean_square);
     const Vec2 along = Eigen::Rotation2Dd(pose.theta) * *half;
-    if (std::abs(along.dot(pose.translation() - prediction.translation())) <= slack) return pose;
+    if (std::abs(along.dot(pose.translation() - p.prediction.translation())) <= slack) return pose;
     ++stats.half_constrained;
-    return keep_along(pose, prediction, *half, slack);
+    return keep_along(pose, p.prediction, *half, slack);
   }
-  odometry_error.add((pose.translation() - prediction.translation()).squaredNorm());
+  odometry_error.add((pose.translation() - p.prediction.translation()).squaredNorm());
   return pose;
 }
 
@@ -193,6 +244,10 @@ void validate(const FrontEndConfig& c) {
   if (!(c.jump_turn > 0.0 && c.jump_turn <= 7.0)) throw InputError("front end config: jump_turn must be in (0, 7] rad");
   if (!(c.degenerate_ratio >= 0.0 && c.degenerate_ratio < 1.0))
     throw InputError("front end config: degenerate_ratio must be in [0, 1)");
+  if (!(c.scale_memory >= 0.0 && c.scale_memory <= 1e6))
+    throw InputError("front end config: scale_memory must be in [0, 1e6]");
+  if (!(c.scale_ratio >= 0.0 && c.scale_ratio < 1.0))
+    throw InputError("front end config: scale_ratio must be in [0, 1)");
   if (!(c.half_constrained_ratio >= 0.0 && c.half_constrained_ratio < 1.0))
     throw InputError("front end config: half_constrained_ratio must be in [0, 1)");
   if (!(c.half_constrained_slack >= 0.0 && c.half_constrained_slack <= 100.0))
@@ -229,6 +284,7 @@ FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const P
     odometry_moves = moved(raw[i - 1].T_world_odom, raw[i].T_world_odom, 1e-9, 1e-9);
   Pose2 last_key;
   OdometryError odometry_error;
+  OdometryScale odometry_scale;
   bool after_stall = false;  // the step before repeated the odometry's pose
   double score_sum = 0.0;
   std::size_t matched = 0;
@@ -246,23 +302,26 @@ FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const P
     const Points2 points = matching_points(scan, config);
     if (!result.scans.empty()) {
       const Scan& prev = result.scans.back();
-      Pose2 prediction = prev.T_world_laser * (prev.T_world_odom.inverse() * scan.T_world_odom);
+      Predicted p;
+      p.from = prev.T_world_laser, p.step = prev.T_world_odom.inverse() * scan.T_world_odom;
+      Pose2& prediction = p.prediction = p.from * p.step;
       const Pose2 odometry_prediction = prediction;
       const ScanMatch m = match_predicted(local, points, result.scans, scan, config, stats, prediction);
       // The odometry's step, as recorded: not a stall or the step that catches up after one, and not where
       // another prediction was kept.
       const bool stalled = !moved(prev.T_world_odom, scan.T_world_odom, 1e-9, 1e-9);
-      const bool odometry_step = !stalled && !after_stall && !moved(prediction, odometry_prediction, 1e-12, 1e-12);
+      p.odometry_step = !stalled && !after_stall && !moved(prediction, odometry_prediction, 1e-12, 1e-12);
       after_stall = stalled;
       if (m.score >= config.min_score) {
-        out.T_world_laser = accepted_pose(local, points, scan, m.pose, prediction, odometry_moves, odometry_step,
-                                          config, odometry_error, stats);
+        out.T_world_laser = accepted_pose(local, points, scan, m.pose, p, odometry_moves, config, odometry_error,
+                                          odometry_scale, stats);
         score_sum += m.score;
         ++matched;
         if (m.score < stats.weakest_score) stats.weakest_score = m.score, stats.weakest_scan = result.scans.size();
         stats.weak_matches += m.score < kWeakMatch;
       } else {
         out.T_world_laser = prediction;
+        odometry_scale.drop();
         ++stats.rejected;
       }
       if (odometry_moves) count_heading_jump(prev, scan, out.T_world_laser, result.scans.size(), config, stats);
@@ -277,6 +336,7 @@ FrontEndResult match_log(const Scans& raw, const FrontEndConfig& config, const P
   }
   if (progress) progress("scan matching", raw.size(), raw.size());
   stats.scans = result.scans.size();
+  stats.odometry_scale = odometry_scale.value();
   stats.mean_score = matched > 0 ? score_sum / static_cast<double>(matched) : 0.0;
   stats.seconds = ms_since(t0) / 1000.0;
   if (result.scans.size() > 1) stats.log_seconds = result.scans.back().timestamp - result.scans.front().timestamp;

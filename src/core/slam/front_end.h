@@ -39,6 +39,10 @@ struct FrontEndStats {
   std::size_t degenerate = 0;       ///< matched scans that kept the prediction along an unconstrained direction
   /// matched scans whose move along a half-constrained direction was bounded (FrontEndConfig::half_constrained_ratio)
   std::size_t half_constrained = 0;
+  /// Of the degenerate scans, those whose prediction along the corridor was the odometry's step times its learned
+  /// scale (FrontEndConfig::scale_memory), and that scale at the end of the log (1 when none was learned).
+  std::size_t scaled = 0;
+  double odometry_scale = 1.0;
   std::size_t heading_jumps = 0;    ///< scans whose turn disagrees with the odometry's by more than jump_turn
   std::vector<std::size_t> jump_scans;  ///< the first 100 of them (indices into the result's scans)
   std::size_t time_reversals = 0;   ///< scans dropped because their timestamp went backwards

@@ -7,6 +7,15 @@
 
 namespace partslam {
 
+/// The odometry's learned scale (FrontEndConfig::scale_memory) is used once this much odometry travel on scans that
+/// fix both directions was seen [m], and is clamped to [1 / kMaxOdometryScale, kMaxOdometryScale].
+inline constexpr double kMinScaleTravel = 5.0;
+inline constexpr double kMaxOdometryScale = 1.25;
+/// The scale is measured over stretches of this much odometry travel [m]; a stretch whose match lies farther than
+/// kScaleOutlier plus (kMaxOdometryScale - 1) times its length from the odometry's is not counted (a slip) [m].
+inline constexpr double kScaleStretch = 0.5;
+inline constexpr double kScaleOutlier = 0.05;
+
 struct FrontEndConfig {
   ScanMatcherConfig matcher;
   /// The match is refined once more (Gauss-Newton, no search) on a second field of this sigma: the first field's
@@ -33,6 +42,14 @@ struct FrontEndConfig {
   /// and lets a front end slide back less after stalled odometry (docs/NOTES.md, "Real logs degraded").
   double half_constrained_ratio = 0.0;
   double half_constrained_slack = 2.0;
+  /// The odometry's scale, learned as the log is read: on scans whose surfaces fix both directions of translation
+  /// (the weaker eigenvalue at least scale_ratio of the stronger) the least-squares ratio of the match's step to
+  /// the odometry's (its own step: not a stall or the step after one), the older steps forgotten over scale_memory
+  /// of travel. Where a scan keeps the prediction along a bare corridor's axis, the prediction is the odometry's
+  /// step times that scale (clamped to [1 / kMaxOdometryScale, kMaxOdometryScale], once kMinScaleTravel of such
+  /// steps were seen): wheels 5 % short no longer shorten every corridor by 5 %. 0 turns it off [m].
+  double scale_memory = 50.0;
+  double scale_ratio = 0.3;
   /// Jump detector: a scan whose matched turn since the previous scan differs from the odometry's by more than
   /// this is counted as a heading jump (kept; reported, as a front end losing its heading shows) [rad].
   double jump_turn = 0.1;

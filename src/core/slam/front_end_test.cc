@@ -122,6 +122,35 @@ TEST(FrontEnd, KeepsTheOdometryAlongABareCorridor) {
   EXPECT_LT(e_with, e_without / 2) << e_with << " vs " << e_without;
 }
 
+// The same ring driven on wheels 5 % short: the odometry's travel is 0.95 times the truth's. Along the bare
+// corridors nothing in the scans measures the travel, but the corners between them fix both directions, and there
+// the matches measure the odometry's scale (1 / 0.95); the corridors' travel is the odometry's times that scale.
+// With the scale right, the learned one stays near 1.
+TEST(FrontEnd, LearnsTheOdometrysScaleWhereTheScansFixBothDirections) {
+  const auto [truth, relations] = bare_corridor_ring();
+  auto scaled_odometry = [&truth](double scale) {
+    Scans raw = truth;
+    for (std::size_t i = 1; i < raw.size(); ++i) {
+      const Pose2 d = truth[i - 1].T_world_laser.inverse() * truth[i].T_world_laser;
+      raw[i].T_world_odom = raw[i - 1].T_world_odom * Pose2{scale * d.x, scale * d.y, d.theta};
+    }
+    for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
+    return raw;
+  };
+  const Scans short_wheels = scaled_odometry(0.95);
+  FrontEndConfig off;
+  off.scale_memory = 0;
+  const FrontEndResult with = scan_match_log(short_wheels), without = scan_match_log(short_wheels, off);
+  EXPECT_NEAR(with.stats.odometry_scale, 1 / 0.95, 0.01);
+  EXPECT_GT(with.stats.scaled, with.stats.degenerate / 2);
+  EXPECT_EQ(without.stats.scaled, 0u);
+  EXPECT_EQ(without.stats.odometry_scale, 1.0);
+  const double e_with = relations_error(with.scans, relations).translation_mean;
+  const double e_without = relations_error(without.scans, relations).translation_mean;
+  EXPECT_LT(e_with, e_without / 2) << e_with << " vs " << e_without;
+  EXPECT_NEAR(scan_match_log(scaled_odometry(1.0)).stats.odometry_scale, 1.0, 0.005);
+}
+
 // The same ring with odometry that is right: where a scan fixes the corridor's axis only weakly (a room's door
 // frames, a corner ahead: share of the normals between degenerate_ratio and half_constrained_ratio), the match may
 // still slide along it; bounded by what the odometry got wrong on the scans that fix both directions (here next to
@@ -281,6 +310,12 @@ TEST(FrontEnd, RefusesAbsurdConfigs) {
   EXPECT_THROW(validate(c), InputError);
   c = {};
   c.half_constrained_slack = std::nan("");
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.scale_memory = -1;
+  EXPECT_THROW(validate(c), InputError);
+  c = {};
+  c.scale_ratio = 1;
   EXPECT_THROW(validate(c), InputError);
   EXPECT_EQ(scan_match_log({}).scans.size(), 0u);
 }

@@ -75,6 +75,10 @@ void config_fields(V& v, std::type_identity<FrontEndConfig>) {
           "along a direction fixed below this share, a match moves no further than the odometry's recent error "
           "allows (0: off)");
   v.field("half_constrained_slack", &C::half_constrained_slack, "... times the root mean square of that error");
+  v.field("scale_memory", &C::scale_memory,
+          "the odometry's scale, learned on scans that fix both directions, over this much travel, predicts a bare "
+          "corridor's axis (0: off) [m]");
+  v.field("scale_ratio", &C::scale_ratio, "... on scans whose weaker direction holds at least this share");
   v.field("jump_turn", &C::jump_turn, "");
   v.field("second_prediction", &C::second_prediction, "");
   v.field("second_margin", &C::second_margin, "");
