@@ -153,6 +153,9 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
     why << std::fixed << std::setprecision(0) << 100 * degenerate_share(r.front_end)
         << " % of the scans fix no position along a bare corridor (limit " << 100 * config.max_degenerate_share
         << " %): the map's lengths there are the odometry's";
+    if (r.front_end.scaled > 0)
+      why << std::setprecision(3) << " (times " << r.front_end.odometry_scale
+          << ", its scale as measured where the scans fix both directions)";
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
   }
