@@ -147,14 +147,22 @@ bool Tracker::ahead_of_rivals(const Hypothesis& h) const {
 // Returns true when the robot was lost this step (every hypothesis dropped).
 bool Tracker::update_status(bool evidence) {
   const Hypothesis* declared = find(declared_);
+  // The declared pose given up, the other hypotheses kept: "lost" until one is declared (tracker.h, 4).
+  const auto give_up = [&] { declared_ = -1, status_ = TrackStatus::kLost, blind_ = false; };
   if (status_ == TrackStatus::kLocalised || blind_) {
     if (declared == nullptr) {
       blind_ = false, declared_ = -1;
       if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
     } else if (declared->seen < config_.min_seen) {
-      // The declared place is not in the map (or the pose drifted off it): no claim until it is seen again.
-      if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
-      blind_ = true;
+      // The declared place is not in the map (or the pose drifted off it): no claim until it is seen again;
+      // given up once other hypotheses took declare_share's complement of the weight (a kidnapped robot whose
+      // carried pose left the map while the search found where it is).
+      if (std::exp(declared->log_weight) < config_.declare_share) {
+        give_up();
+      } else {
+        if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
+        blind_ = true;
+      }
     } else {
       weak_steps_ = declared->probability < config_.lost_probability ? weak_steps_ + 1 : 0;
       if (weak_steps_ >= config_.lost_steps) {
@@ -174,10 +182,14 @@ bool Tracker::update_status(bool evidence) {
         if (status_ == TrackStatus::kLocalised) status_ = TrackStatus::kSearching;
         blind_ = true;
       } else if (blind_) {
-        if (std::exp(declared->log_weight) >= config_.declare_share && ahead_of_rivals(*declared))
-          status_ = TrackStatus::kLocalised;
-        else declared_ = -1;
-        blind_ = false;
+        // It fits again: declared again if it still holds declare_share ahead of its rivals, else given up
+        // (a kidnapping to where the carried pose still fits now and then: a corridor, an outdoor place alike to
+        // where the robot was): "lost", its hypothesis and the others kept, until one is declared.
+        if (std::exp(declared->log_weight) >= config_.declare_share && ahead_of_rivals(*declared)) {
+          status_ = TrackStatus::kLocalised, blind_ = false;
+        } else {
+          give_up();
+        }
       }
     }
   }

@@ -34,10 +34,12 @@
 //      robot that was not carried anywhere, whose local maps a crowd or turning on the spot spoiled for two
 //      steps, is found where it was without waiting for a search begun on a spoiled local map).
 // Nothing is claimed (the status reads "searching", the declared hypothesis is kept and declared again at
-// once when it fits again with declare_share, ahead of its rivals) on a step where the declared pose fits
+// once when it fits again with declare_share, ahead of its rivals; if it fits again short of them, it is given
+// up then: "lost", the hypotheses kept, until one is declared) on a step where the declared pose fits
 // below lost_probability, lies where the building map saw little of the local map (query seen share below
 // min_seen: a room the map does not hold, or a pose drifted off; such a hypothesis is weighed as the none
-// weight is, the local map says nothing of it), or was moved by the match more than claim_shift from where
+// weight is, the local map says nothing of it; it is given up as above once its share falls below
+// declare_share, others having taken the weight), or was moved by the match more than claim_shift from where
 // the odometry carried it. Such a move is taken only when the match is move_gain times as probable as the
 // odometry's pose (along a corridor it fits about as well anywhere).
 //   5. a step's time is bounded (search_budget): a global search spends at most that much of its dMM search
