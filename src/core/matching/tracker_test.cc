@@ -40,6 +40,22 @@ bool right(const TrackStep& t, const Submap& m) {
   return PoseTolerance{0.3, 3 * kDegree}.accepts(t.best.T_map_query, m.T_world_map);
 }
 
+// Tracks the log's local maps from 10 m to 40 m of travel (the start every kidnapping test drives before the
+// robot is carried or its local maps spoiled): whether the last step was localised, and its odometry pose.
+struct Driven {
+  bool localised = false;
+  Pose2 T_odom_last;
+};
+Driven drive_first_30_m(Tracker& tracker, const Scans& scans) {
+  Driven out;
+  for (double s = 10.0; s < 40.0; s += 2.0) {
+    const TrackedStep in = step_at(scans, s);
+    out.localised = tracker.step(in.map.points, in.map.origins, in.T_odom_map).status == TrackStatus::kLocalised;
+    out.T_odom_last = in.T_odom_map;
+  }
+  return out;
+}
+
 // The whole global search within each step (search_budget 0), every candidate or those with more than half the
 // best one's inliers, and spread over steps in slices small enough that each search takes several (the
 // tracker's bounded step time).
@@ -95,18 +111,11 @@ TEST_P(TrackerBudget, NoticesAKidnappingAndLocalisesAgain) {
   Tracker tracker(tracked_localizer(), config());
   // 30 m from 10 m on, then the robot is carried to 0.6 of the log: its odometry goes on as if nothing had
   // happened (the next local map's odometry pose is the last one's).
-  Pose2 T_odom_last;
-  bool localised_before = false;
-  for (double s = 10.0; s < 40.0; s += 2.0) {
-    const TrackedStep in = step_at(scans, s);
-    const TrackStep t = tracker.step(in.map.points, in.map.origins, in.T_odom_map);
-    localised_before = t.status == TrackStatus::kLocalised;
-    T_odom_last = in.T_odom_map;
-  }
-  ASSERT_TRUE(localised_before);
+  const Driven before = drive_first_30_m(tracker, scans);
+  ASSERT_TRUE(before.localised);
   const double jump = 0.6 * length;
   const TrackedStep first = step_at(scans, jump);
-  const Pose2 T_rebase = T_odom_last * first.T_odom_map.inverse();  // odometry continues from where it was
+  const Pose2 T_rebase = before.T_odom_last * first.T_odom_map.inverse();  // odometry continues from where it was
   int lost_at = -1, again_at = -1, k = 0;
   for (double s = jump; s + 2.0 < std::min(length, jump + 40.0); s += 2.0, ++k) {
     const TrackedStep in = step_at(scans, s);
@@ -132,13 +141,8 @@ TEST_P(TrackerBudget, KeepsTheDeclaredPoseWhenLostWithoutBeingCarried) {
   const double length = travel_distances(scans).back();
   ASSERT_GT(length, 120.0);
   Tracker tracker(tracked_localizer(), config());
-  double s = 10.0;
-  bool localised_before = false;
-  for (; s < 40.0; s += 2.0) {
-    const TrackedStep in = step_at(scans, s);
-    localised_before = tracker.step(in.map.points, in.map.origins, in.T_odom_map).status == TrackStatus::kLocalised;
-  }
-  ASSERT_TRUE(localised_before);
+  ASSERT_TRUE(drive_first_30_m(tracker, scans).localised);
+  double s = 40.0;
   bool lost = false;
   for (int k = 0; k < 2; ++k, s += 2.0) {
     const TrackedStep in = step_at(scans, s), spoiled = step_at(scans, 0.6 * length + 2.0 * k);
@@ -176,17 +180,11 @@ TEST_P(TrackerBudget, SaysLostWhenItGivesUpADeclaredPoseThatLeftTheMap) {
   const double length = travel_distances(scans).back();
   ASSERT_GT(length, 120.0);
   Tracker tracker(tracked_localizer(), config());
-  Pose2 T_odom_last;
-  bool localised_before = false;
-  for (double s = 10.0; s < 40.0; s += 2.0) {
-    const TrackedStep in = step_at(scans, s);
-    localised_before = tracker.step(in.map.points, in.map.origins, in.T_odom_map).status == TrackStatus::kLocalised;
-    T_odom_last = in.T_odom_map;
-  }
-  ASSERT_TRUE(localised_before);
+  const Driven before = drive_first_30_m(tracker, scans);
+  ASSERT_TRUE(before.localised);
   const double jump = 0.6 * length;
   // The odometry says the robot moved 1 km: the carried pose lies far outside the building map.
-  const Pose2 T_rebase = T_odom_last * Pose2{1000.0, 0.0, 0.0} * step_at(scans, jump).T_odom_map.inverse();
+  const Pose2 T_rebase = before.T_odom_last * Pose2{1000.0, 0.0, 0.0} * step_at(scans, jump).T_odom_map.inverse();
   int lost_at = -1, again_at = -1, k = 0;
   for (double s = jump; s + 2.0 < std::min(length, jump + 40.0); s += 2.0, ++k) {
     const TrackedStep in = step_at(scans, s);
