@@ -7,7 +7,8 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPARTSLAM_WERROR=$(WERROR)
 # suite, built with GCC into its own tree at -O1 without debug information (reports name functions) and with
 # assertions on (Eigen's off: EIGEN_NO_DEBUG), without the Python module (it would need the ASan runtime preloaded
 # into the interpreter), the benchmarks and the tools, which the suite does not run; the tests labelled compile-only
-# (they compile headers and run nothing of ours) are left to make test.
+# (they compile headers and run nothing of ours) are left to make test, and the 43 tests of
+# tests/long-under-sanitizers.txt (over 10 s each there, most of the time) to make sanitize-long.
 SANITIZE_BUILD ?= build-sanitize
 SANITIZE_FLAGS ?= -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -DEIGEN_NO_DEBUG" -DPARTSLAM_SANITIZE=ON \
   -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF -DPARTSLAM_WERROR=$(WERROR)
@@ -23,7 +24,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize fuzz bench results raw-logs relocalisation locate-check slam-bench slam-stress slam-resolution readme-usage design-layers clean
+.PHONY: all deps build demo test sanitize sanitize-long fuzz bench results raw-logs relocalisation locate-check slam-bench slam-stress slam-resolution readme-usage design-layers clean
 
 all: build
 
@@ -43,7 +44,12 @@ test: build
 sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) $(SANITIZE_FLAGS) > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
-	cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -LE compile-only
+	$(SANITIZE_ENV) bash scripts/sanitize-tests.sh $(SANITIZE_BUILD) short $(JOBS)
+
+sanitize-long: deps
+	@cmake -S . -B $(SANITIZE_BUILD) $(SANITIZE_FLAGS) > /dev/null
+	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	$(SANITIZE_ENV) bash scripts/sanitize-tests.sh $(SANITIZE_BUILD) long $(JOBS)
 
 fuzz: deps
 	@CXX=clang++ cmake -S . -B $(FUZZ_BUILD) $(FUZZ_FLAGS) > /dev/null
