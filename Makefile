@@ -7,7 +7,7 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPARTSLAM_WERROR=$(WERROR)
 # suite, built with GCC into its own tree at -O1 without debug information (reports name functions) and with
 # assertions on (Eigen's off: EIGEN_NO_DEBUG), without the Python module (it would need the ASan runtime preloaded
 # into the interpreter), the benchmarks and the tools, which the suite does not run; the tests labelled compile-only
-# (they compile headers and run nothing of ours) are left to make test, and the 43 tests of
+# (they compile headers and run nothing of ours) are left to make test, and the 42 tests of
 # tests/long-under-sanitizers.txt (over 10 s each there, most of the time) to make sanitize-long.
 SANITIZE_BUILD ?= build-sanitize
 SANITIZE_FLAGS ?= -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -DEIGEN_NO_DEBUG" -DPARTSLAM_SANITIZE=ON \
