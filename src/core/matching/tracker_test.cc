@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,9 @@ struct SearchSettings {
   int budget = 0;
   double min_share = 0;
 };
+void PrintTo(const SearchSettings& s, std::ostream* os) {  // ctest's name: not the struct's bytes and padding
+  *os << "budget " << s.budget << ", min_share " << s.min_share;
+}
 class TrackerBudget : public ::testing::TestWithParam<SearchSettings> {
  protected:
   static TrackerConfig config() {

@@ -261,6 +261,8 @@ struct BadLine {
   const char* expected;  ///< substring of the message after "<file>:2: "
 };
 
+void PrintTo(const BadLine& b, std::ostream* os) { *os << b.label; }  // ctest's name: not the struct's bytes
+
 class MalformedLine : public ::testing::TestWithParam<std::tuple<BadLine, bool>> {};
 
 TEST_P(MalformedLine, ThrowsNamingFileLineAndField) {

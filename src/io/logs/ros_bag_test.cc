@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <ostream>
 #include <cstdio>
 #include <fstream>
 #include <optional>
@@ -28,6 +29,8 @@ struct BagCase {
   const char* log;
   bool same_order;  ///< whether the two files list the scans in the same order (intel's do not)
 };
+
+void PrintTo(const BagCase& c, std::ostream* os) { *os << c.log; }  // ctest's name: not the struct's bytes
 
 class RosBagRealData : public ::testing::TestWithParam<BagCase> {};
 
