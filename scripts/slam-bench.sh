@@ -67,7 +67,8 @@ for log in $RAW; do
   raw_runs "$dir/$log.clf.gz" "$twin" $rel
 done
 # The same runs read from their ROS bags (BAGS): re-timed, their odometry one message per scan; judged by the
-# logs' relations carried onto the bags' clock (scripts/bag_relations.py pairs the scans by their order).
+# logs' relations carried onto the bags' clock (scripts/bag_relations.py pairs each bag scan with the log's scan of the
+# same ranges).
 for log in $BAGS; do
   bag=$DATA/bags/$log.clf2bag.bag rel=$TMP.$log.relations
   /usr/bin/python3 scripts/bag_relations.py "$DATA/$log/$log.clf.gz" "$bag" "$DATA/$log/$log.relations" "$rel"

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Tracking a run recorded in another format (docs/NOTES.md, "Tracking the same run from another file"): the map is
 `partslam slam` of a CARMEN log, the tracked log the same run as a ROS bag (`locate --track --scan-match --json`), and
-the reference is slam's own corrected pose of the same scan (the bags are re-timed, so scans are paired by their
-order: both files are read with the `partslam` Python module and must hold as many scans). Per recording: the steps,
+the reference is slam's own corrected pose of the same scan (the bags are re-timed and may list scans out of the
+log's order, so scans are paired by their ranges: scripts/bag_relations.py's paired_scans). Per recording: the steps,
 those localised, those localised more than 0.3 m / 3 deg from the reference (the issue's "declared wrong"), the
 position error's median and largest, the travel to the first localised step, how often it said "lost" (never
 right here: the robot is not carried anywhere), the steps not localised after the first localised one, and the
@@ -29,7 +29,7 @@ def angle(a):
 
 
 def judge(name, log, bag, slam_dir, track_json):
-    _, bag_scans = paired_scans(log, bag)
+    _, bag_scans, pair = paired_scans(log, bag)
     bag_times = [s.timestamp for s in bag_scans]
     corrected = os.path.join(slam_dir, "corrected.log")
     ref = [s.T_world_laser for s in partslam_module().load_scan_source(corrected).scans]
@@ -53,7 +53,7 @@ def judge(name, log, bag, slam_dir, track_json):
         if first is None:
             first = k
         i = bisect.bisect_left(bag_times, t["log_time"]["from"] - 1e-6)  # the anchor scan (robot_pose's)
-        x, y, th = ref[min(i, len(ref) - 1)]
+        x, y, th = ref[pair[min(i, len(pair) - 1)]]  # slam's pose of the log scan that is the bag's scan i
         r = t["robot_pose"]
         e, a = math.hypot(r["x"] - x, r["y"] - y), abs(angle(r["theta"] - th))
         errors.append(e)
