@@ -15,7 +15,7 @@
 //   3. while not localised (the first step, and every search_every steps), the global search's best distinct
 //      poses (Localizer::hypotheses, candidates above search_min_share of the best one's inliers) join as new
 //      hypotheses, each with the none weight's share times its
-//      probability (the newborn are also weighed on the last two local maps since the robot was last lost,
+//      probability (the newborn are also weighed on the last three local maps since the robot was last lost,
 //      where the odometry says they were: evidence for the comparison of 4, not for their weight);
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
@@ -199,9 +199,10 @@ class Tracker {
     Pose2 motion;                     ///< the odometry's motion from it to the next step
   };
   /// The newborn are weighed on this many earlier local maps too (1 / 2 / 3 tried: 2 gave intel harsh, a tuning
-  /// log, 28 of 29 starts where 1 gave 27, fhw, fr079 and seattle unchanged; 3 brought wrong steps back on
-  /// infinite-corridor; docs/NOTES.md, "Rivals found later").
-  static constexpr std::size_t kWeighedBack = 2;
+  /// log, 28 of 29 starts where 1 gave 27; 3 brought wrong steps back on infinite-corridor then, docs/NOTES.md,
+  /// "Rivals found later"; since the corridor rule, 3 gives the same figures on the tuning logs and 0 wrong steps
+  /// everywhere, with more starts localised on freiburg-campus and infinite-corridor: "Three local maps back").
+  static constexpr std::size_t kWeighedBack = 3;
   std::vector<Previous> previous_;  ///< the last kWeighedBack steps' local maps, oldest first
   /// Where the declared hypothesis was when the robot was lost, carried on by the odometry since, until it fits a
   /// later local map or a pose is declared (docs/NOTES.md, "Lost without being carried").
