@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: tracking_check CORRECTED_LOG OUT_DIR [noise=mild|harsh seed=N twin_out=FILE max_starts=K hypotheses=K "
                  "declare_share=S declare_steps=K other_probability=P lost_probability=P lost_steps=K "
-                 "track_window=M min_seen=S search_budget=W search_min_share=S candidates=K ...]\n");
+                 "track_window=M min_seen=S search_budget=W search_min_share=S weighed_back=K candidates=K ...]\n");
     return 2;
   }
   try {
@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
       else if (name == "search_every") config.tracker.search_every = static_cast<int>(value);
       else if (name == "search_budget") config.tracker.search_budget = static_cast<int>(value);
       else if (name == "search_min_share") config.tracker.search_min_share = value;
+      else if (name == "weighed_back") config.tracker.weighed_back = static_cast<int>(value);
       else if (name == "verified") config.localizer.verified = static_cast<int>(value);
       else if (name == "candidates") config.localizer.candidates = static_cast<int>(value);
       else if (name == "search_verified") config.tracker.search_verified = static_cast<int>(value);

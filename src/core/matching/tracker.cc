@@ -35,6 +35,7 @@ void validate(const TrackerConfig& c) {
   if (c.search_budget < 0) throw InputError("tracker: search_budget must be >= 0");
   if (!(c.search_min_share >= 0 && c.search_min_share < 1))
     throw InputError("tracker: search_min_share must be in [0, 1)");
+  if (c.weighed_back < 0 || c.weighed_back > 20) throw InputError("tracker: weighed_back must be in [0, 20]");
   if (!in(c.min_none_share, 0, 0.5)) throw InputError("tracker: min_none_share must be in [0, 0.5]");
   if (!c.claim_shift.valid()) throw InputError("tracker: claim_shift must be finite and >= 0");
 }
@@ -276,7 +277,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
       h.log_weight = from + h.history.front();
       hypotheses_.push_back(h);
     }
-    // The newborn are weighed on the last kWeighedBack local maps too, where the odometry says they were
+    // The newborn are weighed on the last weighed_back local maps too, where the odometry says they were
     // (refined within the localizer's window, as the search's candidates are), so that a rival carried since
     // then is compared with them on those steps as well, not on this one alone (tracker.h, 4).
     // Only those that fit this step within declare_share's odds of the best carried one: the others cannot
@@ -357,7 +358,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   }
   ++steps_;
   previous_.push_back(Previous{std::move(prepared), Pose2{}});
-  if (previous_.size() > kWeighedBack) previous_.erase(previous_.begin());
+  if (previous_.size() > static_cast<std::size_t>(config_.weighed_back)) previous_.erase(previous_.begin());
   return report(searched, evidence, ms_since(t0));
 }
 

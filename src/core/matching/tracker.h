@@ -15,7 +15,7 @@
 //   3. while not localised (the first step, and every search_every steps), the global search's best distinct
 //      poses (Localizer::hypotheses, candidates above search_min_share of the best one's inliers) join as new
 //      hypotheses, each with the none weight's share times its
-//      probability (the newborn are also weighed on the last three local maps since the robot was last lost,
+//      probability (the newborn are also weighed on the last weighed_back local maps since the robot was last lost,
 //      where the odometry says they were: evidence for the comparison of 4, not for their weight);
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
@@ -110,6 +110,12 @@ struct TrackerConfig {
   /// candidate cost two thirds of a search; the same localised starts, wrong steps and kidnappings on every
   /// building, a few more steps claimed on intel, fhw and seattle).
   double search_min_share = 0.7;
+  /// The newborn are weighed on this many earlier local maps too (step 3 above), in [0, 20] (1 / 2 / 3 tried: 2
+  /// gave intel harsh, a tuning log, 28 of 29 starts where 1 gave 27; 3 brought wrong steps back on
+  /// infinite-corridor then, docs/NOTES.md, "Rivals found later"; since the corridor rule, 3 gives the same figures
+  /// on the tuning logs and 0 wrong steps everywhere, with more starts localised on freiburg-campus and
+  /// infinite-corridor: "Three local maps back").
+  int weighed_back = 3;
 };
 
 /// Throws InputError naming the field.
@@ -198,12 +204,7 @@ class Tracker {
     Localizer::VerifyQuery prepared;  ///< its local map, prepared for verification
     Pose2 motion;                     ///< the odometry's motion from it to the next step
   };
-  /// The newborn are weighed on this many earlier local maps too (1 / 2 / 3 tried: 2 gave intel harsh, a tuning
-  /// log, 28 of 29 starts where 1 gave 27; 3 brought wrong steps back on infinite-corridor then, docs/NOTES.md,
-  /// "Rivals found later"; since the corridor rule, 3 gives the same figures on the tuning logs and 0 wrong steps
-  /// everywhere, with more starts localised on freiburg-campus and infinite-corridor: "Three local maps back").
-  static constexpr std::size_t kWeighedBack = 3;
-  std::vector<Previous> previous_;  ///< the last kWeighedBack steps' local maps, oldest first
+  std::vector<Previous> previous_;  ///< the last weighed_back steps' local maps, oldest first
   /// Where the declared hypothesis was when the robot was lost, carried on by the odometry since, until it fits a
   /// later local map or a pose is declared (docs/NOTES.md, "Lost without being carried").
   std::optional<Pose2> lost_pose_;

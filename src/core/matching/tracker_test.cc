@@ -276,6 +276,11 @@ TEST(Tracker, RejectsBadConfigsAndEmptyLocalMaps) {
   bad = {};
   bad.search_min_share = 1.0;
   EXPECT_THROW(validate(bad), InputError);
+  bad = {};
+  bad.weighed_back = -1;
+  EXPECT_THROW(validate(bad), InputError);
+  bad.weighed_back = 21;
+  EXPECT_THROW(validate(bad), InputError);
   Tracker tracker(tracked_localizer());
   EXPECT_THROW(tracker.step({}, {}, Pose2{}), InputError);
   EXPECT_THROW(tracker.step({Vec2(1, 1)}, {}, Pose2{std::nan(""), 0, 0}), InputError);

@@ -332,6 +332,8 @@ void config_fields(V& v, std::type_identity<TrackerConfig>) {
   v.field("search_min_share", &C::search_min_share,
           "the global search looks for candidates with more than this share of the best one's inliers only");
   v.field("min_none_share", &C::min_none_share, "the none weight's share never falls below this");
+  v.field("weighed_back", &C::weighed_back,
+          "a newborn hypothesis is also weighed on this many earlier local maps (against the rivals carried then)");
   v.field("corridor_ratio", &C::corridor_ratio,
           "a carried hypothesis's match moves it at most corridor_slack along a direction the local map's walls do "
           "not fix (weaker / stronger below this; 0: off)");
