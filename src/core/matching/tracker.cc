@@ -73,6 +73,7 @@ void Tracker::reset() {
   lost_pose_.reset();
   pending_.reset();
   steps_ = 0;
+  searched_on_ = -1;
 }
 
 const Tracker::Hypothesis* Tracker::find(int id) const {
@@ -213,7 +214,7 @@ bool Tracker::update_status(bool evidence) {
     dominant_steps_ = 0, dominant_ = -1;
   }
   const bool dominates = heaviest != nullptr && heaviest->id == dominant_ && fits(*heaviest);
-  if (dominates && dominant_steps_ >= config_.declare_steps &&
+  if (dominates && dominant_steps_ >= config_.declare_steps && searched_on_ > heaviest->found &&
       (dominant_ != declared_ || status_ != TrackStatus::kLocalised)) {
     status_ = TrackStatus::kLocalised;
     declared_ = dominant_;
@@ -259,7 +260,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
 
   // New hypotheses (the search's, or the pose the robot was lost at): each out of the none weight, weighed by
   // its probability; the none weight weighed too if no carried hypothesis did it this step.
-  const auto adopt = [&](const std::vector<Verified>& found) {
+  const auto adopt = [&](const std::vector<Verified>& found, std::ptrdiff_t found_on) {
     const PoseTolerance same{config_.merge_distance, config_.merge_angle};
     const double from = none_log_weight_;
     const std::size_t rivals = hypotheses_.size();
@@ -270,6 +271,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
       if (known) continue;
       Hypothesis h;
       h.id = next_id_++;
+      h.found = found_on;
       h.T_map_query = v.T_map_query;
       h.probability = v.probability;
       h.seen = v.terms.query.seen;
@@ -329,23 +331,33 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
       for (const Verified& v : found) carried.push_back(v.T_map_query * since);
       found = verify_carried(prepared, carried, true);
     }
+    const std::size_t began = pending_step_;
     pending_.reset();
     steps_since_search_ = 0;
-    adopt(found);
+    searched_on_ = static_cast<std::ptrdiff_t>(began);
+    adopt(found, static_cast<std::ptrdiff_t>(began));
   };
   // The pose the robot was lost at, carried on by the odometry, joins as soon as it fits a later local map well
   // enough to count towards a declaration (tracker.h, 4).
   if (lost_pose_ && status_ != TrackStatus::kLocalised) {
     const Verified v = verify_carried(prepared, {*lost_pose_}, true).front();
     if (v.terms.query.seen >= config_.min_seen && v.probability >= config_.declare_probability)
-      adopt({v}), lost_pose_.reset();
+      adopt({v}, -1), lost_pose_.reset();
   }
   // While not localised: a search when there is no hypothesis, else every search_every steps (a global search
   // costs ten to a hundred times a carried step; in between, the carried hypotheses gather evidence).
   ++steps_since_search_;
   if (status_ == TrackStatus::kLocalised) pending_.reset(), lost_pose_.reset();  // no search while localised
+  // A hypothesis that holds declare_share but was found on the last search's local map waits for a search begun
+  // on a later one before it is declared: it has not been compared with what a global search finds from where
+  // it now is (a local map mostly outside the map finds only look-alikes) (tracker.h, 4).
+  const auto heaviest = std::max_element(hypotheses_.begin(), hypotheses_.end(),
+                                         [](const Hypothesis& a, const Hypothesis& b) { return a.log_weight < b.log_weight; });
+  const bool unconfirmed = heaviest != hypotheses_.end() && std::exp(heaviest->log_weight) >= config_.declare_share &&
+                           searched_on_ <= heaviest->found;
   if (pending_ != nullptr ||
-      (status_ != TrackStatus::kLocalised && (hypotheses_.empty() || steps_since_search_ >= config_.search_every)))
+      (status_ != TrackStatus::kLocalised &&
+       (hypotheses_.empty() || steps_since_search_ >= config_.search_every || unconfirmed)))
     search();
   else merge_and_drop(), normalise();
   // 4. The status; lost this step: the search starts again at once, on this step's local map (a search begun

@@ -20,8 +20,10 @@
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
 //      kidnapped pose is not immune by what it once fitted);
-//   4. a hypothesis is declared when its share of the weight (the none weight included) reaches declare_share
-//      on declare_steps consecutive steps on which it fits (probability at least declare_probability; a step on
+//   4. a hypothesis is declared when a global search begun on a later local map than the one it was found on has
+//      ended (one starts as soon as it holds declare_share: a search on a local map mostly outside the map finds
+//      only look-alikes; docs/NOTES.md, "A declaration waits for a later search"), and its share of the weight (the
+//      none weight included) reaches declare_share on declare_steps consecutive steps on which it fits (probability at least declare_probability; a step on
 //      which it would but for its match having moved it beyond claim_shift is skipped, not a break) and
 //      the steps since each rival place's birth weighed it above that rival by the same odds (declare_share
 //      / (1 - declare_share)): a rival the search found only later (a corridor's mirror image, where the
@@ -171,6 +173,9 @@ class Tracker {
     double seen = 0;  ///< this step's query seen share there (core/matching/verification.h)
     bool moved = false;  ///< this step's match moved it by more than claim_shift
     int age = 0;
+    /// the step whose local map the search that found it began on: it is declared only after a search begun on
+    /// a later local map has ended (step 4); -1: the pose the robot was lost at, compared with searches before
+    std::ptrdiff_t found = 0;
     /// what each step since its birth multiplied its weight by (log; the birth search's probability first, at
     /// most kHistory steps): the evidence it and a rival born later both saw
     std::vector<double> history;
@@ -212,6 +217,8 @@ class Tracker {
   std::size_t pending_step_ = 0;  ///< the step whose local map it searches ...
   Pose2 T_odom_pending_;          ///< ... and that step's T_odom_map
   std::size_t steps_ = 0;         ///< steps since the last reset
+  /// the step whose local map the last finished search began on (-1: none yet)
+  std::ptrdiff_t searched_on_ = -1;
 };
 
 }  // namespace partslam
