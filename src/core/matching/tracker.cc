@@ -351,8 +351,8 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   // A hypothesis that holds declare_share but was found on the last search's local map waits for a search begun
   // on a later one before it is declared: it has not been compared with what a global search finds from where
   // it now is (a local map mostly outside the map finds only look-alikes) (tracker.h, 4).
-  const auto heaviest = std::max_element(hypotheses_.begin(), hypotheses_.end(),
-                                         [](const Hypothesis& a, const Hypothesis& b) { return a.log_weight < b.log_weight; });
+  const auto lighter = [](const Hypothesis& a, const Hypothesis& b) { return a.log_weight < b.log_weight; };
+  const auto heaviest = std::max_element(hypotheses_.begin(), hypotheses_.end(), lighter);
   const bool unconfirmed = heaviest != hypotheses_.end() && std::exp(heaviest->log_weight) >= config_.declare_share &&
                            searched_on_ <= heaviest->found;
   if (pending_ != nullptr ||

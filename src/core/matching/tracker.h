@@ -20,21 +20,21 @@
 //      hypotheses that meet merge into the heavier, those below drop_share of the heaviest drop, at most
 //      max_hypotheses stay; the none weight's share never falls below min_none_share (odds of 99 at most: a
 //      kidnapped pose is not immune by what it once fitted);
-//   4. a hypothesis is declared when a global search begun on a later local map than the one it was found on has
-//      ended (one starts as soon as it holds declare_share: a search on a local map mostly outside the map finds
-//      only look-alikes; docs/NOTES.md, "A declaration waits for a later search"), and its share of the weight (the
-//      none weight included) reaches declare_share on declare_steps consecutive steps on which it fits (probability at least declare_probability; a step on
-//      which it would but for its match having moved it beyond claim_shift is skipped, not a break) and
-//      the steps since each rival place's birth weighed it above that rival by the same odds (declare_share
-//      / (1 - declare_share)): a rival the search found only later (a corridor's mirror image, where the
-//      true place fits as well) starts from the none weight's share, so its small weight says when it was
-//      found, not that it fits worse (docs/NOTES.md, "Rivals found later"); the others are still carried
-//      (they may win back); when the declared one's probability stays below lost_probability for lost_steps
-//      steps in a row the robot was carried elsewhere (kidnapped) or the map no longer holds the place:
-//      "lost", every hypothesis is dropped and the search starts again at once; the pose it was lost at, carried
-//      on by the odometry, joins as a newborn on the first later step where it fits with declare_probability (a
-//      robot that was not carried anywhere, whose local maps a crowd or turning on the spot spoiled for two
-//      steps, is found where it was without waiting for a search begun on a spoiled local map).
+//   4. a hypothesis is declared when a global search begun on a later local map than the one it was found on has ended
+//      (one starts as soon as it holds declare_share: a search on a local map mostly outside the map finds only
+//      look-alikes; docs/NOTES.md, "A declaration waits for a later search"), and its share of the weight (the none
+//      weight included) reaches declare_share on declare_steps consecutive steps on which it fits (probability at least
+//      declare_probability; a step on which it would but for its match having moved it beyond claim_shift is skipped,
+//      not a break) and the steps since each rival place's birth weighed it above that rival by the same odds
+//      (declare_share / (1 - declare_share)): a rival the search found only later (a corridor's mirror image, where the
+//      true place fits as well) starts from the none weight's share, so its small weight says when it was found, not
+//      that it fits worse (docs/NOTES.md, "Rivals found later"); the others are still carried (they may win back); when
+//      the declared one's probability stays below lost_probability for lost_steps steps in a row the robot was carried
+//      elsewhere (kidnapped) or the map no longer holds the place: "lost", every hypothesis is dropped and the search
+//      starts again at once; the pose it was lost at, carried on by the odometry, joins as a newborn on the first later
+//      step where it fits with declare_probability (a robot that was not carried anywhere, whose local maps a crowd or
+//      turning on the spot spoiled for two steps, is found where it was without waiting for a search begun on a spoiled
+//      local map).
 // Nothing is claimed (the status reads "searching", the declared hypothesis is kept and declared again at
 // once when it fits again with declare_share, ahead of its rivals; if it fits again short of them, it is given
 // up then: "lost", the hypotheses kept, until one is declared) on a step where the declared pose fits
