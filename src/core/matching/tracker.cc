@@ -214,7 +214,7 @@ bool Tracker::update_status(bool evidence) {
     dominant_steps_ = 0, dominant_ = -1;
   }
   const bool dominates = heaviest != nullptr && heaviest->id == dominant_ && fits(*heaviest);
-  if (dominates && dominant_steps_ >= config_.declare_steps && searched_on_ > heaviest->found &&
+  if (dominates && dominant_steps_ >= config_.declare_steps && confirmed(*heaviest) &&
       (dominant_ != declared_ || status_ != TrackStatus::kLocalised)) {
     status_ = TrackStatus::kLocalised;
     declared_ = dominant_;
@@ -354,7 +354,7 @@ TrackStep Tracker::step(const Points2& points, const Points2& origins, const Pos
   const auto lighter = [](const Hypothesis& a, const Hypothesis& b) { return a.log_weight < b.log_weight; };
   const auto heaviest = std::max_element(hypotheses_.begin(), hypotheses_.end(), lighter);
   const bool unconfirmed = heaviest != hypotheses_.end() && std::exp(heaviest->log_weight) >= config_.declare_share &&
-                           searched_on_ <= heaviest->found;
+                           !confirmed(*heaviest);
   if (pending_ != nullptr ||
       (status_ != TrackStatus::kLocalised &&
        (hypotheses_.empty() || steps_since_search_ >= config_.search_every || unconfirmed)))

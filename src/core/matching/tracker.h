@@ -185,6 +185,8 @@ class Tracker {
   };
   static constexpr std::size_t kHistory = 256;
   bool ahead_of_rivals(const Hypothesis& h) const;
+  /// a search begun on a later local map than the one `h` was found on has ended (step 4)
+  bool confirmed(const Hypothesis& h) const { return searched_on_ > h.found; }
   std::vector<Verified> verify_carried(const Localizer::VerifyQuery& prepared, const std::vector<Pose2>& poses,
                                        bool track_window) const;
   double weight_factor(const Verified& v) const;
