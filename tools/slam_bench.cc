@@ -87,6 +87,9 @@ struct Bench {
   Scans raw;     // what slam reads
   Scans truth;   // the true poses of the raw scans it has (same timestamps; a subset for raw logs)
   Relations relations;
+  // A raw log's laser mount (io::ScanSource::T_base_laser): its relations file relates robot poses, so the mount is
+  // taken off the laser's poses before they are judged by it. Identity for relations built from laser poses.
+  Pose2 mount;
   bool retimed = false;
   // Poses other than the truth that a twin-like run is judged by too: a raw log's corrected twin (when a relations
   // file is the truth), or sim with SIM_REFERENCE_JITTER: the truth jittered, what the odometry is drifted from.
@@ -151,8 +154,10 @@ Bench sim_bench(const std::string& scenario, const std::string& level, std::uint
 
 Bench raw_bench(const std::string& log, const std::string& twin_log, const std::string& relations) {
   Bench b;
-  b.raw = io::load_scan_source(log).scans;
+  io::ScanSource source = io::load_scan_source(log);
+  b.raw = std::move(source.scans);
   b.name = log;
+  if (!relations.empty()) b.mount = source.T_base_laser.value_or(Pose2{});
   if (twin_log == "-") {  // no corrected twin (mit-csail): the relations alone judge the result, not the closures
     if (relations.empty()) throw InputError(log + ": without a twin the relations file is needed");
     b.relations = io::read_relations(relations);
@@ -344,24 +349,24 @@ int main(int argc, char** argv) {
     for (Scan& s : odometry) s.T_world_laser = s.T_world_odom;
     out["scans"] = r.scans.size();
     out["submaps"] = r.submaps.size();
-    out["slam"] = io::relations_error_json(relations_error(r.scans, b.relations));
-    out["odometry"] = io::relations_error_json(relations_error(odometry, b.relations));
+    out["slam"] = io::relations_error_json(relations_error(r.scans, b.relations, b.mount));
+    out["odometry"] = io::relations_error_json(relations_error(odometry, b.relations, b.mount));
     if (!b.reference.empty()) {
       // How good a twin's truth is: the reference's own poses judged by the truth, and slam's result judged by
       // relations built from the reference, as a drifted twin's run is (docs/NOTES.md, "How good a twin's truth
       // is"); a raw log's reference is its corrected twin.
       const bool twin = mode == "raw";
       out[twin ? "twin_reference" : "reference"] =
-          io::relations_error_json(relations_error(b.reference, b.relations));
+          io::relations_error_json(relations_error(b.reference, b.relations, b.mount));
       out[twin ? "slam_against_twin" : "slam_against_reference"] =
           io::relations_error_json(relations_error(r.scans, bench_relations(b.reference)));
     }
     {  // slam's error on relations within one visit (scans at most 10 s apart) and between visits (the rest)
       Relations within, between;
       for (const Relation& rel : b.relations) (std::abs(rel.t2 - rel.t1) <= 10.0 ? within : between).push_back(rel);
-      out["slam_within_visit"] = io::relations_error_json(relations_error(r.scans, within));
-      out["slam_between_visits"] = io::relations_error_json(relations_error(r.scans, between));
-      out["front_end_within_visit"] = io::relations_error_json(relations_error(front_end_estimate, within));
+      out["slam_within_visit"] = io::relations_error_json(relations_error(r.scans, within, b.mount));
+      out["slam_between_visits"] = io::relations_error_json(relations_error(r.scans, between, b.mount));
+      out["front_end_within_visit"] = io::relations_error_json(relations_error(front_end_estimate, within, b.mount));
       // With SLAM_BENCH_BETWEEN=FILE: one line per relation between visits (t1, t2, slam's error m and rad, the
       // front end's error m, the true x, y of both scans), to see where a map is off (not in the bench's table).
       if (const char* path = std::getenv("SLAM_BENCH_BETWEEN")) {
@@ -370,8 +375,8 @@ int main(int argc, char** argv) {
         std::map<double, Pose2> truth_at;
         for (const Scan& s : b.truth) truth_at[s.timestamp] = s.T_world_laser;
         for (const Relation& rel : between) {
-          const RelationsError e = relations_error(r.scans, Relations{rel});
-          const RelationsError fe = relations_error(front_end_estimate, Relations{rel});
+          const RelationsError e = relations_error(r.scans, Relations{rel}, b.mount);
+          const RelationsError fe = relations_error(front_end_estimate, Relations{rel}, b.mount);
           auto a = truth_at.lower_bound(rel.t1 - 1e-6), c = truth_at.lower_bound(rel.t2 - 1e-6);
           std::fprintf(f, "%.3f %.3f %.4f %.4f %.4f %.3f %.3f %.3f %.3f\n", rel.t1, rel.t2, e.translation_mean,
                        e.rotation_mean, fe.translation_mean, a == truth_at.end() ? 0 : a->second.x,
@@ -381,7 +386,7 @@ int main(int argc, char** argv) {
         std::fclose(f);
       }
     }
-    out["front_end"] = io::relations_error_json(relations_error(front_end_estimate, b.relations));
+    out["front_end"] = io::relations_error_json(relations_error(front_end_estimate, b.relations, b.mount));
     out["closures"] = {{"hypotheses", r.closures.size()}, {"accepted", real}, {"injected", injected},
                        {"judged", judged}, {"wrong", wrong}, {"used", r.back_end.used_count},
                        {"used_wrong", used_wrong}, {"set_aside_right", aside_right}, {"injected_used", injected_used}};

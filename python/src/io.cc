@@ -99,6 +99,9 @@ void define_logs(py::module_& m) {
       .def_readonly("name", &io::ScanSource::name, "the log's file name without .gz/.log/.clf, or 'sim-SEED'")
       .def_readonly("source", &io::ScanSource::source, "the spec it was loaded from")
       .def_readonly("scans", &io::ScanSource::scans)
+      .def_readonly("T_base_laser", &io::ScanSource::T_base_laser,
+                    "the laser's mount on the robot where the log says it (None otherwise); robot poses are "
+                    "T_world_laser * T_base_laser^-1")
       .def_readonly("warnings", &io::ScanSource::warnings, "the reader's warnings: a cut-off end, damage skipped");
   m.def("is_simulator_spec", &io::is_simulator_spec, "spec"_a, "True for 'sim' and 'sim:SEED'.");
   m.def(

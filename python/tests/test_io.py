@@ -33,6 +33,7 @@ def test_tiny_log_known_answers(tmp_path, gz):
     assert log.odometry[0].tv == 0.1
     source = partslam.load_scan_source(str(path))
     assert source.name == "tiny" and len(source.scans) == 1
+    assert source.T_base_laser is None  # one scan cannot tell a laser's mount
 
 
 def test_malformed_and_missing_logs_raise_value_error_naming_file_and_line(tmp_path):

@@ -48,6 +48,7 @@ struct SlamOptions {
   io::LogReadOptions read;
   std::string out;
   std::string relations;
+  bool relations_at_laser = false;
   SlamConfig config;
   int threads = 1;
   bool compare = false;
@@ -294,17 +295,22 @@ nlohmann::json loops_json(const SlamOptions& o, const SlamResult& r) {
 }
 
 // --relations: the errors of the corrected and the odometry's trajectories, into DIR/relations_error.json and
-// the summary.
+// the summary. The relations relate robot poses: a laser mounted off the robot's origin is taken off the scans'.
 void write_relations(const SlamOptions& o, const std::filesystem::path& dir, const Relations& relations,
                      const io::ScanSource& source, const SlamResult& r, nlohmann::json& summary) {
-  const RelationsError before = relations_error(source.scans, relations);
-  const RelationsError after = relations_error(r.scans, relations);
-  summary["relations"] = {
-      {"file", o.relations}, {"slam", io::relations_error_json(after)}, {"odometry", io::relations_error_json(before)}};
-  io::write_atomically(dir / "relations_error.json",
-                       [&](std::ostream& out) { out << json_text(io::relations_error_json(after)); });
-  std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size()
-            << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
+  const Pose2 mount = o.relations_at_laser ? Pose2{} : source.T_base_laser.value_or(Pose2{});
+  const RelationsError before = relations_error(source.scans, relations, mount);
+  const RelationsError after = relations_error(r.scans, relations, mount);
+  nlohmann::json after_json = io::relations_error_json(after);
+  const bool offset = mount.translation().norm() > 0 || mount.theta != 0;
+  if (offset) after_json["laser_mount"] = {{"x", mount.x}, {"y", mount.y}, {"theta", mount.theta}};
+  summary["relations"] = {{"file", o.relations}, {"slam", after_json}, {"odometry", io::relations_error_json(before)}};
+  io::write_atomically(dir / "relations_error.json", [&](std::ostream& out) { out << json_text(after_json); });
+  std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size();
+  if (offset)
+    std::cout << ", between robot poses: the laser's mount " << std::setprecision(3) << mount.x << ", " << mount.y
+              << " m, " << mount.theta << " rad taken off";
+  std::cout << "): " << relations_text(after) << " (odometry: " << relations_text(before) << ")";
 }
 
 // The run itself, its files into dir.
@@ -366,6 +372,9 @@ void register_slam(CLI::App& app) {
   add_log_read_options(*cmd, o->read);
   cmd->add_option("--out", o->out, "output folder (created when missing)")->required();
   cmd->add_option("--relations", o->relations, "Freiburg .relations file: report the relation errors");
+  cmd->add_flag("--relations-at-laser", o->relations_at_laser,
+                "judge the relations on the laser's poses, not the robot's (a log whose laser is mounted off the "
+                "robot's origin: its mount is taken off the scans' poses by default)");
   cmd->add_option("--min-confidence", o->config.min_confidence, "loop closures at least this confident join the graph")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads,

@@ -154,8 +154,9 @@ Scans reference_from_relations(const Scans& estimate, const Relations& relations
   return nodes;
 }
 
-RelationsError relations_error(const Scans& scans, const Relations& relations) {
+RelationsError relations_error(const Scans& scans, const Relations& relations, const Pose2& T_base_laser) {
   const ScanByTime find(scans);
+  const Pose2 T_laser_base = T_base_laser.inverse();
   RelationsError e;
   std::vector<double> dt, dr;
   for (const Relation& r : relations) {
@@ -164,7 +165,8 @@ RelationsError relations_error(const Scans& scans, const Relations& relations) {
       ++e.missing;
       continue;
     }
-    const Pose2 E = r.T_1_2.inverse() * (scans[*a].T_world_laser.inverse() * scans[*b].T_world_laser);
+    const Pose2 T_world_1 = scans[*a].T_world_laser * T_laser_base, T_world_2 = scans[*b].T_world_laser * T_laser_base;
+    const Pose2 E = r.T_1_2.inverse() * (T_world_1.inverse() * T_world_2);
     dt.push_back(E.translation().norm());
     dr.push_back(std::abs(E.theta));
   }

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 #include "core/error.h"
 #include "core/testing/scan_index.h"
 
@@ -131,6 +134,24 @@ TEST(RelationsError, IsZeroForTheTrueTrajectoryAndMeasuresAnOffset) {
   EXPECT_NEAR(e.translation_mean, 0.3, 1e-9);
   EXPECT_NEAR(e.rotation_mean, 0.1, 1e-9);
   EXPECT_NEAR(e.translation_std, 0.0, 1e-12);
+}
+
+// The benchmark's relations relate robot poses. With the laser 0.22 m ahead of the robot's origin (the Freiburg
+// hospital's bag), a U-turn moves the laser 0.44 m more than the robot: measured on the laser's poses, a perfect
+// trajectory would be 0.44 m off; with the mount taken off, 0.
+TEST(RelationsError, RelatesRobotPosesWhenTheLaserIsMountedOffTheOrigin) {
+  const Pose2 mount{0.22, 0.0, 0.0};
+  Scans scans = straight(4);
+  const std::vector<Pose2> robot = {{0, 0, 0}, {1, 0, 0}, {1, 0, std::numbers::pi / 2}, {1, 0, std::numbers::pi}};
+  for (std::size_t i = 0; i < 4; ++i) scans[i].T_world_laser = robot[i] * mount;
+  const Relations relations = {{scans[0].timestamp, scans[3].timestamp, robot[0].inverse() * robot[3]},
+                               {scans[1].timestamp, scans[2].timestamp, robot[1].inverse() * robot[2]}};
+  const RelationsError on_robot = relations_error(scans, relations, mount);
+  EXPECT_EQ(on_robot.relations, 2u);
+  EXPECT_NEAR(on_robot.translation_mean, 0.0, 1e-12);
+  const RelationsError on_laser = relations_error(scans, relations);
+  EXPECT_NEAR(on_laser.translation_mean, (0.44 + 0.22 * std::sqrt(2.0)) / 2, 1e-9);
+  EXPECT_NEAR(on_laser.rotation_mean, 0.0, 1e-12);
 }
 
 TEST(RelationsError, NamesTheScanOfNearestTimestampNotTheFirstWithinAMillisecond) {

@@ -38,6 +38,7 @@ ScanSource from_bag(const std::string& spec, RosBagLog log) {
   ScanSource out;
   out.name = bag_name(spec);
   out.scans = std::move(log.scans);
+  if (!log.laser_frame.empty()) out.T_base_laser = log.T_base_laser;
   out.warnings = std::move(log.warnings);
   return out;
 }
@@ -60,6 +61,7 @@ ScanSource read_carmen(const std::string& spec, const LogReadOptions& options) {
       out.name.resize(out.name.size() - e.size());
   CarmenLog log = read_carmen_log(spec, options);
   out.scans = std::move(log.scans);
+  out.T_base_laser = log.T_base_laser;
   out.warnings = std::move(log.warnings);
   return out;
 }

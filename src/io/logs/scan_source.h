@@ -6,6 +6,7 @@
 // and refuses, for every format, an input that gave no scan.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -19,6 +20,10 @@ struct ScanSource {
   std::string name;    ///< dataset name: the log's file name without .gz/.log/.clf, or "sim-SEED"
   std::string source;  ///< the spec it was loaded from
   Scans scans;
+  /// The laser's mount on the robot, where the log says it (a bag's base_link -> laser transforms, a CARMEN log's
+  /// fixed offset between its laser and robot poses); the scans are posed at the laser either way. Robot poses,
+  /// which ground truth such as the Freiburg .relations files relates, are T_world_laser * T_base_laser^-1.
+  std::optional<Pose2> T_base_laser;
   /// The reader's warnings (a recording cut short, damage skipped), "<file>: ..." each; the apps print them.
   std::vector<std::string> warnings;
 };
