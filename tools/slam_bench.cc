@@ -87,8 +87,9 @@ struct Bench {
   Scans raw;     // what slam reads
   Scans truth;   // the true poses of the raw scans it has (same timestamps; a subset for raw logs)
   Relations relations;
-  // A raw log's laser mount (io::ScanSource::T_base_laser): its relations file relates robot poses, so the mount is
-  // taken off the laser's poses before they are judged by it. Identity for relations built from laser poses.
+  // A raw log's laser mount (io::ScanSource::T_base_laser): robot poses are judged by its relations file, as `slam
+  // --relations` judges them, so the mount is taken off the laser's poses. Identity for relations built from laser
+  // poses.
   Pose2 mount;
   bool retimed = false;
   // Poses other than the truth that a twin-like run is judged by too: a raw log's corrected twin (when a relations

@@ -295,7 +295,8 @@ nlohmann::json loops_json(const SlamOptions& o, const SlamResult& r) {
 }
 
 // --relations: the errors of the corrected and the odometry's trajectories, into DIR/relations_error.json and
-// the summary. The relations relate robot poses: a laser mounted off the robot's origin is taken off the scans'.
+// the summary. The robot's poses are judged (ROS's trajectory of a robot is its base's): a laser mounted off the
+// robot's origin is taken off the scans' poses, unless --relations-at-laser.
 void write_relations(const SlamOptions& o, const std::filesystem::path& dir, const Relations& relations,
                      const io::ScanSource& source, const SlamResult& r, nlohmann::json& summary) {
   const Pose2 mount = o.relations_at_laser ? Pose2{} : source.T_base_laser.value_or(Pose2{});

@@ -62,9 +62,10 @@ Submaps with_reference_frames(const Submaps& maps, const std::vector<std::option
 /// The relations metric of Kuemmerle et al. 2009 ("On measuring the accuracy of SLAM algorithms"): for every
 /// relation (t1, t2, T_1_2) whose two scans are in `scans` (matched to the scan of nearest timestamp, within 1 ms), the error pose
 /// E = T_1_2^-1 * (T_world(t1)^-1 * T_world(t2)); mean and standard deviation of |E.translation| [m] and of
-/// |E.theta| [rad]. The relations relate robot poses (the benchmark's logs pose their robot, ROBOTLASER1 its laser
-/// too): with a laser mounted off the robot's origin, T_world = T_world_laser * T_base_laser^-1. Measured on the laser
-/// poses instead, a relation across a turn of theta is off by 2 |t| sin(theta / 2) (|t| the mount's offset).
+/// |E.theta| [rad]. With T_base_laser, the robot's poses are judged, T_world = T_world_laser * T_base_laser^-1; the
+/// laser's otherwise. Which one a relations file relates is its own convention (the Freiburg hospital's relates its
+/// robot's; docs/NOTES.md, "Which pose the relations relate"): judged at the other, a relation across a turn of theta
+/// is off by up to 2 |t| sin(theta / 2) (|t| the mount's offset).
 struct RelationsError {
   double translation_mean = 0.0, translation_std = 0.0;  ///< [m]
   double rotation_mean = 0.0, rotation_std = 0.0;        ///< [rad]

@@ -136,7 +136,7 @@ TEST(RelationsError, IsZeroForTheTrueTrajectoryAndMeasuresAnOffset) {
   EXPECT_NEAR(e.translation_std, 0.0, 1e-12);
 }
 
-// The benchmark's relations relate robot poses. With the laser 0.22 m ahead of the robot's origin (the Freiburg
+// Relations of robot poses (as the Freiburg hospital's are). With the laser 0.22 m ahead of the robot's origin (that
 // hospital's bag), a U-turn moves the laser 0.44 m more than the robot: measured on the laser's poses, a perfect
 // trajectory would be 0.44 m off; with the mount taken off, 0.
 TEST(RelationsError, RelatesRobotPosesWhenTheLaserIsMountedOffTheOrigin) {

@@ -319,7 +319,7 @@ TEST(RosBag, AppliesTheLaserMountFromTfStatic) {
     EXPECT_NEAR(mounted.scans[i].T_world_laser.y, want.y, 1e-6);
     EXPECT_NEAR(mounted.scans[i].T_world_laser.theta, want.theta, 1e-6);
   }
-  // The mount reaches the commands through the scan source (relations relate robot poses: cmd_slam takes it off).
+  // The mount reaches the commands through the scan source (`slam --relations` takes it off to judge robot poses).
   EXPECT_FALSE(load_scan_source((dir / "plain.bag").string()).T_base_laser.has_value());
   const std::optional<Pose2> source_mount = load_scan_source((dir / "mounted.bag").string()).T_base_laser;
   ASSERT_TRUE(source_mount.has_value());

@@ -21,8 +21,8 @@ struct ScanSource {
   std::string source;  ///< the spec it was loaded from
   Scans scans;
   /// The laser's mount on the robot, where the log says it (a bag's base_link -> laser transforms, a CARMEN log's
-  /// fixed offset between its laser and robot poses); the scans are posed at the laser either way. Robot poses,
-  /// which ground truth such as the Freiburg .relations files relates, are T_world_laser * T_base_laser^-1.
+  /// fixed offset between its laser and robot poses); the scans are posed at the laser either way. The robot's poses
+  /// (what `slam --relations` judges by default) are T_world_laser * T_base_laser^-1.
   std::optional<Pose2> T_base_laser;
   /// The reader's warnings (a recording cut short, damage skipped), "<file>: ..." each; the apps print them.
   std::vector<std::string> warnings;
