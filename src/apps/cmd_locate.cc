@@ -50,8 +50,6 @@ struct LocateOptions {
   bool quiet = false;
 };
 
-nlohmann::json pose_json(const Pose2& p) { return {{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
-
 struct Located {
   std::string label;
   Localization result;

@@ -171,7 +171,7 @@ void run_loops(const LoopsOptions& o) {
       if (e.verdicts[i] < 0) continue;
       const Pose2 T = truth[closures[i].match]->inverse() * *truth[closures[i].query];
       j["closures"][i]["correct"] = e.verdicts[i] == 1;
-      j["closures"][i]["true_pose"] = {{"x", T.x}, {"y", T.y}, {"theta", T.theta}};
+      j["closures"][i]["true_pose"] = pose_json(T);
     }
     if (!o.plot.empty()) {
       plot::Curve curve{dataset.spec.name + " " + o.config.method, {}};

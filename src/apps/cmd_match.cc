@@ -241,7 +241,7 @@ nlohmann::json ranking_json(const Query& q, const MethodSpec& method, const Quer
       const Pose2& T = row.pose->T_map_query;
       j["inliers"] = row.pose->inliers;
       j["inlier_fraction"] = row.pose->inlier_fraction;
-      j["T_map_query"] = {{"x", T.x}, {"y", T.y}, {"theta", T.theta}};
+      j["T_map_query"] = pose_json(T);
     }
     out["ranking"].push_back(j);
   }

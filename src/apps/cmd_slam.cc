@@ -289,7 +289,7 @@ nlohmann::json loops_json(const SlamOptions& o, const SlamResult& r) {
     const LoopClosure& l = r.offered[k];
     loops.push_back({{"query", l.query}, {"match", l.match}, {"score", l.score}, {"confidence", l.confidence},
                      {"used", static_cast<bool>(r.back_end.used[k])},
-                     {"pose", {{"x", l.T_match_query.x}, {"y", l.T_match_query.y}, {"theta", l.T_match_query.theta}}}});
+                     {"pose", pose_json(l.T_match_query)}});
   }
   return {{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}};
 }
@@ -304,7 +304,7 @@ void write_relations(const SlamOptions& o, const std::filesystem::path& dir, con
   const RelationsError after = relations_error(r.scans, relations, mount);
   nlohmann::json after_json = io::relations_error_json(after);
   const bool offset = mount.translation().norm() > 0 || mount.theta != 0;
-  if (offset) after_json["laser_mount"] = {{"x", mount.x}, {"y", mount.y}, {"theta", mount.theta}};
+  if (offset) after_json["laser_mount"] = pose_json(mount);
   summary["relations"] = {{"file", o.relations}, {"slam", after_json}, {"odometry", io::relations_error_json(before)}};
   io::write_atomically(dir / "relations_error.json", [&](std::ostream& out) { out << json_text(after_json); });
   std::cout << ", relations_error.json\nrelations (" << after.relations << " of " << relations.size();
