@@ -24,7 +24,7 @@ FUZZ_FLAGS ?= -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-
   -DPARTSLAM_BUILD_TESTS=OFF -DPARTSLAM_BUILD_PYTHON=OFF -DPARTSLAM_BUILD_BENCHMARKS=OFF -DPARTSLAM_BUILD_TOOLS=OFF \
   -DPARTSLAM_WERROR=OFF
 
-.PHONY: all deps build demo test sanitize sanitize-long fuzz bench results raw-logs relocalisation locate-check slam-bench slam-stress slam-resolution readme-usage design-layers clean
+.PHONY: all deps build demo test sanitize sanitize-long fuzz bench results raw-logs held-out relocalisation locate-check slam-bench slam-stress slam-resolution readme-usage design-layers clean
 
 all: build
 
@@ -63,6 +63,10 @@ results: build
 
 raw-logs: build
 	bash scripts/make-raw-logs.sh
+
+# Buildings not in ../shared (docs/NOTES.md): HELDOUT=DIR holds their files (scripts/held-out.sh says which).
+held-out: build
+	bash scripts/held-out.sh "$(HELDOUT)"
 
 relocalisation: build
 	bash scripts/make-relocalisation.sh
