@@ -8,6 +8,7 @@ paired with the log's scan, within SEARCH places of its own, whose ranges are th
 `slam` on the bags by the logs' relations, and by scripts/track_other_recording.py.
 Usage: /usr/bin/python3 scripts/bag_relations.py CLF BAG RELATIONS OUT"""
 import bisect
+import math
 import os
 import sys
 
@@ -26,6 +27,30 @@ def partslam_module():
         sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
         import partslam
     return partslam
+
+
+def read_relations(path):
+    """The relations: each its eight numbers, the text of its last six and its line; exits naming the file and line
+    of one that is not eight finite numbers (a file without any, too)."""
+    rows = []
+    try:
+        with open(path) as f:
+            for n, line in enumerate(f, 1):
+                v = line.split()
+                if not v or v[0].startswith("#"):
+                    continue
+                try:
+                    row = [float(x) for x in v[:8]]
+                except ValueError:
+                    row = []
+                if len(row) < 8 or not all(math.isfinite(x) for x in row):
+                    sys.exit(f"{path}:{n}: expected 't1 t2 x y z roll pitch yaw' (eight finite numbers)")
+                rows.append((row, v[2:8], n))
+    except OSError as e:
+        sys.exit(f"{path}: cannot read it ({e})")
+    if not rows:
+        sys.exit(f"{path}: no relations")
+    return rows
 
 
 def ranges(scan):
@@ -74,19 +99,10 @@ def main(argv):
         sys.exit(f"{where}: no scan of {clf} at {t}")
 
     lines = []
-    try:
-        with open(relations) as f:
-            for n, line in enumerate(f, 1):
-                v = line.split()
-                if not v or v[0].startswith("#"):
-                    continue
-                if len(v) < 8:
-                    sys.exit(f"{relations}:{n}: expected 't1 t2 x y z roll pitch yaw'")
-                a = scan_of(float(v[0]), f"{relations}:{n}")
-                b = scan_of(float(v[1]), f"{relations}:{n}")
-                lines.append(f"{bag_time_of[a]:.6f} {bag_time_of[b]:.6f} {' '.join(v[2:8])}\n")
-    except (OSError, ValueError) as e:
-        sys.exit(f"{relations}: cannot read it ({e})")
+    for r, text, n in read_relations(relations):
+        a = scan_of(r[0], f"{relations}:{n}")
+        b = scan_of(r[1], f"{relations}:{n}")
+        lines.append(f"{bag_time_of[a]:.6f} {bag_time_of[b]:.6f} {' '.join(text)}\n")
     tmp = out + ".tmp"
     with open(tmp, "w") as f:
         f.writelines(lines)

@@ -24,36 +24,12 @@ import sys
 
 import numpy as np
 
-from bag_relations import partslam_module
+from bag_relations import partslam_module, read_relations
 
 WINDOW = 150          # scans either side of a stamp's place at the log's mean scan interval that are searched
 TIME_WEIGHT = 0.002   # [m^2 per scan^2]: a scan skipped against the clock costs as much as 4.5 cm of misfit
 TURN_WEIGHT = 0.5     # [m / rad]
 MAX_RESIDUAL = 0.1    # [m]: mean misfit of the consecutive relations beyond which the pairing is refused
-
-
-def read_relations(path):
-    """The relations: each its eight numbers and the text of its last six; exits naming the file and line of one
-    that is not eight finite numbers."""
-    rows = []
-    try:
-        with open(path) as f:
-            for n, line in enumerate(f, 1):
-                v = line.split()
-                if not v or v[0].startswith("#"):
-                    continue
-                try:
-                    row = [float(x) for x in v[:8]]
-                except ValueError:
-                    row = []
-                if len(row) < 8 or not all(math.isfinite(x) for x in row):
-                    sys.exit(f"{path}:{n}: expected 't1 t2 x y z roll pitch yaw' (eight finite numbers)")
-                rows.append((row, v[2:8]))
-    except OSError as e:
-        sys.exit(f"{path}: cannot read it ({e})")
-    if not rows:
-        sys.exit(f"{path}: no relations")
-    return rows
 
 
 def pair_stamps(stamps, poses, consecutive):
@@ -113,10 +89,10 @@ def main(argv):
         sys.exit(f"{poses_path}: fewer than two scans")
     times = np.array([s.timestamp for s in scans])
     poses = np.array([tuple(s.T_world_laser) for s in scans], dtype=float)
-    stamps = np.array(sorted({r[0] for r, _ in rows} | {r[1] for r, _ in rows}))
+    stamps = np.array(sorted({r[0] for r, _, _ in rows} | {r[1] for r, _, _ in rows}))
     at = {s: j for j, s in enumerate(stamps)}
     consecutive = {}
-    for (t1, t2, x, y, _, _, _, yaw), _ in rows:
+    for (t1, t2, x, y, _, _, _, yaw), _, _ in rows:
         a, b = at[t1], at[t2]
         if b == a + 1:
             consecutive[a] = (x, y, yaw)
@@ -135,7 +111,7 @@ def main(argv):
     time_of = dict(zip(stamps, times[idx]))
     tmp = out + ".tmp"
     with open(tmp, "w") as f:
-        for r, text in rows:
+        for r, text, _ in rows:
             f.write(f"{time_of[r[0]]:.6f} {time_of[r[1]]:.6f} {' '.join(text)}\n")
     os.replace(tmp, out)
 
