@@ -37,6 +37,7 @@ TEST(CliSlam, WritesTheMapTheVerdictAndSaysWhenNoRelationMatched) {
   EXPECT_THAT(run.output, HasSubstr("; checked: "));  // what the verdict looked at, in one sentence
   EXPECT_THAT(run.output, HasSubstr("no relation matched"));
   EXPECT_THAT(run.output, HasSubstr("no relation names a scan of"));
+  EXPECT_THAT(run.output, HasSubstr("how to carry relations onto a re-timed recording"));
   EXPECT_THAT(run.output, HasSubstr("checked before the run"));
   for (const char* name : {"corrected.log", "map.yaml", "map.pgm", "map.png", "loops.json", "slam.json"})
     EXPECT_TRUE(fs::exists(out / name)) << name;

@@ -294,13 +294,18 @@ nlohmann::json loops_json(const SlamOptions& o, const SlamResult& r) {
   return {{"log", o.log}, {"submaps", r.submaps.size()}, {"accepted", loops}};
 }
 
-// --relations: the errors of the corrected and the odometry's trajectories, into DIR/relations_error.json and
-// the summary. The robot's poses are judged (ROS's trajectory of a robot is its base's): a laser mounted off the
+// The pose --relations judges: the robot's (ROS's trajectory of a robot is its base's), so a laser mounted off the
 // robot's origin is taken off the scans' poses, unless --relations-at-laser.
+Pose2 relations_mount(const SlamOptions& o, const io::ScanSource& source) {
+  return o.relations_at_laser ? Pose2{} : source.T_base_laser.value_or(Pose2{});
+}
+
+// --relations: the errors of the corrected and the odometry's (`before`) trajectories, into
+// DIR/relations_error.json and the summary.
 void write_relations(const SlamOptions& o, const std::filesystem::path& dir, const Relations& relations,
-                     const io::ScanSource& source, const SlamResult& r, nlohmann::json& summary) {
-  const Pose2 mount = o.relations_at_laser ? Pose2{} : source.T_base_laser.value_or(Pose2{});
-  const RelationsError before = relations_error(source.scans, relations, mount);
+                     const io::ScanSource& source, const SlamResult& r, const RelationsError& before,
+                     nlohmann::json& summary) {
+  const Pose2 mount = relations_mount(o, source);
   const RelationsError after = relations_error(r.scans, relations, mount);
   nlohmann::json after_json = io::relations_error_json(after);
   const bool offset = mount.translation().norm() > 0 || mount.theta != 0;
@@ -318,11 +323,15 @@ void write_relations(const SlamOptions& o, const std::filesystem::path& dir, con
 void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   const Relations relations = o.relations.empty() ? Relations{} : io::read_relations(o.relations);
   const io::ScanSource source = load_scans(o.log, o.read);
-  // The relations against the log's scans before the run, not after it: matching is by timestamp.
-  if (!o.relations.empty() && relations_error(source.scans, relations).relations == 0)
+  // The relations against the log's scans before the run, not after it: matching is by timestamp. The same
+  // figure is the odometry's error the summary reports.
+  const RelationsError odometry =
+      o.relations.empty() ? RelationsError{} : relations_error(source.scans, relations, relations_mount(o, source));
+  if (!o.relations.empty() && odometry.relations == 0)
     std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
-              << " (its timestamps are not the log's: a re-timed bag, or another run?); checked before the run, "
-                 "which goes on without relation errors\n";
+              << " (its timestamps are not the log's: a re-timed bag, or another run?; docs/USAGE.md says how to "
+                 "carry relations onto a re-timed recording); checked before the run, which goes on without "
+                 "relation errors\n";
   SlamResult r;
   {
     ProgressBar bar(!o.quiet);
@@ -344,7 +353,7 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
   summary["warnings"] = source.warnings;  // the reader's: a recording cut short, damage skipped
   std::cout << "wrote " << (dir / "corrected.log").string()
             << ", map.yaml, map.pgm, map.png, result.mcap, loops.json, slam.json";
-  if (!o.relations.empty()) write_relations(o, dir, relations, source, r, summary);
+  if (!o.relations.empty()) write_relations(o, dir, relations, source, r, odometry, summary);
   std::cout << "\n";
   io::write_atomically(dir / "slam.json", [&](std::ostream& out) { out << json_text(summary); });
   if (!b.trusted()) throw ExitStatus{kExitUntrusted};  // written, with the warning above: not to be trusted
