@@ -66,6 +66,7 @@ raw-logs: build
 
 # Buildings not in ../shared (docs/NOTES.md): HELDOUT=DIR holds their files (scripts/held-out.sh says which).
 held-out: build
+	@test -n "$(HELDOUT)" || { echo "make held-out: set HELDOUT=DIR, the folder of scripts/held-out.sh's files" >&2; exit 2; }
 	bash scripts/held-out.sh "$(HELDOUT)"
 
 relocalisation: build

@@ -53,6 +53,19 @@ def read_relations(path):
     return rows
 
 
+def write_atomically(out, lines):
+    """Writes the lines to out through out.tmp, renamed when whole; exits naming out (no .tmp left) when it cannot."""
+    tmp = out + ".tmp"
+    try:
+        with open(tmp, "w") as f:
+            f.writelines(lines)
+        os.replace(tmp, out)
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        sys.exit(f"{out}: cannot write it ({e})")
+
+
 def ranges(scan):
     """A scan's beam lengths that both files keep, in beam order (independent of how each file spaces its beams)."""
     r = np.linalg.norm(np.asarray(scan.points_laser, dtype=float).reshape(-1, 2), axis=1)
@@ -103,10 +116,7 @@ def main(argv):
         a = scan_of(r[0], f"{relations}:{n}")
         b = scan_of(r[1], f"{relations}:{n}")
         lines.append(f"{bag_time_of[a]:.6f} {bag_time_of[b]:.6f} {' '.join(text)}\n")
-    tmp = out + ".tmp"
-    with open(tmp, "w") as f:
-        f.writelines(lines)
-    os.replace(tmp, out)
+    write_atomically(out, lines)
 
 
 if __name__ == "__main__":

@@ -5,16 +5,16 @@
 # scripts/retimed_relations.py from a first `slam` run's poses). The files come from github.com/INESCTEC/ricoslam
 # (inesctec_mrdt_slam_2d_datasets/bag and data) and are never committed here:
 #   DIR/fr-clinic_robotlaser.orig.bag  DIR/fr-clinic.relations  DIR/mit-killian.clf2bag.bag  DIR/mit-killian.relations
-# Usage: scripts/held-out.sh DIR [OUT] (make held-out HELDOUT=DIR; about 3 min on 2 cores). Each run's folder (map.png,
+# Usage: scripts/held-out.sh DIR [OUT] (make held-out HELDOUT=DIR; about 2 minutes on 2 cores). Each run's folder (map.png,
 # slam.json, relations_error.json) is left in OUT (default: a new folder under /tmp, printed).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-DIR=${1:?usage: scripts/held-out.sh DIR [OUT]}
-OUT=${2:-$(mktemp -d /tmp/held-out.XXXXXX)}
+DIR=$(realpath -m "${1:?usage: scripts/held-out.sh DIR [OUT]}")
 for f in fr-clinic_robotlaser.orig.bag fr-clinic.relations mit-killian.clf2bag.bag mit-killian.relations; do
   [ -s "$DIR/$f" ] || { echo "held-out: $DIR/$f is missing or empty (see this script's header for where it comes from)" >&2; exit 1; }
 done
+OUT=$(realpath -m "${2:-$(mktemp -d /tmp/held-out.XXXXXX)}")
 mkdir -p "$OUT"
+cd "$(dirname "$0")/.."
 # Exit status 3 is a map written but not trusted (the verdict, in the table); anything else non-zero is an error.
 slam() {
   local status=0
@@ -35,6 +35,8 @@ for name, run in (("Freiburg hospital", "hospital"), ("MIT Killian Court (re-tim
     s = json.load(open(os.path.join(out, run, "slam.json")))
     r = json.load(open(os.path.join(out, run, "relations_error.json")))
     o = s["relations"]["odometry"]
+    if "translation_m" not in r or "translation_m" not in o:
+        sys.exit("held-out: %s: no relation names a scan of the run (%s)" % (name, os.path.join(out, run)))
     print("| %s | %d | %.4f +- %.3f m, %.2f deg | %.3f m | %s | %.0f |" % (
         name, s["scans"], r["translation_m"]["mean"], r["translation_m"]["std"], r["rotation_deg"]["mean"],
         o["translation_m"]["mean"], s["verdict"], sum(s["seconds"].values())))

@@ -15,16 +15,18 @@ relation error"). Pairing by the odometry instead puts most stamps one scan earl
 slam's error by 0.02 m, so POSES should be scan-matched. A POSES wrong by more than a scan's travel across a
 relation's span would be paired around its error: the residual printed says how well the relations fit.
 
-Refuses (exit 1, nothing written) when the mean residual of the consecutive relations is over MAX_RESIDUAL or a
-pairing lies at the edge of the search window (the scans are not evenly spaced enough in time for it).
+Assumes the relations span the recording (their first and last stamps near its first and last scans: the window
+is placed by the log's mean scan interval over that span) and compares them with POSES's laser poses (a laser
+mounted off the robot's origin adds about its offset times the turn to the misfit). Refuses (exit 1, nothing
+written) when the mean residual of the consecutive relations is over MAX_RESIDUAL or a pairing lies at the edge of
+the search window (the scans not evenly spaced enough in time, or the relations spanning only part of the run).
 Usage: /usr/bin/python3 scripts/retimed_relations.py POSES RELATIONS OUT"""
 import math
-import os
 import sys
 
 import numpy as np
 
-from bag_relations import partslam_module, read_relations
+from bag_relations import partslam_module, read_relations, write_atomically
 
 WINDOW = 150          # scans either side of a stamp's place at the log's mean scan interval that are searched
 TIME_WEIGHT = 0.002   # [m^2 per scan^2]: a scan skipped against the clock costs as much as 4.5 cm of misfit
@@ -32,14 +34,15 @@ TURN_WEIGHT = 0.5     # [m / rad]
 MAX_RESIDUAL = 0.1    # [m]: mean misfit of the consecutive relations beyond which the pairing is refused
 
 
-def pair_stamps(stamps, poses, consecutive):
+def pair_stamps(stamps, poses, consecutive, what):
     """For each of the sorted relation stamps, the index of its scan among the scans of `poses` (x, y, theta rows);
     `consecutive[j]` is the relation (x, y, theta) from stamp j to stamp j + 1 where there is one. Returns the
-    indices, the consecutive relations' residuals and how many pairings lie at the window's edge."""
+    indices, the consecutive relations' residuals and how many pairings lie at the window's edge; exits naming
+    `what` when no pairing exists."""
     n, m = len(poses), len(stamps)
     dt = (stamps[-1] - stamps[0]) / max(n - 1, 1)  # the log's mean scan interval, if it spans the recording
     if dt <= 0:
-        sys.exit("the relations name a single timestamp: nothing to pair them by")
+        sys.exit(f"{what}: the relations name a single timestamp, nothing to pair them by")
     place = np.round((stamps - stamps[0]) / dt).astype(int)
     X, Y, T = poses[:, 0], poses[:, 1], poses[:, 2]
 
@@ -62,7 +65,8 @@ def pair_stamps(stamps, poses, consecutive):
         arg = np.argmin(c, axis=0)
         best = c[arg, np.arange(len(cur))]
         if not np.isfinite(best).any():
-            sys.exit(f"no order of scans fits the relations' stamps around {stamps[j]:.6f}")
+            sys.exit(f"{what}: no order of scans fits the relations' stamps around {stamps[j]:.6f} (do the relations "
+                     "span the recording?)")
         back.append((prev, arg))
         cost, prev = np.where(np.isfinite(best), best, np.inf), cur
     idx = [int(prev[int(np.argmin(cost))])]
@@ -95,13 +99,13 @@ def main(argv):
     for (t1, t2, x, y, _, _, _, yaw), _, _ in rows:
         a, b = at[t1], at[t2]
         if b == a + 1:
-            consecutive[a] = (x, y, yaw)
+            consecutive.setdefault(a, (x, y, yaw))  # the first of several between the same stamps
         elif a == b + 1:  # the same relation the other way round
             c, s = math.cos(yaw), math.sin(yaw)
-            consecutive[b] = (-(c * x + s * y), s * x - c * y, -yaw)
+            consecutive.setdefault(b, (-(c * x + s * y), s * x - c * y, -yaw))
     if not consecutive:
         sys.exit(f"{relations}: no relation between consecutive timestamps to pair them by")
-    idx, residual, edge = pair_stamps(stamps, poses, consecutive)
+    idx, residual, edge = pair_stamps(stamps, poses, consecutive, f"{relations} against {poses_path}")
     print(f"{len(stamps)} timestamps paired with scans of {poses_path}; {len(residual)} relations between "
           f"consecutive ones fit its poses to {residual.mean():.4f} m (median {np.median(residual):.4f}, max "
           f"{residual.max():.3f}); {edge} at the search window's edge")
@@ -109,11 +113,7 @@ def main(argv):
         sys.exit(f"{relations}: not paired with {poses_path} (mean residual {residual.mean():.3f} m, limit "
                  f"{MAX_RESIDUAL}; {edge} pairings at the window's edge): nothing written")
     time_of = dict(zip(stamps, times[idx]))
-    tmp = out + ".tmp"
-    with open(tmp, "w") as f:
-        for r, text, _ in rows:
-            f.write(f"{time_of[r[0]]:.6f} {time_of[r[1]]:.6f} {' '.join(text)}\n")
-    os.replace(tmp, out)
+    write_atomically(out, [f"{time_of[r[0]]:.6f} {time_of[r[1]]:.6f} {' '.join(text)}\n" for r, text, _ in rows])
 
 
 if __name__ == "__main__":

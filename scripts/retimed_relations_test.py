@@ -85,7 +85,7 @@ class RetimedRelations(unittest.TestCase):
             self.assertAlmostEqual(float(v[0]), 1e9 + 0.1 * ia, places=4, msg=line)
             self.assertAlmostEqual(float(v[1]), 1e9 + 0.1 * ib, places=4, msg=line)
             self.assertEqual(v[2:], line.split()[2:])
-        self.assertIn("at the search window's edge", r.stdout)
+        self.assertIn("; 0 at the search window's edge", r.stdout)
 
     def test_poses_of_another_run_are_refused_and_nothing_is_written(self):
         other = os.path.join(self.dir.name, "other.clf")
@@ -96,6 +96,14 @@ class RetimedRelations(unittest.TestCase):
         self.assertIn("not paired with", r.stderr)
         self.assertIn("nothing written", r.stderr)
         self.assertFalse(os.path.exists(self.out))
+        self.assertFalse(os.path.exists(self.out + ".tmp"))
+
+    def test_an_output_that_cannot_be_written_is_named(self):
+        self.out = os.path.join(self.dir.name, "no such folder", "out")
+        r = self.run_script()
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("no such folder/out: cannot write it", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
 
     def test_a_malformed_relation_is_named_with_its_line(self):
         bad = os.path.join(self.dir.name, "bad.relations")

@@ -329,7 +329,7 @@ void slam_into(const SlamOptions& o, const std::filesystem::path& dir) {
       o.relations.empty() ? RelationsError{} : relations_error(source.scans, relations, relations_mount(o, source));
   if (!o.relations.empty() && odometry.relations == 0)
     std::cerr << "partslam: warning: " << o.relations << ": no relation names a scan of " << o.log
-              << " (its timestamps are not the log's: a re-timed bag, or another run?; docs/USAGE.md says how to "
+              << " (its timestamps are not the log's: a re-timed bag, or another run? docs/USAGE.md says how to "
                  "carry relations onto a re-timed recording); checked before the run, which goes on without "
                  "relation errors\n";
   SlamResult r;
