@@ -34,6 +34,12 @@ TURN_WEIGHT = 0.5     # [m / rad]
 MAX_RESIDUAL = 0.1    # [m]: mean misfit of the consecutive relations beyond which the pairing is refused
 
 
+def relative(X, Y, T, a, b):
+    """Where the scans b lie in the frames of the scans a (indices or index arrays): x, y and the turn."""
+    dx, dy, co, si = X[b] - X[a], Y[b] - Y[a], np.cos(T[a]), np.sin(T[a])
+    return co * dx + si * dy, -si * dx + co * dy, T[b] - T[a]
+
+
 def pair_stamps(stamps, poses, consecutive, what):
     """For each of the sorted relation stamps, the index of its scan among the scans of `poses` (x, y, theta rows);
     `consecutive[j]` is the relation (x, y, theta) from stamp j to stamp j + 1 where there is one. Returns the
@@ -58,9 +64,9 @@ def pair_stamps(stamps, poses, consecutive, what):
         c = cost[:, None] + TIME_WEIGHT * (k - kp - (stamps[j] - stamps[j - 1]) / dt) ** 2
         if j - 1 in consecutive:
             rx, ry, rt = consecutive[j - 1]
-            dx, dy, co, si = X[k] - X[kp], Y[k] - Y[kp], np.cos(T[kp]), np.sin(T[kp])
-            turn = np.arctan2(np.sin(T[k] - T[kp] - rt), np.cos(T[k] - T[kp] - rt))
-            c = c + (co * dx + si * dy - rx) ** 2 + (-si * dx + co * dy - ry) ** 2 + (TURN_WEIGHT * turn) ** 2
+            x, y, t = relative(X, Y, T, kp, k)
+            turn = np.arctan2(np.sin(t - rt), np.cos(t - rt))
+            c = c + (x - rx) ** 2 + (y - ry) ** 2 + (TURN_WEIGHT * turn) ** 2
         c = np.where(k > kp, c, np.inf)
         arg = np.argmin(c, axis=0)
         best = c[arg, np.arange(len(cur))]
@@ -74,13 +80,11 @@ def pair_stamps(stamps, poses, consecutive, what):
         p, arg = back[j - 1]
         idx.append(int(p[arg[idx[-1] - window(j)[0]]]))
     idx = np.array(idx[::-1])
-    residual = []
-    for j, (rx, ry, _) in consecutive.items():
-        a, b = idx[j], idx[j + 1]
-        co, si, dx, dy = math.cos(T[a]), math.sin(T[a]), X[b] - X[a], Y[b] - Y[a]
-        residual.append(math.hypot(co * dx + si * dy - rx, -si * dx + co * dy - ry))
+    j = np.array(list(consecutive))
+    x, y, _ = relative(X, Y, T, idx[j], idx[j + 1])
+    residual = np.hypot(x - [consecutive[i][0] for i in j], y - [consecutive[i][1] for i in j])
     edge = int(np.sum(np.abs(idx - place) == WINDOW))
-    return idx, np.array(residual), edge
+    return idx, residual, edge
 
 
 def main(argv):
