@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "core/error.h"
 #include "plot/png_file.h"
@@ -12,8 +14,41 @@
 namespace partslam::plot {
 namespace {
 
-constexpr int kGridTitleHeight = 24;
+constexpr int kGridTitleHeight = 24;  // one line of title; each more line adds kTitleLine
+constexpr int kTitleLine = 18;
 constexpr int kGridGap = 16;
+constexpr double kTitleFont = 14;
+
+// The title's words in lines no wider than `width` pixels in cr's font (a word wider than that alone on its
+// line): a long title (slam's verdict and its reason) stays over its own grid.
+std::vector<std::string> title_lines(cairo_t* cr, const std::string& title, double width) {
+  std::vector<std::string> lines;
+  std::string line, word;
+  const auto fits = [&](const std::string& text) {
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text.c_str(), &e);
+    return e.x_advance <= width;
+  };
+  const auto add = [&] {
+    if (word.empty()) return;
+    const std::string longer = line.empty() ? word : line + " " + word;
+    if (line.empty() || fits(longer)) line = longer;
+    else lines.push_back(line), line = word;
+    word.clear();
+  };
+  for (const char c : title) {
+    if (c == ' ') add();
+    else word += c;
+  }
+  add();
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+void set_title_font(cairo_t* cr) {
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, kTitleFont);
+}
 
 // The state of a block of cells: occupied when any cell is, else free when any is, else unknown.
 CellState block_state(const GridMap& m, int column, int row, int f) {
@@ -29,14 +64,15 @@ CellState block_state(const GridMap& m, int column, int row, int f) {
 
 // The links (thin orange lines), the path (a blue line, a green dot at its start, a red one at its end) and the
 // marks (red circles) of one grid,
-// drawn at column `left`, shrunk by f: a map-frame point's cell is origin^-1 * p / resolution, row 0 at the bottom.
-void draw_overlays(cairo_t* cr, const TitledGrid& g, int left, int f) {
+// drawn at column `left` below a title `top` pixels high, shrunk by f: a map-frame point's cell is
+// origin^-1 * p / resolution, row 0 at the bottom.
+void draw_overlays(cairo_t* cr, const TitledGrid& g, int left, int top, int f) {
   const GridMap& m = *g.map;
   const int h = (m.height + f - 1) / f;
   const Pose2 to_grid = m.origin.inverse();
   const auto pixel = [&](const Vec2& p) {
     const Vec2 c = to_grid * p / (m.resolution * f);
-    return Vec2(left + c.x(), kGridTitleHeight + h - c.y());
+    return Vec2(left + c.x(), top + h - c.y());
   };
   cairo_set_source_rgb(cr, 1.0, 0.55, 0.0);
   cairo_set_line_width(cr, 0.8);
@@ -95,7 +131,26 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     ++f;
   auto [width, height] = drawn_size(f);
   width = std::max(width, 200);
-  height += kGridTitleHeight;
+  // Each title wrapped to its grid's width (the last grid's to the picture's edge), measured on a scratch surface.
+  std::vector<std::vector<std::string>> titles;
+  {
+    cairo_surface_t* scratch = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1);
+    cairo_t* measure = cairo_create(scratch);
+    set_title_font(measure);
+    int left = 0;
+    for (std::size_t i = 0; i < grids.size(); ++i) {
+      const int w = (grids[i].map->width + f - 1) / f;
+      const int room = i + 1 == grids.size() ? width - left : w;
+      titles.push_back(title_lines(measure, grids[i].title, room - 8));
+      left += w + kGridGap;
+    }
+    cairo_destroy(measure);
+    cairo_surface_destroy(scratch);
+  }
+  std::size_t most_lines = 1;
+  for (const auto& t : titles) most_lines = std::max(most_lines, t.size());
+  const int top = kGridTitleHeight + kTitleLine * static_cast<int>(most_lines - 1);
+  height += top;
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
@@ -104,25 +159,31 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
   unsigned char* data = cairo_image_surface_get_data(surface);
   const int stride = cairo_image_surface_get_stride(surface);
   int left = 0;
-  for (const TitledGrid& g : grids) {
+  for (std::size_t i = 0; i < grids.size(); ++i) {
+    const TitledGrid& g = grids[i];
     const GridMap& m = *g.map;
     const int w = (m.width + f - 1) / f, h = (m.height + f - 1) / f;
     for (int py = 0; py < h; ++py) {
       const int row = (h - 1 - py) * f;  // row 0 of the grid is the lowest y: the image's last row
       auto* line = reinterpret_cast<std::uint32_t*>(
-          data + static_cast<std::ptrdiff_t>(py + kGridTitleHeight) * stride);
+          data + static_cast<std::ptrdiff_t>(py + top) * stride);
       for (int px = 0; px < w; ++px) {
         const CellState c = block_state(m, px * f, row, f);
         line[left + px] = c == CellState::kOccupied ? 0x000000u : c == CellState::kFree ? 0xFFFFFFu : 0xB4B4B4u;
       }
     }
     cairo_surface_mark_dirty(surface);
-    draw_overlays(cr, g, left, f);
+    draw_overlays(cr, g, left, top, f);
     cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr, 14);
-    cairo_move_to(cr, left + 4, 17);
-    cairo_show_text(cr, g.title.c_str());
+    set_title_font(cr);
+    cairo_save(cr);  // a word longer than its grid is wide is cut at the grid's edge
+    cairo_rectangle(cr, left, 0, i + 1 == grids.size() ? width - left : w, top);
+    cairo_clip(cr);
+    for (std::size_t l = 0; l < titles[i].size(); ++l) {
+      cairo_move_to(cr, left + 4, 17 + kTitleLine * static_cast<double>(l));
+      cairo_show_text(cr, titles[i][l].c_str());
+    }
+    cairo_restore(cr);
     cairo_surface_flush(surface);
     left += w + kGridGap;
   }

@@ -25,7 +25,8 @@ struct TitledGrid {
 
 /// Writes the grids side by side as a PNG, atomically, shrunk by a whole factor so the picture is at most
 /// max_side pixels wide and high (a block of cells is occupied when any of its cells is, else free when any is),
-/// each grid's path and marks drawn over it. Throws InputError for no grid, an invalid one, or a PNG that cannot
+/// each grid's path and marks drawn over it, each title wrapped over its own grid (the picture grows a line
+/// for each line the longest title takes). Throws InputError for no grid, an invalid one, or a PNG that cannot
 /// be written.
 void write_grid_maps_png(const std::filesystem::path& path, const std::vector<TitledGrid>& grids, int max_side = 2000);
 

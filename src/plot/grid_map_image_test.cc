@@ -92,5 +92,31 @@ TEST(GridMapImage, DrawsThePathItsEndsAndMarkedPlaces) {
   fs::remove(png);
 }
 
+// A title longer than its grid is wide wraps over that grid, the picture a line taller for each line more, and
+// nothing of it is drawn over the grid beside it.
+TEST(GridMapImage, WrapsALongTitleOverItsOwnGrid) {
+  const fs::path png = fs::temp_directory_path() / ("partslam_grid_title_" + std::to_string(::getpid()) + ".png");
+  GridMap a = test_grid(), b = test_grid();
+  a.width = b.width = 200, a.height = b.height = 20;  // two grids 200 pixels wide
+  a.cells.assign(4000, CellState::kFree), b.cells.assign(4000, CellState::kFree);
+  const std::string title = "corrected map (2194 loop closures, orange; verdict doubtful: 17.2 % of the beams "
+                            "that revisit a place cross a wall another visit saw)";
+  write_grid_maps_png(png, {{&a, title, {}, {}, {}}, {&b, "", {}, {}, {}}});
+  cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
+  ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+  const int height = cairo_image_surface_get_height(s);
+  EXPECT_GE(height, 24 + 18 * 2 + 20);  // at least three lines of title over 20 rows of grid
+  const int top = height - 20;
+  int ink_left = 0, ink_right = 0;
+  for (int y = 0; y < top; ++y)
+    for (int x = 0; x < cairo_image_surface_get_width(s); ++x)
+      if (pixel(s, x, y) != 0xFFFFFFu) (x < 200 ? ink_left : ink_right) += 1;
+  EXPECT_GT(ink_left, 0);
+  EXPECT_EQ(ink_right, 0);  // the second grid's title (empty) and the gap stay blank
+  EXPECT_EQ(pixel(s, 5, top + 10), 0xFFFFFFu);  // the grid below the title, free
+  cairo_surface_destroy(s);
+  fs::remove(png);
+}
+
 }  // namespace
 }  // namespace partslam::plot
