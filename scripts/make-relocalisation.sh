@@ -52,4 +52,4 @@ for name in mit-csail aces fr101; do
   done
 done
 /usr/bin/python3 scripts/tracking_table.py --readme docs/USAGE.md "${tracking[@]}"
-bash scripts/track-other-recording.sh
+bash scripts/track-other-recording.sh "$TMP"  # reuses aces's slam run above
