@@ -14,6 +14,8 @@ import sys
 
 import numpy as np
 
+import readme_block
+
 SEARCH = 50        # places either side of a bag scan's own where its log scan is looked for
 RANGE_TOL = 2e-3   # [m]: the .clf prints ranges to 1 mm
 MIN_R, MAX_R = 0.1, 49.9  # [m]: beams both files keep (the bags' range_min; aces's bag drops its 50 m code)
@@ -54,15 +56,11 @@ def read_relations(path):
 
 
 def write_atomically(out, lines):
-    """Writes the lines to out through out.tmp, renamed when whole; exits naming out (no .tmp left) when it cannot."""
-    tmp = out + ".tmp"
+    """Writes the lines to out atomically (readme_block.write_atomically); exits naming out (no .tmp left) when it
+    cannot."""
     try:
-        with open(tmp, "w") as f:
-            f.writelines(lines)
-        os.replace(tmp, out)
+        readme_block.write_atomically(out, "".join(lines))
     except OSError as e:
-        if os.path.exists(tmp):
-            os.remove(tmp)
         sys.exit(f"{out}: cannot write it ({e})")
 
 

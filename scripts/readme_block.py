@@ -5,10 +5,15 @@ import pathlib
 
 
 def write_atomically(path, text):
+    """Writes text to path through path.tmp, renamed when whole; a failure raises OSError and leaves no .tmp."""
     path = pathlib.Path(path)
     tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    try:
+        tmp.write_text(text)
+        tmp.replace(path)
+    except OSError:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def markers(name):

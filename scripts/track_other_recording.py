@@ -120,11 +120,7 @@ def main(argv):
     text = table(rows)
     print(text)
     if out:
-        tmp = out + ".tmp"
-        with open(tmp, "w") as f:
-            for r in rows:
-                f.write(json.dumps(r, sort_keys=True) + "\n")
-        os.replace(tmp, out)
+        readme_block.write_atomically(out, "".join(json.dumps(r, sort_keys=True) + "\n" for r in rows))
     if readme:
         readme_block.replace(readme, "other-recording", text + "\n")
 
