@@ -132,18 +132,18 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
   auto [width, height] = drawn_size(f);
   width = std::max(width, 200);
   // Each title wrapped to its grid's width (the last grid's to the picture's edge), measured on a scratch surface.
+  std::vector<int> room;  // the title's width over each grid
+  for (int i = 0, left = 0; i < static_cast<int>(grids.size()); ++i) {
+    const int w = (grids[static_cast<std::size_t>(i)].map->width + f - 1) / f;
+    room.push_back(i + 1 == static_cast<int>(grids.size()) ? width - left : w);
+    left += w + kGridGap;
+  }
   std::vector<std::vector<std::string>> titles;
   {
     cairo_surface_t* scratch = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1);
     cairo_t* measure = cairo_create(scratch);
     set_title_font(measure);
-    int left = 0;
-    for (std::size_t i = 0; i < grids.size(); ++i) {
-      const int w = (grids[i].map->width + f - 1) / f;
-      const int room = i + 1 == grids.size() ? width - left : w;
-      titles.push_back(title_lines(measure, grids[i].title, room - 8));
-      left += w + kGridGap;
-    }
+    for (std::size_t i = 0; i < grids.size(); ++i) titles.push_back(title_lines(measure, grids[i].title, room[i] - 8));
     cairo_destroy(measure);
     cairo_surface_destroy(scratch);
   }
@@ -177,7 +177,7 @@ void write_grid_maps_png(const std::filesystem::path& path, const std::vector<Ti
     cairo_set_source_rgb(cr, 0, 0, 0);
     set_title_font(cr);
     cairo_save(cr);  // a word longer than its grid is wide is cut at the grid's edge
-    cairo_rectangle(cr, left, 0, i + 1 == grids.size() ? width - left : w, top);
+    cairo_rectangle(cr, left, 0, room[i], top);
     cairo_clip(cr);
     for (std::size_t l = 0; l < titles[i].size(); ++l) {
       cairo_move_to(cr, left + 4, 17 + kTitleLine * static_cast<double>(l));
