@@ -85,6 +85,31 @@ nlohmann::json map_check_json(const MapCheck& m, const MapCheckConfig& c) {
           {"passed", m.passed}};
 }
 
+// The second front end's path against the first's (core/slam/front_end_agreement.h); the window nearest to its
+// limits by its log times and where it starts and ends in the map.
+nlohmann::json second_opinion_json(const SlamResult& r, const SecondOpinionConfig& c) {
+  const FrontEndAgreement& a = r.second_opinion;
+  nlohmann::json j{{"what", "the log scan-matched again with another fine field, the two paths compared"},
+                   {"enabled", c.enabled},
+                   {"fine_sigma", c.fine_sigma},
+                   {"window_m", c.window},
+                   {"paired_scans", a.paired},
+                   {"windows", a.windows},
+                   {"max_turn_deg", a.max_turn * kDegrees},
+                   {"max_shift_m", a.max_shift},
+                   {"limit_turn_deg", c.max_turn * kDegrees},
+                   {"limit_shift_m", c.max_shift},
+                   {"judged", a.judged},
+                   {"passed", a.passed}};
+  if (a.judged && a.worst_last < r.scans.size()) {
+    const Scan &from = r.scans[a.worst_first], &to = r.scans[a.worst_last];
+    j["worst_window"] = {{"from_time", from.timestamp}, {"to_time", to.timestamp},
+                         {"from", {{"x", from.T_world_laser.x}, {"y", from.T_world_laser.y}}},
+                         {"to", {{"x", to.T_world_laser.x}, {"y", to.T_world_laser.y}}}};
+  }
+  return j;
+}
+
 nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
   const BackEndResult& b = r.back_end;
   const FailedChecks failed = failed_checks(r.closures);
@@ -131,6 +156,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"mean_move_m", r.neighbours.mean_move}}},
           {"map_check", map_check_json(r.map_check, o.config.map_check)},
           {"front_end_map_check", map_check_json(r.front_end_map_check, o.config.map_check)},
+          {"second_opinion", second_opinion_json(r, o.config.second_opinion)},
           {"verdict", b.verdict},
           {"trusted", b.trusted()},
           {"front_end_written", b.front_end_written},
@@ -142,7 +168,8 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"refine", r.refine_s},
             {"graph", r.graph_s},
             {"neighbours", r.neighbours_s},
-            {"check", r.check_s}}}};
+            {"check", r.check_s},
+            {"second_opinion", r.second_opinion_s}}}};
 }
 
 // The laser's positions along a log: the path drawn over its map.

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <iomanip>
+#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -12,6 +14,8 @@
 
 namespace partslam {
 namespace {
+
+constexpr double kDegrees = 180.0 / std::numbers::pi;
 
 // a + t (b - a) on SE(2) parameters, the angle along the short way.
 Pose2 interpolate(const Pose2& a, const Pose2& b, double t) {
@@ -54,6 +58,10 @@ void validate(const SlamConfig& c) {
   validate_nested("slam config", "back_end", [&] { validate(c.back_end); });
   validate_nested("slam config", "map_check", [&] { validate(c.map_check); });
   validate_nested("slam config", "neighbours", [&] { validate(c.neighbours); });
+  validate_nested("slam config", "second_opinion", [&] { validate(c.second_opinion); });
+  if (c.second_opinion.enabled && c.second_opinion.fine_sigma == c.front_end.fine_sigma)
+    throw InputError("slam config: second_opinion.fine_sigma must differ from front_end.fine_sigma (both " +
+                     std::to_string(c.front_end.fine_sigma) + "): the same setting twice is no second opinion");
   if (!(c.max_degenerate_share >= 0 && c.max_degenerate_share <= 1))
     throw InputError("slam config: max_degenerate_share must be in [0, 1], got " +
                      std::to_string(c.max_degenerate_share));
@@ -78,8 +86,9 @@ void turn_result(SlamResult& r, const Pose2& T) {
   }
 }
 
+// `to_log` turns the walls' frame the log was mapped in back into the log's own, for the places a reason names.
 SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Progress& progress,
-                            const ClosureHook& hook);
+                            const ClosureHook& hook, const Pose2& to_log = {});
 
 }  // namespace
 
@@ -90,7 +99,7 @@ SlamResult run_slam(const Scans& log, const SlamConfig& config, const Progress& 
   const Pose2 onto_walls{0, 0, -wall_axis};
   Scans raw = log;
   for (Scan& s : raw) s.T_world_laser = onto_walls * s.T_world_laser, s.T_world_odom = onto_walls * s.T_world_odom;
-  SlamResult r = run_slam_aligned(raw, config, progress, hook);
+  SlamResult r = run_slam_aligned(raw, config, progress, hook, onto_walls.inverse());
   turn_result(r, onto_walls.inverse());
   r.wall_axis = wall_axis;
   return r;
@@ -99,10 +108,27 @@ SlamResult run_slam(const Scans& log, const SlamConfig& config, const Progress& 
 namespace {
 
 SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Progress& progress,
-                            const ClosureHook& hook) {
+                            const ClosureHook& hook, const Pose2& to_log) {
   SlamResult r;
+  // The second opinion's front end: on a thread of its own beside the first when the first has more than one,
+  // else after it (deferred to its get()). The front end's answer does not depend on its threads.
+  FrontEndConfig first = config.front_end;
+  std::future<Scans> second;
+  if (config.second_opinion.enabled) {
+    FrontEndConfig other = config.front_end;
+    other.fine_sigma = config.second_opinion.fine_sigma;
+    other.matcher.num_threads = 1;
+    const bool beside = first.matcher.num_threads > 1;
+    if (beside) --first.matcher.num_threads;
+    second = std::async(beside ? std::launch::async : std::launch::deferred, [&raw, other, &r] {
+      const auto t = Clock::now();
+      Scans scans = scan_match_log(raw, other).scans;
+      r.second_opinion_s = ms_since(t) / 1e3;
+      return scans;
+    });
+  }
   auto t0 = Clock::now();
-  FrontEndResult fe = scan_match_log(raw, config.front_end, progress);
+  FrontEndResult fe = scan_match_log(raw, first, progress);
   r.front_end = fe.stats;
   r.front_end_s = ms_since(t0) / 1e3;
   const Submaps maps = build_submaps(fe.scans, config.submaps);
@@ -137,12 +163,13 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
   r.map_check = check_map(r.scans, config.map_check);
   r.front_end_map_check = check_map(fe.scans, config.map_check);
   r.check_s = ms_since(t0) / 1e3;
+  if (second.valid()) r.second_opinion = compare_front_ends(fe.scans, second.get(), config.second_opinion);
   if (!r.map_check.passed && r.back_end.trusted()) {
     std::ostringstream why;
     const MapCheck& m = r.map_check;
     why << std::fixed << std::setprecision(1) << 100 * m.crossing_share
         << " % of the beams that revisit a place cross a wall another visit saw, " << 100 * m.worst_place_share
-        << " % near (" << m.worst_place.x() << ", " << m.worst_place.y() << ") (limits "
+        << " % near (" << (to_log * m.worst_place).x() << ", " << (to_log * m.worst_place).y() << ") (limits "
         << 100 * config.map_check.max_crossing_share << " % and " << 100 * config.map_check.max_place_share
         << " % at a place): a place drawn twice, or turned";
     r.back_end.verdict = "doubtful";
@@ -170,6 +197,22 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
   }
+  if (!r.second_opinion.passed && r.back_end.trusted()) {
+    const FrontEndAgreement& a = r.second_opinion;
+    const SecondOpinionConfig& c = config.second_opinion;
+    std::ostringstream why;
+    why << std::fixed << std::setprecision(1) << "a second front end (fine field " << std::setprecision(2)
+        << c.fine_sigma << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees
+        << " deg / " << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.window
+        << " m of travel, most from " << std::setprecision(1)
+        << fe.scans[a.worst_first].timestamp - fe.scans.front().timestamp << " to "
+        << fe.scans[a.worst_last].timestamp - fe.scans.front().timestamp << " s into the log (limits "
+        << std::setprecision(0)
+        << c.max_turn * kDegrees << " deg / " << std::setprecision(1) << c.max_shift
+        << " m): the scans do not fix the path there, and nothing says which of the two is right";
+    r.back_end.verdict = "doubtful";
+    r.back_end.reason = why.str();
+  }
   return r;
 }
 
@@ -190,6 +233,18 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
       << 100 * c.max_degenerate_share << " %); the scans turn with the odometry at a slope of " << std::setprecision(2)
       << r.front_end.turn_slope() << " over " << r.front_end.turning_steps << " turning steps (at least 0 over "
       << kMinTurningSteps << (r.front_end.mirrored ? "; read mirrored: a laser mounted upside down)" : ")");
+  const FrontEndAgreement& a = r.second_opinion;
+  if (!c.second_opinion.enabled)
+    out << "; no second front end (second_opinion.enabled off)";
+  else if (!a.judged)
+    out << "; a second front end: too little travel to compare (" << std::setprecision(0) << c.second_opinion.window
+        << " m)";
+  else
+    out << "; a second front end (fine field " << std::setprecision(2) << c.second_opinion.fine_sigma
+        << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees << " deg / "
+        << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.second_opinion.window
+        << " m of travel (limits " << c.second_opinion.max_turn * kDegrees << " deg / " << std::setprecision(1)
+        << c.second_opinion.max_shift << " m)";
   return out.str();
 }
 

@@ -13,6 +13,7 @@
 #include "core/maps/submap.h"
 #include "core/slam/back_end.h"
 #include "core/slam/closure_refinement.h"
+#include "core/slam/front_end_agreement.h"
 #include "core/slam/neighbour_refinement.h"
 #include "core/slam/front_end.h"
 #include "core/slam/loop_closure.h"
@@ -40,6 +41,10 @@ struct SlamConfig {
   /// and every pose of the result turned back: the grids then lie along the walls whatever the odometry frame's
   /// heading (docs/NOTES.md, "The bench's resolution").
   bool align_to_walls = true;
+  /// The log scan-matched a second time with another fine field, the two paths compared over windows of travel
+  /// (front_end_agreement.h): where they part beyond the limits the map is "doubtful". It runs beside the first
+  /// front end when threads allow (front_end.matcher.num_threads > 1 gives it one of them), else after it.
+  SecondOpinionConfig second_opinion;
 };
 
 /// Every part's validate, the failing field named by its path ("slam config: back_end.max_rounds must be ...").
@@ -61,6 +66,9 @@ struct SlamResult {
   /// 0 with SlamConfig::align_to_walls off.
   double wall_axis = 0;
   NeighbourRefinementStats neighbours;  ///< what the last stage moved (neighbour_refinement.h)
+  /// The second front end's path against the first's (SlamConfig::second_opinion; not judged when it is off).
+  FrontEndAgreement second_opinion;
+  double second_opinion_s = 0;  ///< the second front end's own time (beside the first's when threads allow) [s]
   double front_end_s = 0, loops_s = 0, refine_s = 0, graph_s = 0, neighbours_s = 0, check_s = 0;
 };
 
@@ -81,7 +89,8 @@ Scans corrected_scans(const Scans& scans, const Submaps& old_maps, const Submaps
 double degenerate_share(const FrontEndStats& stats);
 
 /// What the verdict checked, in one sentence: how many closures agreed, how far the closures bent the front end's
-/// trajectory against its limit, and how many revisiting beams cross a wall another visit saw against its limit.
+/// trajectory against its limit, how many revisiting beams cross a wall another visit saw against its limit, and
+/// how far a second front end parted from the first.
 std::string verdict_checks(const SlamResult& result, const SlamConfig& config);
 
 }  // namespace partslam

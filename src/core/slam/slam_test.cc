@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -59,6 +60,48 @@ TEST(Slam, ClosingTheLoopsUndoesTheDriftOfARawLog) {
   EXPECT_LT(degenerate_share(r.front_end), config.max_degenerate_share);
   EXPECT_NE(checks.find("the scans turn with the odometry at a slope of"), std::string::npos) << checks;
   EXPECT_FALSE(r.front_end.mirrored);
+  // A second front end (another fine field) follows the same path here, and the sentence says how closely.
+  EXPECT_TRUE(r.second_opinion.judged);
+  EXPECT_TRUE(r.second_opinion.passed);
+  EXPECT_EQ(r.second_opinion.paired, r.scans.size());
+  EXPECT_NE(checks.find("a second front end (fine field 0.03 m) parts from the first by up to"), std::string::npos)
+      << checks;
+}
+
+// The second opinion (a second front end, front_end_agreement.h) runs beside the first when the front end has
+// threads to spare, after it when not: the same figures either way. Where the two part beyond the limits (here
+// limits no two settings can meet), a map the other checks trust is "doubtful", and the reason says why; with the
+// second opinion off, nothing is compared.
+TEST(Slam, ASecondFrontEndThatPartsFromTheFirstMakesTheMapDoubtful) {
+  SimulatorConfig sim;
+  sim.building.width = 40, sim.building.height = 20;
+  sim.route.room_visits = 1;
+  Scans raw = simulate(sim).scans;
+  for (Scan& s : raw) s.T_world_laser = s.T_world_odom;
+  SlamConfig config;
+  const SlamResult one = run_slam(raw, config);
+  config.front_end.matcher.num_threads = 2;
+  const SlamResult two = run_slam(raw, config);
+  ASSERT_TRUE(one.second_opinion.judged);
+  EXPECT_EQ(one.second_opinion.max_turn, two.second_opinion.max_turn);
+  EXPECT_EQ(one.second_opinion.max_shift, two.second_opinion.max_shift);
+  EXPECT_EQ(one.back_end.verdict, two.back_end.verdict);
+  EXPECT_GT(one.second_opinion.max_shift, 0.0);  // two settings: not the same path to the last bit
+
+  config.second_opinion.max_turn = 1e-9, config.second_opinion.max_shift = 1e-9;
+  const SlamResult strict = run_slam(raw, config);
+  EXPECT_FALSE(strict.second_opinion.passed);
+  if (one.back_end.trusted()) {
+    EXPECT_EQ(strict.back_end.verdict, "doubtful");
+    EXPECT_NE(strict.back_end.reason.find("a second front end (fine field 0.03 m) parts from the first"),
+              std::string::npos)
+        << strict.back_end.reason;
+  }
+  config.second_opinion.enabled = false;
+  const SlamResult off = run_slam(raw, config);
+  EXPECT_FALSE(off.second_opinion.judged);
+  EXPECT_EQ(off.back_end.verdict, one.back_end.verdict);
+  EXPECT_NE(verdict_checks(off, config).find("no second front end"), std::string::npos);
 }
 
 // Scans that turn against the wheels (a laser mounted upside down, read as upright) make a mirror image of the
@@ -149,6 +192,16 @@ TEST(Slam, ALogTurnedAsAWholeGivesItsMapInItsOwnFrame) {
                       std::abs(wrap_angle(got.theta - r.scans[at].T_world_laser.theta))});
   }
   EXPECT_LT(worst, 1e-6);
+  // A failed map check's reason names its worst place in the log's frame too, where map.png and slam.json have it
+  // (a check that no map passes: not a single beam through another visit's wall).
+  config.map_check.max_crossing_share = 0, config.map_check.max_place_share = 0;
+  const SlamResult flagged = run_slam(raw, config);
+  ASSERT_TRUE(flagged.map_check.judged);
+  ASSERT_FALSE(flagged.map_check.passed);
+  char place[64];
+  std::snprintf(place, sizeof place, "near (%.1f, %.1f)", flagged.map_check.worst_place.x(),
+                flagged.map_check.worst_place.y());
+  EXPECT_NE(flagged.back_end.reason.find(place), std::string::npos) << flagged.back_end.reason << " / " << place;
 }
 
 TEST(Slam, CorrectionsMoveScansWithTheirSubmaps) {
@@ -204,6 +257,10 @@ TEST(Slam, ValidateNamesTheNestedField) {
   c = {};
   c.min_confidence = std::numeric_limits<double>::infinity();
   EXPECT_THAT(message(c), ::testing::StartsWith("slam config: min_confidence must be finite"));
+  c = {};
+  c.second_opinion.window = -1;
+  EXPECT_THAT(message(c), ::testing::StartsWith("slam config: second_opinion.window must be"));
+  c.min_confidence = std::numeric_limits<double>::infinity();
   EXPECT_THROW(run_slam(simulate(SimulatorConfig{}).scans, c), InputError);
 }
 

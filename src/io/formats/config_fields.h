@@ -209,6 +209,16 @@ void config_fields(V& v, std::type_identity<NeighbourRefinementConfig>) {
 }
 
 template <class V>
+void config_fields(V& v, std::type_identity<SecondOpinionConfig>) {
+  using C = SecondOpinionConfig;
+  v.field("enabled", &C::enabled, "");
+  v.field("fine_sigma", &C::fine_sigma, "");
+  v.field("window", &C::window, "");
+  v.field("max_turn", &C::max_turn, "");
+  v.field("max_shift", &C::max_shift, "");
+}
+
+template <class V>
 void config_fields(V& v, std::type_identity<SlamConfig>) {
   using C = SlamConfig;
   v.section("front_end", &C::front_end, "");
@@ -221,6 +231,7 @@ void config_fields(V& v, std::type_identity<SlamConfig>) {
   v.field("max_degenerate_share", &C::max_degenerate_share, "");
   v.section("neighbours", &C::neighbours, "");
   v.field("align_to_walls", &C::align_to_walls, "");
+  v.section("second_opinion", &C::second_opinion, "");
 }
 
 template <class V>
