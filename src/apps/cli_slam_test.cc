@@ -90,6 +90,7 @@ TEST(CliSlam, AMapThatFailsItsCheckIsWrittenButExitsWithStatus3) {
   EXPECT_THAT(run.output, HasSubstr("verdict: doubtful ("));
   EXPECT_THAT(run.output, HasSubstr("cross a wall another visit saw"));
   EXPECT_THAT(run.output, HasSubstr("partslam: warning: "));
+  EXPECT_THAT(run.output, HasSubstr(": the map written is not trusted, verdict doubtful ("));
   for (const char* name : {"corrected.log", "map.yaml", "map.pgm", "map.png", "loops.json", "slam.json"})
     EXPECT_TRUE(fs::exists(out / name)) << name;
   std::ifstream in(out / "slam.json");
@@ -98,6 +99,11 @@ TEST(CliSlam, AMapThatFailsItsCheckIsWrittenButExitsWithStatus3) {
   EXPECT_FALSE(j["trusted"].get<bool>());
   EXPECT_GT(j["map_check"]["crossing_beams"].get<int>(), 0);
   EXPECT_FALSE(j["map_check"]["passed"].get<bool>());
+  // The second opinion is in slam.json whatever the verdict: here the two front ends agree.
+  EXPECT_TRUE(j["second_opinion"]["judged"].get<bool>());
+  EXPECT_TRUE(j["second_opinion"]["passed"].get<bool>());
+  EXPECT_LT(j["second_opinion"]["max_turn_deg"].get<double>(), j["second_opinion"]["limit_turn_deg"].get<double>());
+  EXPECT_TRUE(j["second_opinion"].contains("worst_window"));
   EXPECT_TRUE(j["map_check"].contains("worst_place"));
 }
 

@@ -264,8 +264,9 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << " %)\nverdict: " << b.verdict << (b.reason.empty() ? "" : " (" + b.reason + ")") << "; checked: "
             << verdict_checks(r, o.config) << "\n";
   if (!b.trusted())
-    std::cerr << "partslam: warning: " << o.log << ": the corrected map may be worse than the front end's ("
-              << b.reason << ")" << (b.front_end_written ? "; the front end's trajectory is written" : "")
+    std::cerr << "partslam: warning: " << o.log << ": the map written is not trusted, verdict " << b.verdict << " ("
+              << b.reason << ")"
+              << (b.front_end_written ? "; it is the front end's trajectory, not the closures' solution" : "")
               << "\n";
   if (fe.time_reversals > 0)
     std::cerr << "partslam: warning: " << o.log << ": " << fe.time_reversals << " scans dropped (time goes backwards)\n";
