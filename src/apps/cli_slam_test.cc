@@ -107,6 +107,26 @@ TEST(CliSlam, AMapThatFailsItsCheckIsWrittenButExitsWithStatus3) {
   EXPECT_TRUE(j["map_check"].contains("worst_place"));
 }
 
+// A second front end that parts from the first (forced here by limits no two settings meet) leaves a map the
+// verdict does not trust: exit status 3, the reason in the verdict and the warning, the window in slam.json.
+TEST(CliSlam, ASecondFrontEndThatPartsFromTheFirstExitsWithStatus3) {
+  const io::testing::TempDir dir;
+  std::ofstream(dir / "strict.yaml") << "second_opinion:\n  max_turn: 1.0e-9\n  max_shift: 1.0e-9\n";
+  const fs::path out = dir / "out";
+  const CliRun run = run_partslam("slam sim:2 --quiet --threads 2 --out " + quoted(out) + " --config " +
+                                  quoted(dir / "strict.yaml"));
+  EXPECT_EQ(run.exit_code, 3) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("verdict: doubtful (a second front end (fine field 0.03 m) parts from the first"));
+  EXPECT_THAT(run.output, HasSubstr(": the map written is not trusted, verdict doubtful (a second front end"));
+  std::ifstream in(out / "slam.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_FALSE(j["second_opinion"]["passed"].get<bool>());
+  const nlohmann::json& w = j["second_opinion"]["worst_window"];
+  EXPECT_LT(w["from_time"].get<double>(), w["to_time"].get<double>());
+  EXPECT_GT(j["seconds"]["second_opinion"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(out / "map.png"));
+}
+
 // A ROS 2 bag wherever a log is accepted: the shared MCAP (fr079, odometry poses) cut to its first tenth (30 m of
 // travel), so slam and match run in seconds and say the recording was cut short; export-map, locate and match
 // read it too.

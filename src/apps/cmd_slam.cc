@@ -191,14 +191,18 @@ std::vector<std::pair<Vec2, Vec2>> closure_links(const SlamResult& r) {
 }
 
 // DIR/map.yaml + map.pgm (map_server, occupancy by ray casting), DIR/map.png showing the same grid with the
-// robot's path (start green, end red), the used closures and, when the map check failed, its worst place circled
-// (the odometry's map and path beside it when asked), and DIR/result.mcap holding the same as ROS 2 messages.
+// robot's path (start green, end red), the used closures and, when the map check failed, its worst place circled,
+// when the second front end parted from the first, where its worst window starts and ends (the odometry's map and
+// path beside it when asked), and DIR/result.mcap holding the same as ROS 2 messages.
 void write_maps(const std::filesystem::path& dir, const SlamResult& r, const Scans& raw, const std::string& title,
                 bool compare, int side) {
   const GridMap map = build_grid_map(r.scans);
   io::write_map_yaml(dir / "map.yaml", map);
   Points2 marks;
   if (!r.map_check.passed) marks.push_back(r.map_check.worst_place);
+  const FrontEndAgreement& second = r.second_opinion;
+  if (!second.passed && second.worst_last < r.scans.size())
+    for (std::size_t k : {second.worst_first, second.worst_last}) marks.push_back(r.scans[k].T_world_laser.translation());
   const std::vector<std::pair<Vec2, Vec2>> closures = closure_links(r);
   std::vector<plot::TitledGrid> grids{{&map, title, laser_path(r.scans), marks, closures}};
   GridMap odometry;
