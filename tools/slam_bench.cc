@@ -414,7 +414,8 @@ int main(int argc, char** argv) {
     out["front_end_map_check"] = check_json(r.front_end_map_check);
     out["second_opinion"] = {{"judged", r.second_opinion.judged}, {"passed", r.second_opinion.passed},
                              {"max_turn_deg", r.second_opinion.max_turn * kRadToDeg},
-                             {"max_shift_m", r.second_opinion.max_shift}, {"seconds", r.second_opinion_s}};
+                             {"max_shift_m", r.second_opinion.max_shift}, {"windows", r.second_opinion.windows},
+                             {"pinned", r.second_opinion.pinned}, {"seconds", r.second_opinion_s}};
     out["check_seconds"] = r.check_s;
     out["verdict"] = r.back_end.verdict;
     out["reason"] = r.back_end.reason;

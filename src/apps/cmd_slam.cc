@@ -95,6 +95,7 @@ nlohmann::json second_opinion_json(const SlamResult& r, const SecondOpinionConfi
                    {"window_m", c.window},
                    {"paired_scans", a.paired},
                    {"windows", a.windows},
+                   {"pinned_windows", a.pinned},
                    {"max_turn_deg", a.max_turn * kDegrees},
                    {"max_shift_m", a.max_shift},
                    {"limit_turn_deg", c.max_turn * kDegrees},

@@ -21,7 +21,8 @@ void validate(const SecondOpinionConfig& c) {
     throw InputError("second opinion config: max_turn must be in (0, pi] [rad], got " + std::to_string(c.max_turn));
 }
 
-FrontEndAgreement compare_front_ends(const Scans& first, const Scans& second, const SecondOpinionConfig& config) {
+FrontEndAgreement compare_front_ends(const Scans& first, const Scans& second, const SecondOpinionConfig& config,
+                                     const std::vector<std::size_t>& pins) {
   // Timestamps of `second`, those seen twice marked -1 (left out).
   std::unordered_map<double, long> in_second;
   for (std::size_t k = 0; k < second.size(); ++k) {
@@ -43,12 +44,22 @@ FrontEndAgreement compare_front_ends(const Scans& first, const Scans& second, co
   for (std::size_t k = 1; k < a.size(); ++k)
     travel[k] = travel[k - 1] +
                 (first[a[k]].T_world_laser.translation() - first[a[k - 1]].T_world_laser.translation()).norm();
+  // Pins counted along the paired scans: pinned_upto[k] = pins at paired scans before k.
+  std::vector<char> is_pin(first.size(), 0);
+  for (std::size_t p : pins)
+    if (p < first.size()) is_pin[p] = 1;
+  std::vector<std::size_t> pinned_upto(a.size() + 1, 0);
+  for (std::size_t k = 0; k < a.size(); ++k) pinned_upto[k + 1] = pinned_upto[k] + is_pin[a[k]];
   double worst = -1;
   std::size_t j = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     j = std::max(j, i + 1);
     while (j < a.size() && travel[j] < travel[i] + config.window) ++j;
     if (j >= a.size()) break;
+    if (pinned_upto[j + 1] > pinned_upto[i]) {  // a closure ties the window to another visit
+      ++out.pinned;
+      continue;
+    }
     const Pose2 ra = first[a[i]].T_world_laser.inverse() * first[a[j]].T_world_laser;
     const Pose2 rb = second[b[i]].T_world_laser.inverse() * second[b[j]].T_world_laser;
     const double turn = std::abs(wrap_angle(ra.theta - rb.theta));

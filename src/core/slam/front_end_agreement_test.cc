@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 
@@ -70,6 +71,35 @@ TEST(FrontEndAgreement, APathBentWhereTheOtherIsStraightPartsFromIt) {
   EXPECT_FALSE(slide.passed);
   EXPECT_NEAR(slide.max_turn, 0.0, 1e-12);
   EXPECT_NEAR(slide.max_shift, 4.0, 1e-9);
+}
+
+// Where a used loop closure attaches within a window, the map there does not rest on the front end alone: the
+// window is pinned and not compared. Windows without a pin are compared as before.
+TEST(FrontEndAgreement, WindowsThatLoopClosuresTieAreNotCompared) {
+  const Scans a = straight(500);
+  const Scans b = bent(500, 200, 250, 40 * std::numbers::pi / 180);
+  std::vector<std::size_t> every_tenth;
+  for (std::size_t k = 0; k < 500; k += 10) every_tenth.push_back(k);
+  const FrontEndAgreement tied = compare_front_ends(a, b, SecondOpinionConfig{}, every_tenth);
+  EXPECT_TRUE(tied.passed);
+  EXPECT_FALSE(tied.judged);
+  EXPECT_EQ(tied.windows, 0u);
+  EXPECT_NEAR(static_cast<double>(tied.pinned), 350, 1);
+
+  // Pins at the two ends of the log only: the windows over the bend have none, and fail as without pins.
+  const FrontEndAgreement ends = compare_front_ends(a, b, SecondOpinionConfig{}, {0, 499});
+  EXPECT_FALSE(ends.passed);
+  EXPECT_NEAR(static_cast<double>(ends.pinned), 2, 1);  // the first window and the last
+  EXPECT_NEAR(ends.max_turn, 40 * std::numbers::pi / 180, 1e-9);
+
+  // Pins only before the bend (scans 0-190): the windows that start after the last pin and hold the whole bend
+  // (scans 191-200 to 341-350) are compared; a pin out of range is ignored.
+  std::vector<std::size_t> before{100000};
+  for (std::size_t k = 0; k <= 190; k += 10) before.push_back(k);
+  const FrontEndAgreement half = compare_front_ends(a, b, SecondOpinionConfig{}, before);
+  EXPECT_FALSE(half.passed);
+  EXPECT_GT(half.pinned, 0u);
+  EXPECT_NEAR(half.max_turn, 40 * std::numbers::pi / 180, 1e-9);
 }
 
 // Scans are paired by timestamp: a scan only one front end kept, or a timestamp seen twice, is left out.

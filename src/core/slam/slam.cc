@@ -163,7 +163,15 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
   r.map_check = check_map(r.scans, config.map_check);
   r.front_end_map_check = check_map(fe.scans, config.map_check);
   r.check_s = ms_since(t0) / 1e3;
-  if (second.valid()) r.second_opinion = compare_front_ends(fe.scans, second.get(), config.second_opinion);
+  if (second.valid()) {
+    // Where the used closures attach (their submaps' anchor scans), unless the map written is the front end's.
+    std::vector<std::size_t> pins;
+    for (std::size_t k = 0; !r.back_end.front_end_written && k < r.offered.size() && k < r.back_end.used.size(); ++k)
+      if (r.back_end.used[k])
+        for (std::size_t m : {r.offered[k].query, r.offered[k].match})
+          pins.push_back(static_cast<std::size_t>(maps.at(m).anchor_scan));
+    r.second_opinion = compare_front_ends(fe.scans, second.get(), config.second_opinion, pins);
+  }
   if (!r.map_check.passed && r.back_end.trusted()) {
     std::ostringstream why;
     const MapCheck& m = r.map_check;
@@ -204,7 +212,7 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
     why << std::fixed << std::setprecision(1) << "a second front end (fine field " << std::setprecision(2)
         << c.fine_sigma << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees
         << " deg / " << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.window
-        << " m of travel, most from " << std::setprecision(1)
+        << " m of travel that no loop closure ties, most from " << std::setprecision(1)
         << fe.scans[a.worst_first].timestamp - fe.scans.front().timestamp << " to "
         << fe.scans[a.worst_last].timestamp - fe.scans.front().timestamp << " s into the log (limits "
         << std::setprecision(0)
@@ -237,14 +245,15 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
   if (!c.second_opinion.enabled)
     out << "; no second front end (second_opinion.enabled off)";
   else if (!a.judged)
-    out << "; a second front end: too little travel to compare (" << std::setprecision(0) << c.second_opinion.window
-        << " m)";
+    out << "; a second front end: " << (a.pinned > 0 ? "loop closures tie every " : "too little travel for a ")
+        << std::setprecision(0) << c.second_opinion.window << " m of travel to compare";
   else
     out << "; a second front end (fine field " << std::setprecision(2) << c.second_opinion.fine_sigma
         << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees << " deg / "
         << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.second_opinion.window
         << " m of travel (limits " << c.second_opinion.max_turn * kDegrees << " deg / " << std::setprecision(1)
-        << c.second_opinion.max_shift << " m)";
+        << c.second_opinion.max_shift << " m; " << a.pinned << " of " << a.pinned + a.windows
+        << " windows, tied by loop closures, not compared)";
   return out.str();
 }
 
