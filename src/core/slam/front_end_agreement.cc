@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -17,7 +18,7 @@ void validate(const SecondOpinionConfig& c) {
     if (!(v > 0) || !(v <= 1e4))
       throw InputError(std::string("second opinion config: ") + name + " must be in (0, 10000], got " +
                        std::to_string(v));
-  if (!(c.max_turn > 0) || !(c.max_turn <= 3.1416))
+  if (!(c.max_turn > 0) || !(c.max_turn <= std::numbers::pi))
     throw InputError("second opinion config: max_turn must be in (0, pi] [rad], got " + std::to_string(c.max_turn));
 }
 

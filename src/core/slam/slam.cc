@@ -17,6 +17,16 @@ namespace {
 
 constexpr double kDegrees = 180.0 / std::numbers::pi;
 
+// "a second front end (fine field F m) parts from the first by up to T deg / S m over W m of travel": the words the
+// verdict's reason and its checked sentence share for the second opinion.
+std::string second_opinion_parting(const FrontEndAgreement& a, const SecondOpinionConfig& c) {
+  std::ostringstream out;
+  out << std::fixed << "a second front end (fine field " << std::setprecision(2) << c.fine_sigma
+      << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees << " deg / "
+      << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.window << " m of travel";
+  return out.str();
+}
+
 // a + t (b - a) on SE(2) parameters, the angle along the short way.
 Pose2 interpolate(const Pose2& a, const Pose2& b, double t) {
   return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), wrap_angle(a.theta + t * wrap_angle(b.theta - a.theta))};
@@ -175,9 +185,10 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
   if (!r.map_check.passed && r.back_end.trusted()) {
     std::ostringstream why;
     const MapCheck& m = r.map_check;
+    const Vec2 place = to_log * m.worst_place;  // where map.png and slam.json have it
     why << std::fixed << std::setprecision(1) << 100 * m.crossing_share
         << " % of the beams that revisit a place cross a wall another visit saw, " << 100 * m.worst_place_share
-        << " % near (" << (to_log * m.worst_place).x() << ", " << (to_log * m.worst_place).y() << ") (limits "
+        << " % near (" << place.x() << ", " << place.y() << ") (limits "
         << 100 * config.map_check.max_crossing_share << " % and " << 100 * config.map_check.max_place_share
         << " % at a place): a place drawn twice, or turned";
     r.back_end.verdict = "doubtful";
@@ -209,14 +220,10 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
     const FrontEndAgreement& a = r.second_opinion;
     const SecondOpinionConfig& c = config.second_opinion;
     std::ostringstream why;
-    why << std::fixed << std::setprecision(1) << "a second front end (fine field " << std::setprecision(2)
-        << c.fine_sigma << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees
-        << " deg / " << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.window
-        << " m of travel that no loop closure ties, most from " << std::setprecision(1)
-        << fe.scans[a.worst_first].timestamp - fe.scans.front().timestamp << " to "
+    why << std::fixed << second_opinion_parting(a, c) << " that no loop closure ties, most from "
+        << std::setprecision(1) << fe.scans[a.worst_first].timestamp - fe.scans.front().timestamp << " to "
         << fe.scans[a.worst_last].timestamp - fe.scans.front().timestamp << " s into the log (limits "
-        << std::setprecision(0)
-        << c.max_turn * kDegrees << " deg / " << std::setprecision(1) << c.max_shift
+        << std::setprecision(0) << c.max_turn * kDegrees << " deg / " << std::setprecision(1) << c.max_shift
         << " m): the scans do not fix the path there, and nothing says which of the two is right";
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
@@ -248,10 +255,8 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
     out << "; a second front end: " << (a.pinned > 0 ? "loop closures tie every " : "too little travel for a ")
         << std::setprecision(0) << c.second_opinion.window << " m of travel to compare";
   else
-    out << "; a second front end (fine field " << std::setprecision(2) << c.second_opinion.fine_sigma
-        << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees << " deg / "
-        << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.second_opinion.window
-        << " m of travel (limits " << c.second_opinion.max_turn * kDegrees << " deg / " << std::setprecision(1)
+    out << "; " << second_opinion_parting(a, c.second_opinion) << " (limits " << std::setprecision(0)
+        << c.second_opinion.max_turn * kDegrees << " deg / " << std::setprecision(1)
         << c.second_opinion.max_shift << " m; " << a.pinned << " of " << a.pinned + a.windows
         << " windows, tied by loop closures, not compared)";
   return out.str();
