@@ -57,8 +57,6 @@ using namespace partslam;
 
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
 Scans with_poses(const Scans& scans, const std::vector<Pose2>& poses) {
   Scans out;
   out.reserve(scans.size());
@@ -297,7 +295,7 @@ int main(int argc, char** argv) {
       if (!true_frames[l.query] || !true_frames[l.match]) continue;
       const Pose2 T = true_frames[l.match]->inverse() * *true_frames[l.query];
       const bool bad = (T.translation() - l.T_match_query.translation()).norm() > 0.5 ||
-                       std::abs(wrap_angle(T.theta - l.T_match_query.theta)) > 5.0 / kRadToDeg;
+                       std::abs(wrap_angle(T.theta - l.T_match_query.theta)) > 5.0 * kDegree;
       ++judged;
       wrong += bad;
       if (detail) {
@@ -312,11 +310,21 @@ int main(int argc, char** argv) {
                            used ? 1 : 0});
       }
       if (bad)
-        wrong_list.push_back({{"query", l.query}, {"match", l.match}, {"used", used}, {"confidence", l.confidence},
-                              {"error_m", (T.translation() - l.T_match_query.translation()).norm()},
-                              {"error_deg", std::abs(wrap_angle(T.theta - l.T_match_query.theta)) * kRadToDeg},
-                              {"front_end_error_m", ((r.stored_frames[l.match].inverse() * r.stored_frames[l.query]).translation() - T.translation()).norm()},
-                              {"solved_error_m", ((r.submaps[l.match].T_world_map.inverse() * r.submaps[l.query].T_world_map).translation() - T.translation()).norm()}});
+        wrong_list.push_back(
+            {{"query", l.query},
+             {"match", l.match},
+             {"used", used},
+             {"confidence", l.confidence},
+             {"error_m", (T.translation() - l.T_match_query.translation()).norm()},
+             {"error_deg", std::abs(wrap_angle(T.theta - l.T_match_query.theta)) * kDegreesPerRadian},
+             {"front_end_error_m",
+              ((r.stored_frames[l.match].inverse() * r.stored_frames[l.query]).translation() -
+               T.translation())
+                  .norm()},
+             {"solved_error_m",
+              ((r.submaps[l.match].T_world_map.inverse() * r.submaps[l.query].T_world_map).translation() -
+               T.translation())
+                  .norm()}});
       used_wrong += bad && used;
       aside_right += !bad && !used;
     }
@@ -332,7 +340,9 @@ int main(int argc, char** argv) {
         const Pose2 tru = b.truth[*index[i - 1]].T_world_laser.inverse() * b.truth[*index[i]].T_world_laser;
         const double dt = (est.translation() - tru.translation()).norm(), da = std::abs(wrap_angle(est.theta - tru.theta));
         if (dt <= 0.1 && da <= 0.05) continue;
-        if (++jump_count <= 10) jumps.push_back({{"scan", i}, {"travel_m", travel[i]}, {"error_m", dt}, {"error_deg", da * kRadToDeg}});
+        if (++jump_count <= 10)
+          jumps.push_back(
+              {{"scan", i}, {"travel_m", travel[i]}, {"error_m", dt}, {"error_deg", da * kDegreesPerRadian}});
       }
     }
     out["front_end_jumps"] = {{"count", jump_count}, {"first", jumps}};
@@ -393,9 +403,10 @@ int main(int argc, char** argv) {
                        {"used_wrong", used_wrong}, {"set_aside_right", aside_right}, {"injected_used", injected_used}};
     out["wrong_closures"] = wrong_list;
     if (detail) out["closure_detail"] = details;
-    out["graph"] = {{"rounds", r.back_end.rounds}, {"chain_bends", r.back_end.chain_bends},
+    out["graph"] = {{"rounds", r.back_end.rounds},
+                    {"chain_bends", r.back_end.chain_bends},
                     {"max_chain_bend_m", r.back_end.max_chain_translation},
-                    {"max_chain_bend_deg", r.back_end.max_chain_rotation * kRadToDeg}};
+                    {"max_chain_bend_deg", r.back_end.max_chain_rotation * kDegreesPerRadian}};
     const bool with_places = std::getenv("SLAM_BENCH_PLACES") != nullptr;
     const auto check_json = [with_places](const MapCheck& m) {
       nlohmann::json j{{"scans", m.scans}, {"beams", m.beams}, {"revisiting", m.revisiting_beams},
@@ -412,10 +423,13 @@ int main(int argc, char** argv) {
     };
     out["map_check"] = check_json(r.map_check);
     out["front_end_map_check"] = check_json(r.front_end_map_check);
-    out["second_opinion"] = {{"judged", r.second_opinion.judged}, {"passed", r.second_opinion.passed},
-                             {"max_turn_deg", r.second_opinion.max_turn * kRadToDeg},
-                             {"max_shift_m", r.second_opinion.max_shift}, {"windows", r.second_opinion.windows},
-                             {"pinned", r.second_opinion.pinned}, {"seconds", r.second_opinion_s}};
+    out["second_opinion"] = {{"judged", r.second_opinion.judged},
+                             {"passed", r.second_opinion.passed},
+                             {"max_turn_deg", r.second_opinion.max_turn * kDegreesPerRadian},
+                             {"max_shift_m", r.second_opinion.max_shift},
+                             {"windows", r.second_opinion.windows},
+                             {"pinned", r.second_opinion.pinned},
+                             {"seconds", r.second_opinion_s}};
     out["check_seconds"] = r.check_s;
     out["verdict"] = r.back_end.verdict;
     out["reason"] = r.back_end.reason;

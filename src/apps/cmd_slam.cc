@@ -56,13 +56,12 @@ struct SlamOptions {
   bool quiet = false;
 };
 
-constexpr double kDegrees = 180.0 / 3.14159265358979323846;
-
 std::string relations_text(const RelationsError& e) {
   if (e.relations == 0) return "no relation matched";
   std::ostringstream out;
   out << std::fixed << std::setprecision(3) << e.translation_mean << " +- " << e.translation_std << " m, "
-      << std::setprecision(2) << e.rotation_mean * kDegrees << " +- " << e.rotation_std * kDegrees << " deg";
+      << std::setprecision(2) << e.rotation_mean * kDegreesPerRadian << " +- "
+      << e.rotation_std * kDegreesPerRadian << " deg";
   return out.str();
 }
 
@@ -96,9 +95,9 @@ nlohmann::json second_opinion_json(const SlamResult& r, const SecondOpinionConfi
                    {"paired_scans", a.paired},
                    {"windows", a.windows},
                    {"pinned_windows", a.pinned},
-                   {"max_turn_deg", a.max_turn * kDegrees},
+                   {"max_turn_deg", a.max_turn * kDegreesPerRadian},
                    {"max_shift_m", a.max_shift},
-                   {"limit_turn_deg", c.max_turn * kDegrees},
+                   {"limit_turn_deg", c.max_turn * kDegreesPerRadian},
                    {"limit_shift_m", c.max_shift},
                    {"judged", a.judged},
                    {"passed", a.passed}};
@@ -133,7 +132,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"weakest_scan", r.front_end.weakest_scan},
             {"turn_slope", r.front_end.turn_slope()},
             {"mirrored", r.front_end.mirrored},
-            {"wall_axis_deg", r.wall_axis * kDegrees},
+            {"wall_axis_deg", r.wall_axis * kDegreesPerRadian},
             {"seconds", r.front_end_s}}},
           {"closures",
            {{"hypotheses", r.closures.size()},
@@ -149,7 +148,7 @@ nlohmann::json slam_json(const SlamOptions& o, const SlamResult& r) {
             {"final_cost", b.graph.final_cost},
             {"chain_bends", b.chain_bends},
             {"max_chain_bend_m", b.max_chain_translation},
-            {"max_chain_bend_deg", b.max_chain_rotation * kDegrees}}},
+            {"max_chain_bend_deg", b.max_chain_rotation * kDegreesPerRadian}}},
           {"neighbours",
            {{"rounds", o.config.neighbours.rounds},
             {"refined", r.neighbours.refined},
@@ -245,7 +244,7 @@ void print_summary(const SlamOptions& o, const io::ScanSource& source, const Sla
             << r.front_end_s << " s (" << std::setprecision(0) << fe.log_seconds / std::max(r.front_end_s, 1e-9)
             << "x the log's " << fe.log_seconds << " s), " << fe.rejected << " matches rejected\n";
   if (o.config.align_to_walls)
-    std::cout << "walls at " << std::setprecision(1) << r.wall_axis * kDegrees
+    std::cout << "walls at " << std::setprecision(1) << r.wall_axis * kDegreesPerRadian
               << " deg to the log's axes (mapped turned onto them, written in the log's frame)\n";
   std::cout << std::setprecision(1) << r.submaps.size() << " submaps; " << r.closures.size()
             << " loop-closure hypotheses (" << failed.outside_group << " outside the consistent group, "

@@ -19,6 +19,8 @@ inline constexpr double kMapResolution = 0.1;
 inline constexpr double kCropSize = 12.8;
 /// One degree [rad].
 inline constexpr double kDegree = std::numbers::pi / 180;
+/// Degrees in a radian (for printing angles).
+inline constexpr double kDegreesPerRadian = 180 / std::numbers::pi;
 /// A 2D point set [m]. std::vector is fine for Vector2d under C++17 aligned new.
 using Points2 = std::vector<Vec2>;
 

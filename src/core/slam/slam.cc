@@ -4,7 +4,6 @@
 #include <cmath>
 #include <future>
 #include <iomanip>
-#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -15,15 +14,14 @@
 namespace partslam {
 namespace {
 
-constexpr double kDegrees = 180.0 / std::numbers::pi;
-
 // "a second front end (fine field F m) parts from the first by up to T deg / S m over W m of travel": the words the
 // verdict's reason and its checked sentence share for the second opinion.
 std::string second_opinion_parting(const FrontEndAgreement& a, const SecondOpinionConfig& c) {
   std::ostringstream out;
   out << std::fixed << "a second front end (fine field " << std::setprecision(2) << c.fine_sigma
-      << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegrees << " deg / "
-      << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.window << " m of travel";
+      << " m) parts from the first by up to " << std::setprecision(1) << a.max_turn * kDegreesPerRadian
+      << " deg / " << std::setprecision(2) << a.max_shift << " m over " << std::setprecision(0) << c.window
+      << " m of travel";
   return out.str();
 }
 
@@ -223,7 +221,8 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
     why << std::fixed << second_opinion_parting(a, c) << " that no loop closure ties, most from "
         << std::setprecision(1) << fe.scans[a.worst_first].timestamp - fe.scans.front().timestamp << " to "
         << fe.scans[a.worst_last].timestamp - fe.scans.front().timestamp << " s into the log (limits "
-        << std::setprecision(0) << c.max_turn * kDegrees << " deg / " << std::setprecision(1) << c.max_shift
+        << std::setprecision(0) << c.max_turn * kDegreesPerRadian << " deg / " << std::setprecision(1)
+        << c.max_shift
         << " m): the scans do not fix the path there, and nothing says which of the two is right";
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
@@ -256,7 +255,7 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
         << std::setprecision(0) << c.second_opinion.window << " m of travel to compare";
   else
     out << "; " << second_opinion_parting(a, c.second_opinion) << " (limits " << std::setprecision(0)
-        << c.second_opinion.max_turn * kDegrees << " deg / " << std::setprecision(1)
+        << c.second_opinion.max_turn * kDegreesPerRadian << " deg / " << std::setprecision(1)
         << c.second_opinion.max_shift << " m; " << a.pinned << " of " << a.pinned + a.windows
         << " windows, tied by loop closures, not compared)";
   return out.str();
