@@ -64,13 +64,13 @@ int main(int argc, char** argv) {
                 yaml.c_str());
     const RelocalisationReport r = evaluate_relocalisation(map, scans, split, config);
     std::printf("wing directions searched beside the axes:");
-    for (const double d : r.wing_directions) std::printf(" %+.0f deg", d * 180 / std::numbers::pi);
+    for (const double d : r.wing_directions) std::printf(" %+.0f deg", d * kDegreesPerRadian);
     std::printf("%s\n", r.wing_directions.empty() ? " none" : "");
     const auto share = [](std::size_t a, std::size_t b) { return b ? 100.0 * a / b : 0.0; };
     std::printf("queries: %zu (every %.1f m of travel after the split)\n", r.outcomes.size(), config.query_spacing);
     std::printf("in the map (overlap >= %.0f %%): %zu, pose within %.2f m / %.0f deg: %zu (%.1f %%)\n",
                 100 * config.min_overlap, r.in_map, config.correct.translation,
-                config.correct.rotation * 180 / std::numbers::pi, r.in_map_correct, share(r.in_map_correct, r.in_map));
+                config.correct.rotation * kDegreesPerRadian, r.in_map_correct, share(r.in_map_correct, r.in_map));
     std::printf("confident (>= %.2f, probability >= %.3f): %zu, wrong among them: %zu (%.1f %%)\n",
                 config.confident_rule.min_margin, config.confident_rule.min_probability, r.confident,
                 r.confident_wrong, share(r.confident_wrong, r.confident));
@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
                   o.travel, o.overlap, o.result.confidence, o.result.score, o.result.inlier_fraction,
                   o.result.free_conflicts, o.result.elsewhere_score, o.result.probability, t.query.occupied, t.query.free, t.query.seen, t.map.occupied, t.map.free,
                   t.map.seen,
-                  o.translation_error, o.rotation_error * 180 / std::numbers::pi, o.result.time_ms,
+                  o.translation_error, o.rotation_error * kDegreesPerRadian, o.result.time_ms,
                   o.truth_score, o.truth_verified.probability, o.correct ? "" : "  WRONG");
     }
   } catch (const std::exception& e) {

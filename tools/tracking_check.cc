@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
       for (const TrackedStep& t : run.steps)
         std::printf("    %5.1f m%s  overlap %.2f  %-9s  %s %5.2f m %5.1f deg  share %.3f  p %.3f  none %.3f  hyps %zu  %.1f ms%s%s\n", t.travel,
                     t.after_jump ? " (jumped)" : "", t.overlap, to_string(t.step.status), t.right ? "right" : "off  ", t.translation_error,
-                    t.rotation_error * 180 / std::numbers::pi,
+                    t.rotation_error * kDegreesPerRadian,
                     t.step.best.share, t.step.best.probability, t.step.none_share, t.step.hypotheses.size(), t.step.time_ms,
                     t.step.evidence ? "" : "  no evidence", t.step.searched ? "  searched" : "");
     }

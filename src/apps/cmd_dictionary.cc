@@ -45,7 +45,7 @@ void run_dictionary(const DictionaryOptions& o) {
   auto db = io::MapDatabase::open(o.db, io::MapDatabase::Mode::kCreate);
   db.add_dictionary(d);
   std::cout << "dictionary '" << d.name << "': " << d.points.size() << " points, " << box.width() << " m x "
-            << box.height() << " m, aligned by " << d.alignment_angle * 180 / std::numbers::pi << " deg; stored in "
+            << box.height() << " m, aligned by " << d.alignment_angle * kDegreesPerRadian << " deg; stored in "
             << o.db << "\n";
   if (!o.json.empty()) {
     const nlohmann::json j = {{"dictionary", d.name}, {"source", d.source}, {"points", d.points.size()},

@@ -67,7 +67,7 @@ void print(const Located& l) {
   const Pose2& p = l.robot ? *l.robot : l.T_map_source;
   std::printf("%s\n  %s in the map: x %.2f m, y %.2f m, theta %.1f deg; inliers %.1f %%, %d on free space; "
               "confidence %.3f%s; same-place probability %.3f%s; %.1f ms\n",
-              l.label.c_str(), l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
+              l.label.c_str(), l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * kDegreesPerRadian,
               100 * r.inlier_fraction, r.free_conflicts, r.confidence, low.c_str(),
               r.probability, r.calibrated ? "" : " (bare points: no laser origins)", r.time_ms);
 }
@@ -134,7 +134,7 @@ void write_plot(const LocateOptions& o, const GridMap& map, const std::vector<Lo
     const Pose2& p = l.robot ? *l.robot : l.T_map_source;
     const bool confident = is_confident(l.result);
     std::snprintf(title, sizeof title, "%s at x %.2f m, y %.2f m, %.1f deg; inliers %.0f %%; confidence %.2f (%s)",
-                  l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * 180 / std::numbers::pi,
+                  l.robot ? "robot" : "points' frame", p.x, p.y, p.theta * kDegreesPerRadian,
                   100 * l.result.inlier_fraction, l.result.confidence, confident ? "confident" : "low");
     panel.layers.push_back({l.points_in_map, confident ? plot::kGood : plot::kDoubtful, 1.5});
     panel.path = {p.translation()};  // the robot (or the points' frame) as a dot
@@ -275,7 +275,7 @@ void print_tracked(const std::vector<Tracked>& tracked, bool scan_matched) {
     std::printf("%s\n  %s", t.label.c_str(), to_string(s.status));
     if (t.robot)
       std::printf("; %s robot x %.2f m, y %.2f m, theta %.1f deg, probability %.3f", is_localised ? "" : "likeliest:",
-                  t.robot->x, t.robot->y, t.robot->theta * 180 / std::numbers::pi, s.best.share);
+                  t.robot->x, t.robot->y, t.robot->theta * kDegreesPerRadian, s.best.share);
     std::printf("; %zu hypotheses%s%s; %.1f ms\n", s.hypotheses.size(), s.searched ? ", searched" : "",
                 s.evidence ? "" : ", no evidence (the map never saw this place)", s.time_ms);
   }
@@ -385,7 +385,7 @@ void run_locate(const LocateOptions& o) {
   std::printf("map %s: %d x %d cells at %.3f m; prepared in %.0f ms (read %.0f ms)\n", o.map.c_str(), map.width,
               map.height, map.resolution, localizer.prepare_ms(), ms_since(t0) - localizer.prepare_ms());
   std::vector<double> wings;
-  for (const double d : localizer.wing_directions()) wings.push_back(d * 180 / std::numbers::pi);
+  for (const double d : localizer.wing_directions()) wings.push_back(d * kDegreesPerRadian);
   if (!wings.empty()) {
     std::printf("walls off the map's axes, searched too:");
     for (const double d : wings) std::printf(" %+.0f deg", d);

@@ -17,7 +17,6 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <set>
 #include <span>
@@ -106,11 +105,11 @@ void print_row(std::size_t rank, const QueryRow& row, const Candidate& c, const 
     const DmmResult& r = *row.pose;
     const Pose2& T = r.T_map_query;
     add(" %7d %5.1f  %7.2f %7.2f %8.1f", r.inliers, 100 * r.inlier_fraction, T.x, T.y,
-        T.theta * 180 / std::numbers::pi);
+        T.theta * kDegreesPerRadian);
     if (same_world) {
       const Pose2 implied = c.map->T_world_map * T;
       add("  %7.2f %7.2f %8.1f", implied.x - query.T_world_map.x, implied.y - query.T_world_map.y,
-          wrap_angle(implied.theta - query.T_world_map.theta) * 180 / std::numbers::pi);
+          wrap_angle(implied.theta - query.T_world_map.theta) * kDegreesPerRadian);
     } else {
       add("  %7s %7s %8s", "-", "-", "-");
     }

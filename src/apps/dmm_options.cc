@@ -10,7 +10,7 @@ namespace partslam::apps {
 void add_dmm_options(CLI::App& cmd, DmmConfig& dmm) {
   cmd.add_option("--dmm-dilation", dmm.dilation, "dMM: target dilation [cells]")->capture_default_str();
   std::ostringstream window;
-  window << dmm.angular_window * 180.0 / std::numbers::pi;
+  window << dmm.angular_window * kDegreesPerRadian;
   cmd.add_option_function<double>(
          "--dmm-angular-window",
          [&dmm](double deg) {

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <numbers>
 #include <sstream>
 
 #include "apps/cpd_options.h"
@@ -200,7 +199,7 @@ nlohmann::json parameters_json(const EvalRun& run) {
             {"dilation", c.cpd.dmm.dilation}}},
           {"dmm",
            {{"dilation", c.ranking.dmm.dilation},
-            {"angular_window_deg", c.ranking.dmm.angular_window * 180.0 / std::numbers::pi},
+            {"angular_window_deg", c.ranking.dmm.angular_window * kDegreesPerRadian},
             {"canonical_turns", c.ranking.dmm.canonical_turns}}}};
 }
 

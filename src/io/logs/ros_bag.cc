@@ -126,7 +126,7 @@ std::optional<LaserMount> laser_mount(const rosbag_messages::BagMessages& m, con
           std::snprintf(what, sizeof what,
                         "the laser frame %s is tilted %.1f degrees from %s's plane; its beams are projected onto "
                         "that plane as they are",
-                        laser.c_str(), tilt * 180 / std::numbers::pi, base.c_str());
+                        laser.c_str(), tilt * kDegreesPerRadian, base.c_str());
           warnings.push_back(where + ": " + what);
         }
         return mount;
