@@ -25,6 +25,14 @@ std::string second_opinion_parting(const FrontEndAgreement& a, const SecondOpini
   return out.str();
 }
 
+// "limits T deg / S m": the second opinion's limits, as the same two sentences give them.
+std::string second_opinion_limits(const SecondOpinionConfig& c) {
+  std::ostringstream out;
+  out << std::fixed << "limits " << std::setprecision(0) << c.max_turn * kDegreesPerRadian << " deg / "
+      << std::setprecision(1) << c.max_shift << " m";
+  return out.str();
+}
+
 // a + t (b - a) on SE(2) parameters, the angle along the short way.
 Pose2 interpolate(const Pose2& a, const Pose2& b, double t) {
   return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), wrap_angle(a.theta + t * wrap_angle(b.theta - a.theta))};
@@ -220,10 +228,9 @@ SlamResult run_slam_aligned(const Scans& raw, const SlamConfig& config, const Pr
     std::ostringstream why;
     why << std::fixed << second_opinion_parting(a, c) << " that no loop closure ties, most from "
         << std::setprecision(1) << fe.scans[a.worst_first].timestamp - fe.scans.front().timestamp << " to "
-        << fe.scans[a.worst_last].timestamp - fe.scans.front().timestamp << " s into the log (limits "
-        << std::setprecision(0) << c.max_turn * kDegreesPerRadian << " deg / " << std::setprecision(1)
-        << c.max_shift
-        << " m): the scans do not fix the path there, and nothing says which of the two is right";
+        << fe.scans[a.worst_last].timestamp - fe.scans.front().timestamp << " s into the log ("
+        << second_opinion_limits(c)
+        << "): the scans do not fix the path there, and nothing says which of the two is right";
     r.back_end.verdict = "doubtful";
     r.back_end.reason = why.str();
   }
@@ -254,10 +261,8 @@ std::string verdict_checks(const SlamResult& r, const SlamConfig& c) {
     out << "; a second front end: " << (a.pinned > 0 ? "loop closures tie every " : "too little travel for a ")
         << std::setprecision(0) << c.second_opinion.window << " m of travel to compare";
   else
-    out << "; " << second_opinion_parting(a, c.second_opinion) << " (limits " << std::setprecision(0)
-        << c.second_opinion.max_turn * kDegreesPerRadian << " deg / " << std::setprecision(1)
-        << c.second_opinion.max_shift << " m; " << a.pinned << " of " << a.pinned + a.windows
-        << " windows, tied by loop closures, not compared)";
+    out << "; " << second_opinion_parting(a, c.second_opinion) << " (" << second_opinion_limits(c.second_opinion)
+        << "; " << a.pinned << " of " << a.pinned + a.windows << " windows, tied by loop closures, not compared)";
   return out.str();
 }
 
